@@ -1,0 +1,54 @@
+#pragma once
+// The labelled gradient map of one shape (paper §3.3–3.5, physics.md §4): per voxel the species
+// that should occupy it and its nearest surface voxel; per surface voxel its species, outward
+// normal, curvature and co-planar weight. Built by dynamics_server/shape, read by the dynamics
+// core and the haptic client. Lengths are in voxels unless a name says otherwise.
+#include "bop/common/Volume.hpp"
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace bop {
+
+// Species numbering (paper §3.4): bag k = 1, 2, ... from outer to inner has surface species
+// 2k-1 and volume species 2k; species 0 is "outside every bag".
+inline int surfaceSpeciesOfBag(int bag) { return 2 * bag - 1; }
+inline int volumeSpeciesOfBag(int bag) { return 2 * bag; }
+inline bool isSurfaceSpecies(int species) { return species % 2 == 1; }
+
+struct SurfaceVoxel {
+    std::uint32_t voxel = 0;       // linear voxel index (Dims::index)
+    std::uint8_t species = 0;      // surface species of this voxel (odd)
+    Eigen::Vector3f normal{0, 0, 1};  // outward unit normal of the smoothed surface
+    float meanCurvature = 0;       // H, 1/voxel (> 0 on convex parts)
+    float gaussCurvature = 0;      // K, 1/voxel^2
+    float kappa = 0;               // max |principal curvature|, 1/voxel
+    float cpWeight = 1;            // co-planar weight w in (0, 1] (physics.md §5.3), dimensionless
+};
+
+struct GradientMap {
+    VoxelGrid grid;                     // placement in model space (mm)
+    double r0Voxels = 2.0;              // LJ equilibrium spacing r0, in voxels
+    int bagCount = 1;                   // nested bags, outer to inner
+    std::vector<std::uint8_t> occ;      // species that should occupy each voxel (0 = outside)
+    std::vector<std::uint32_t> nearest; // per voxel: index into `surface` of the nearest surface voxel
+    std::vector<SurfaceVoxel> surface;  // every surface voxel, in voxel-index order
+
+    const Dims& dims() const { return grid.dims; }
+    const SurfaceVoxel& nearestSurface(std::size_t v) const { return surface[nearest[v]]; }
+
+    // d(v): vector from the centre of v to the centre of its nearest surface voxel, voxels.
+    Eigen::Vector3i delta(std::size_t v) const {
+        return dims().coords(nearestSurface(v).voxel) - dims().coords(v);
+    }
+    // Species of the nearest surface (paper §3.4 "species of the nearest surface").
+    int nearestSpecies(std::size_t v) const { return nearestSurface(v).species; }
+    // Signed distance to the nearest surface voxel centre: + outside its bag, - inside, voxels.
+    double signedDistance(std::size_t v) const {
+        const double d = delta(v).cast<double>().norm();
+        return occ[v] < nearestSpecies(v) ? d : -d;
+    }
+};
+
+}  // namespace bop

@@ -1,0 +1,86 @@
+#include "GmField.hpp"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+
+namespace bop::shape {
+
+GmField::GmField(const GradientMap& map, Interpolation interp)
+    : map_(map), interp_(interp), h_(kR0 / map.r0Voxels) {}
+
+Eigen::Vector3d GmField::normalAtVoxel(std::size_t v) const {
+    return map_.nearestSurface(v).normal.cast<double>();
+}
+
+Eigen::Vector3d GmField::ruleAtVoxel(std::size_t v, ParticleKind kind, int species,
+                                     const Eigen::Vector3d& pVox) const {
+    const int o = map_.occ[v];
+    const int sigma = map_.nearestSpecies(v);
+    const Eigen::Vector3d d = map_.delta(v).cast<double>();
+    // Direction "inward with respect to the nearest surface" (physics.md §4.6).
+    auto inward = [&]() -> Eigen::Vector3d {
+        if (o < sigma) return d;
+        if (o > sigma) return -d;
+        return -normalAtVoxel(v);
+    };
+    if (kind == ParticleKind::Surface) {
+        if (o == species) {
+            const Eigen::Vector3i c = map_.dims().coords(v);
+            return c.cast<double>() + Eigen::Vector3d::Constant(0.5) - pVox;
+        }
+        if (sigma == species) return d;
+        if (sigma < species) return inward();
+        return -inward();
+    }
+    if (o == species) return Eigen::Vector3d::Zero();
+    if (o < species) return inward();
+    return -inward();
+}
+
+GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& position,
+                         const Eigen::Vector3d& normal) const {
+    const Dims& dm = map_.dims();
+    const Eigen::Vector3d pVox = position / h_;
+    const Eigen::Vector3d hi(dm.nx - 0.5, dm.ny - 0.5, dm.nz - 0.5);
+    // Keep the evaluation point on the grid; a particle beyond it is pulled back by a spring.
+    const Eigen::Vector3d q = pVox.cwiseMax(Eigen::Vector3d::Constant(0.5)).cwiseMin(hi);
+    const Eigen::Vector3d back = q - pVox;
+
+    Eigen::Vector3d f = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero();
+    if (interp_ == Interpolation::Nearest) {
+        const Eigen::Vector3i c = q.array().floor().cast<int>().min(Eigen::Array3i(dm.nx - 1, dm.ny - 1, dm.nz - 1)).matrix();
+        const std::size_t v = dm.index(c.x(), c.y(), c.z());
+        f = ruleAtVoxel(v, kind, species, q);
+        n = normalAtVoxel(v);
+    } else {
+        const Eigen::Vector3d s = q - Eigen::Vector3d::Constant(0.5);  // centre-based coordinates
+        Eigen::Vector3i base = s.array().floor().cast<int>().matrix();
+        base = base.cwiseMin(Eigen::Vector3i(dm.nx - 2, dm.ny - 2, dm.nz - 2)).cwiseMax(Eigen::Vector3i::Zero());
+        const Eigen::Vector3d t = (s - base.cast<double>()).cwiseMax(Eigen::Vector3d::Zero()).cwiseMin(Eigen::Vector3d::Ones());
+        for (int corner = 0; corner < 8; ++corner) {
+            const int a = corner & 1, b = (corner >> 1) & 1, c = (corner >> 2) & 1;
+            const double w = (a ? t.x() : 1 - t.x()) * (b ? t.y() : 1 - t.y()) * (c ? t.z() : 1 - t.z());
+            if (w == 0.0) continue;
+            const std::size_t v = dm.index(std::min(base.x() + a, dm.nx - 1), std::min(base.y() + b, dm.ny - 1),
+                                           std::min(base.z() + c, dm.nz - 1));
+            f += w * ruleAtVoxel(v, kind, species, q);
+            if (kind == ParticleKind::Surface) n += w * normalAtVoxel(v);
+        }
+        if (kind == ParticleKind::Surface) {
+            const double len = n.norm();
+            if (len > 1e-6) n /= len;
+            else {
+                const Eigen::Vector3i c = q.array().floor().cast<int>().matrix();
+                n = normalAtVoxel(dm.index(std::min(c.x(), dm.nx - 1), std::min(c.y(), dm.ny - 1), std::min(c.z(), dm.nz - 1)));
+            }
+        }
+    }
+    GmSample out;
+    out.force = (f + back) * h_;
+    if (kind == ParticleKind::Surface) out.torque = normal.cross(n);
+    return out;
+}
+
+}  // namespace bop::shape

@@ -1,0 +1,58 @@
+#pragma once
+// Gradient-map force and torque rules (paper Figs. 3 and 4, §3.4; physics.md §4.5–4.6) as the
+// dynamics core calls them: (kind, species, position, normal) -> (force, torque).
+//
+// Simulation coordinates: the corner of voxel (0,0,0) is the origin and a voxel is
+// h = r0 / r0Voxels simulation length units wide (r0 = sqrt(3), paper units).
+// The returned force is the raw f^GM in simulation length units (a unit-stiffness spring, to be
+// multiplied by the species weight alpha_f^GM); the torque is n_i x n(p) (dimensionless, times
+// alpha_tau^GM).
+//
+// Between voxel centres (Interpolation::Trilinear, the default) the rule of each of the 8
+// surrounding voxels is evaluated at the particle and blended with trilinear weights, so the
+// force is continuous everywhere and equals the paper's per-voxel rule at voxel centres; inside
+// a run of surface voxels the in-voxel springs cancel, so surface particles slide freely along
+// the surface instead of being pinned to voxel centres. Interpolation::Nearest is the paper's
+// rule on the voxel that contains the particle (piecewise, jumps at voxel faces).
+// Outside the grid the nearest border voxel's rule is used plus a spring back to its centre.
+#include "bop/common/GradientMap.hpp"
+
+#include <Eigen/Core>
+
+namespace bop::shape {
+
+enum class ParticleKind : std::uint8_t { Surface, Volume };
+enum class Interpolation : std::uint8_t { Trilinear, Nearest };
+
+struct GmSample {
+    Eigen::Vector3d force = Eigen::Vector3d::Zero();   // f^GM, simulation length units
+    Eigen::Vector3d torque = Eigen::Vector3d::Zero();  // tau^GM = n_i x n(p); zero for volume kind
+};
+
+class GmField {
+public:
+    static constexpr double kR0 = 1.7320508075688772;  // r0 = sqrt(3), simulation length units
+
+    GmField(const GradientMap& map, Interpolation interp = Interpolation::Trilinear);
+
+    double voxelSize() const { return h_; }  // h, simulation length units per voxel
+    const GradientMap& map() const { return map_; }
+
+    // position: simulation units; normal: unit normal of a surface particle (ignored for volume).
+    GmSample sample(ParticleKind kind, int species, const Eigen::Vector3d& position,
+                    const Eigen::Vector3d& normal) const;
+
+    // The per-voxel rule in voxel units for a particle at pVox (voxel coordinates, where the
+    // centre of voxel (i,j,k) is (i+1/2, j+1/2, k+1/2)). Exposed for tests.
+    Eigen::Vector3d ruleAtVoxel(std::size_t v, ParticleKind kind, int species,
+                                const Eigen::Vector3d& pVox) const;
+    // Outward normal n(v) of the nearest surface (physics.md §4.4).
+    Eigen::Vector3d normalAtVoxel(std::size_t v) const;
+
+private:
+    const GradientMap& map_;
+    Interpolation interp_;
+    double h_;
+};
+
+}  // namespace bop::shape

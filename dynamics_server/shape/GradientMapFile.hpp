@@ -1,0 +1,25 @@
+#pragma once
+// The gradient-map cache file (.bopgm): what bop-shape writes so that the server need not
+// rebuild a map. Little-endian binary, documented in docs/file-formats.md:
+//   "BOPGMAP\0", u32 version, u64 key (hash of the scene's shape tables and source files),
+//   u32 frames, per frame {i32 nx ny nz, f64 origin_mm[3], f64 voxel_mm, f64 r0_voxels,
+//   i32 bags, u64 surface count, u8 occ[N], u32 nearest[N], surface records}, u64 checksum.
+#include "bop/common/GradientMap.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bop::shape {
+
+std::uint64_t hashText(const std::string& text);  // FNV-1a, 64 bit
+
+// Written atomically (temporary file, fsync, rename).
+void writeGradientMaps(const std::string& path, const std::vector<GradientMap>& frames, std::uint64_t key);
+
+// nullopt if the file is absent or was made for another key (a stale cache);
+// bop::Error naming the file if it is truncated, corrupt or inconsistent.
+std::optional<std::vector<GradientMap>> readGradientMaps(const std::string& path, std::uint64_t key);
+
+}  // namespace bop::shape

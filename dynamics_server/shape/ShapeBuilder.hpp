@@ -1,0 +1,42 @@
+#pragma once
+// From a shape spec to gradient maps: plan the grid, rasterize each bag, nest the bags, label,
+// run the exact distance transform, and compute normals, curvature and co-planar weights.
+#include "ShapeSpec.hpp"
+
+#include "bop/common/GradientMap.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace bop::shape {
+
+struct StageTiming {
+    std::string stage;       // "rasterize", "label", "distance", "geometry"
+    double seconds = 0;      // wall time, s
+    std::size_t items = 0;   // voxels (or surface voxels for "geometry") processed
+};
+
+struct ShapeBuild {
+    std::vector<GradientMap> frames;   // one map per time frame, all on one grid
+    std::vector<StageTiming> timings;  // summed over frames
+};
+
+using ProgressFn = std::function<void(const std::string& message)>;
+
+// The grid that holds every bag of every frame, with the spec's padding or fixed size.
+VoxelGrid planGrid(const ShapeSpec& spec);
+
+// Combines per-bag masks (outer to inner) into depth(v) = number of bags containing v.
+// Throws bop::Error (naming spec.sceneFile and the bag's key) if a bag is empty, is not
+// inside the bag around it, or touches that bag's outside.
+Volume<std::uint8_t> nestBags(const ShapeSpec& spec, const std::vector<Mask>& masks, int frame);
+
+// Labels, exact distance transform and surface geometry for one depth volume.
+GradientMap buildGradientMap(const VoxelGrid& grid, const Volume<std::uint8_t>& depth, double r0Voxels,
+                             const SurfaceGeometryParams& geometry, std::vector<StageTiming>* timings = nullptr,
+                             int threads = 0);
+
+ShapeBuild buildShape(const ShapeSpec& spec, const ProgressFn& progress = {}, int threads = 0);
+
+}  // namespace bop::shape

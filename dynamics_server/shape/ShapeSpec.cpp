@@ -1,0 +1,191 @@
+#include "ShapeSpec.hpp"
+
+#include "FileSources.hpp"
+
+#include <filesystem>
+#include <sstream>
+
+namespace bop::shape {
+namespace fs = std::filesystem;
+namespace {
+
+std::string resolve(const ConfigTable& t, const std::string& key, const std::string& name) {
+    fs::path p(name);
+    if (p.is_relative()) p = fs::path(t.file()).parent_path() / p;
+    if (!fs::exists(p)) t.fail(key, "file '" + p.string() + "' not found");
+    return p.string();
+}
+
+double positive(const ConfigTable& t, const std::string& key, double v) {
+    if (!(v > 0)) t.fail(key, "must be greater than 0, got " + std::to_string(v));
+    return v;
+}
+
+ImageSelect readSelect(const ConfigTable& t) {
+    ImageSelect s;
+    if (t.has("label") && t.has("threshold")) t.fail("label", "give either 'label' or 'threshold', not both");
+    if (t.has("label")) {
+        s.mode = ImageSelect::Mode::Label;
+        s.label = t.number("label");
+    } else {
+        s.threshold = t.number("threshold", 0.5);
+    }
+    return s;
+}
+
+// Checks that an image selection finds voxels in every frame.
+void requireSelected(const ConfigTable& t, const std::vector<ScalarImage>& frames, const ImageSelect& s,
+                     const std::string& file) {
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+        if (countSelected(frames[f], s) > 0) continue;
+        const auto [lo, hi] = std::minmax_element(frames[f].values.begin(), frames[f].values.end());
+        std::ostringstream os;
+        os << "file '" << file << "' frame " << f << ": the "
+           << (s.mode == ImageSelect::Mode::Label ? "label " + std::to_string(s.label)
+                                                  : "threshold " + std::to_string(s.threshold))
+           << " selects no voxels (values range from " << *lo << " to " << *hi
+           << "); expected a non-empty object";
+        t.fail(s.mode == ImageSelect::Mode::Label ? "label" : "threshold", os.str());
+    }
+}
+
+std::vector<std::string> imageFiles(const ConfigTable& t) {
+    if (t.has("file") && t.has("files")) t.fail("files", "give either 'file' or 'files', not both");
+    std::vector<std::string> names = t.has("files") ? t.strings("files") : std::vector<std::string>{t.string("file")};
+    if (names.empty()) t.fail("files", "expected at least one file name");
+    for (auto& n : names) n = resolve(t, t.has("files") ? "files" : "file", n);
+    return names;
+}
+
+std::shared_ptr<ModelSource> readSource(const ConfigTable& t, std::string& stamps) {
+    const std::string kind =
+        t.choice("source", {"superellipsoid", "sphere", "torus", "mesh", "nifti", "raw"}, "");
+    const Eigen::Vector3d centre = t.vec3("center_mm", Eigen::Vector3d::Zero());
+    auto stamp = [&](const std::string& f) {
+        stamps += f + ":" + std::to_string(fs::file_size(f)) + ":" +
+                  std::to_string(fs::last_write_time(f).time_since_epoch().count()) + "\n";
+    };
+    if (kind == "superellipsoid" || kind == "sphere") {
+        SuperellipsoidParams p;
+        p.centreMm = centre;
+        if (kind == "sphere") {
+            p.radiiMm.setConstant(positive(t, "radius_mm", t.number("radius_mm")));
+        } else {
+            p.radiiMm = t.vec3("radii_mm");
+            for (int a = 0; a < 3; ++a) positive(t, "radii_mm", p.radiiMm[a]);
+            const std::vector<double> e = t.numbers("exponents");
+            if (e.size() != 2) t.fail("exponents", "expected 2 numbers [north_south, east_west]");
+            p.e1 = positive(t, "exponents", e[0]);
+            p.e2 = positive(t, "exponents", e[1]);
+        }
+        return makeSuperellipsoid(p);
+    }
+    if (kind == "torus") {
+        TorusParams p;
+        p.centreMm = centre;
+        p.majorMm = positive(t, "major_radius_mm", t.number("major_radius_mm"));
+        p.minorMm = positive(t, "minor_radius_mm", t.number("minor_radius_mm"));
+        if (p.minorMm >= p.majorMm) t.fail("minor_radius_mm", "must be smaller than major_radius_mm");
+        return makeTorus(p);
+    }
+    if (kind == "mesh") {
+        const std::string file = resolve(t, "file", t.string("file"));
+        stamp(file);
+        const double scale = positive(t, "scale_mm", t.number("scale_mm", 1.0));
+        return makeMeshSource(file, scale, centre);
+    }
+    const std::vector<std::string> files = imageFiles(t);
+    const ImageSelect sel = readSelect(t);
+    std::vector<ScalarImage> frames;
+    if (kind == "nifti") {
+        for (const auto& f : files) {
+            stamp(f);
+            for (auto& img : loadNifti(f)) frames.push_back(std::move(img));
+        }
+    } else {
+        RawLayout layout;
+        const std::vector<double> n = t.numbers("size_voxels");
+        if (n.size() != 3) t.fail("size_voxels", "expected 3 integers [nx, ny, nz]");
+        layout.dims = {int(n[0]), int(n[1]), int(n[2])};
+        if (layout.dims.count() == 0) t.fail("size_voxels", "every size must be at least 1");
+        layout.dtype = t.choice("dtype", {"uint8", "int8", "uint16", "int16", "uint32", "int32", "float32", "float64"}, "uint8");
+        layout.spacingMm = t.vec3("spacing_mm", Eigen::Vector3d::Ones());
+        for (int a = 0; a < 3; ++a) positive(t, "spacing_mm", layout.spacingMm[a]);
+        layout.bigEndian = t.boolean("big_endian", false);
+        layout.headerBytes = std::size_t(t.integer("header_bytes", 0));
+        layout.frames = int(t.integer("frames", 1));
+        for (const auto& f : files) {
+            stamp(f);
+            for (auto& img : loadRaw(f, layout)) frames.push_back(std::move(img));
+        }
+    }
+    for (auto& img : frames) img.originMm += centre;
+    for (std::size_t f = 1; f < frames.size(); ++f)
+        if (!(frames[f].dims == frames[0].dims) || frames[f].spacingMm != frames[0].spacingMm)
+            t.fail(t.has("files") ? "files" : "file", "every frame of a sequence must share one grid (size and spacing)");
+    requireSelected(t, frames, sel, files.front());
+    std::string what = kind + " " + files.front() + (files.size() > 1 ? " (+" + std::to_string(files.size() - 1) + " files)" : "");
+    what += ", " + std::to_string(frames.size()) + " frame(s)";
+    return makeImageSource(std::move(frames), sel, what);
+}
+
+}  // namespace
+
+ShapeSpec readShapeSpec(const ConfigTable& root) {
+    ShapeSpec s;
+    s.sceneFile = root.file();
+    const ConfigTable grid = root.table("grid");
+    s.grid.voxelMm = grid.number("voxel_size_mm", 0.0);
+    if (grid.has("voxel_size_mm")) positive(grid, "voxel_size_mm", s.grid.voxelMm);
+    s.grid.paddingVoxels = int(grid.integer("padding_voxels", 4));
+    if (s.grid.paddingVoxels < 1) grid.fail("padding_voxels", "must be at least 1 (the border counts as outside)");
+    s.grid.r0Voxels = positive(grid, "r0_voxels", grid.number("r0_voxels", 2.0));
+    if (grid.has("size_voxels")) {
+        const std::vector<double> n = grid.numbers("size_voxels");
+        if (n.size() != 3 || n[0] < 3 || n[1] < 3 || n[2] < 3)
+            grid.fail("size_voxels", "expected 3 integers [nx, ny, nz], each at least 3");
+        s.grid.size = Dims{int(n[0]), int(n[1]), int(n[2])};
+    }
+    grid.finish();
+
+    const ConfigTable shape = root.table("shape");
+    s.geometry.sigmaVoxels = positive(shape, "smoothing_sigma_voxels", shape.number("smoothing_sigma_voxels", 2.0));
+    s.geometry.cpWeightC = shape.number("cp_weight_c", 4.0);
+    if (s.geometry.cpWeightC < 0) shape.fail("cp_weight_c", "must be 0 or more");
+    s.geometry.cpWeightForm = shape.choice("cp_weight_form", {"linear", "quadratic"}, "linear") == "linear"
+                                  ? CpWeightForm::Linear : CpWeightForm::Quadratic;
+    s.interpolation = shape.choice("interpolation", {"trilinear", "nearest"}, "trilinear") == "trilinear"
+                          ? Interpolation::Trilinear : Interpolation::Nearest;
+    std::string stamps;
+    const std::vector<ConfigTable> bags = shape.tableArray("bag");
+    if (bags.empty() || bags.size() > 127) shape.fail("bag", "expected 1 to 127 [[shape.bag]] tables, outer to inner");
+    for (std::size_t b = 0; b < bags.size(); ++b) {
+        BagSpec bag;
+        bag.key = bags[b].prefix();
+        bag.name = bags[b].string("name", "bag" + std::to_string(b + 1));
+        bag.source = readSource(bags[b], stamps);
+        bags[b].finish();
+        s.bags.push_back(std::move(bag));
+    }
+    shape.finish();
+    if (!s.grid.voxelMm) {
+        s.grid.voxelMm = s.bags.front().source->naturalVoxelMm();
+        if (!s.grid.voxelMm) grid.fail("voxel_size_mm", "missing (required unless the outer bag is an image)");
+    }
+    std::ostringstream os;
+    os << "grid " << s.grid.voxelMm << " " << s.grid.paddingVoxels << " " << s.grid.r0Voxels << "\n"
+       << grid.raw() << "\n" << shape.raw() << "\n" << stamps;
+    s.canonical = os.str();
+    return s;
+}
+
+ShapeSpec loadShapeSpec(const std::string& sceneFile, const std::vector<std::string>& otherTables) {
+    const toml::table doc = ConfigTable::parseFile(sceneFile);
+    const ConfigTable root(doc, sceneFile, "");
+    ShapeSpec s = readShapeSpec(root);
+    for (const auto& t : otherTables) (void)root.has(t);
+    root.finish();
+    return s;
+}
+
+}  // namespace bop::shape

@@ -1,0 +1,48 @@
+#pragma once
+// The shape part of a scene: the voxel grid and the nested bags with their model sources, read
+// from the scene TOML's [grid] and [shape] tables (see config/scenes/*.toml for every key).
+#include "GmField.hpp"
+#include "ModelSource.hpp"
+#include "SurfaceGeometry.hpp"
+
+#include "bop/common/ConfigTable.hpp"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bop::shape {
+
+struct GridSpec {
+    double voxelMm = 0;          // voxel edge, mm; 0 = take it from the outer bag's image
+    int paddingVoxels = 4;       // empty voxels between the objects' bounding box and the grid edge
+    double r0Voxels = 2.0;       // LJ equilibrium spacing r0 in voxels (Table 1: 2 or 1.4)
+    std::optional<Dims> size;    // fixed grid size in voxels, object centred (overrides padding)
+};
+
+struct BagSpec {
+    std::string name;                     // shown in reports
+    std::string key;                      // config key of this bag, for error messages
+    std::shared_ptr<ModelSource> source;  // loaded and checked while reading the scene
+};
+
+struct ShapeSpec {
+    std::string sceneFile;                // path of the scene file
+    GridSpec grid;
+    std::vector<BagSpec> bags;            // outer to inner
+    SurfaceGeometryParams geometry;
+    Interpolation interpolation = Interpolation::Trilinear;
+    std::string canonical;                // the shape tables as TOML text (for the cache key)
+};
+
+// Reads [grid] and [shape] of a scene (other top-level tables are left to their readers) and
+// loads every model source; relative file names are taken from the scene file's folder.
+// Throws bop::Error naming the file and key for every malformed input.
+ShapeSpec readShapeSpec(const ConfigTable& root);
+
+// Convenience for tools that only need the shape: parse the file, read [grid]/[shape], and
+// reject unknown top-level tables other than those listed in `otherTables`.
+ShapeSpec loadShapeSpec(const std::string& sceneFile, const std::vector<std::string>& otherTables = {});
+
+}  // namespace bop::shape

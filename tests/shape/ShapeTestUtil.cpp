@@ -1,0 +1,54 @@
+#include "ShapeTestUtil.hpp"
+
+#include <fstream>
+#include <random>
+#include <unistd.h>
+
+namespace bop::test {
+
+TempDir::TempDir(const std::string& tag) {
+    path = std::filesystem::temp_directory_path() / ("bop-" + tag + "-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+}
+
+TempDir::~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+}
+
+std::string writeText(const std::string& path, const std::string& text) {
+    std::ofstream(path) << text;
+    return path;
+}
+
+std::string sourceDir() {
+#ifdef BOP_SOURCE_DIR
+    return BOP_SOURCE_DIR;
+#else
+    return ".";
+#endif
+}
+
+Volume<std::uint8_t> depthFrom(const Dims& d, const std::vector<std::function<bool(const Eigen::Vector3d&)>>& inside) {
+    Volume<std::uint8_t> depth(d, 0);
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                const Eigen::Vector3d c(i + 0.5, j + 0.5, k + 0.5);
+                std::uint8_t n = 0;
+                while (n < inside.size() && inside[n](c)) ++n;
+                depth(i, j, k) = n;
+            }
+    return depth;
+}
+
+GradientMap mapFrom(const Volume<std::uint8_t>& depth, double r0Voxels, double sigma) {
+    VoxelGrid g;
+    g.dims = depth.dims;
+    shape::SurfaceGeometryParams p;
+    p.sigmaVoxels = sigma;
+    return shape::buildGradientMap(g, depth, r0Voxels, p);
+}
+
+}  // namespace bop::test

@@ -1,0 +1,113 @@
+// Gradient-map force and torque rules: the paper's per-voxel table at voxel centres, a
+// continuous field between them, sensible torques, and a spring back from outside the grid.
+#include "ShapeTestUtil.hpp"
+#include "shape/GmField.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <random>
+
+using namespace bop;
+using namespace bop::shape;
+
+namespace {
+
+// A slab z in [10, 20) voxels across a 24 x 20 x 30 grid: flat surfaces at z = 10 and z = 19.
+GradientMap slab() {
+    const Dims d{24, 20, 30};
+    return test::mapFrom(test::depthFrom(d, {[](const Eigen::Vector3d& x) { return x.z() >= 10 && x.z() < 20; }}));
+}
+
+GradientMap ball() {
+    const Dims d{30, 30, 30};
+    return test::mapFrom(test::depthFrom(d, {[](const Eigen::Vector3d& x) {
+        return (x - Eigen::Vector3d(15.3, 14.8, 15.1)).norm() < 10;
+    }}));
+}
+
+}  // namespace
+
+TEST_CASE("GM rules follow the paper's table for a single bag", "[shape][gm]") {
+    const GradientMap m = slab();
+    const GmField f(m);
+    const double h = f.voxelSize();
+    CHECK(h == Approx(std::sqrt(3.0) / 2.0));
+    const Eigen::Vector3d nz(0, 0, 1);
+    auto at = [&](double x, double y, double z) -> Eigen::Vector3d { return Eigen::Vector3d(x, y, z) * h; };
+    // Surface particle outside, above the top surface (voxel layer 19): pushed down by d.
+    CHECK((f.sample(ParticleKind::Surface, 1, at(5.5, 5.5, 25.5), nz).force - Eigen::Vector3d(0, 0, -6 * h)).norm() < 1e-12);
+    // Surface particle inside the slab, at z = 14.5: pulled to the nearer surface (z = 10.5).
+    CHECK((f.sample(ParticleKind::Surface, 1, at(5.5, 5.5, 14.5), nz).force - Eigen::Vector3d(0, 0, -4 * h)).norm() < 1e-12);
+    // Surface particle on the surface layer's centre plane: no force, anywhere along it.
+    for (double x : {3.5, 3.9, 4.2, 7.77})
+        CHECK(f.sample(ParticleKind::Surface, 1, at(x, 6.3, 19.5), nz).force.norm() < 1e-12);
+    // Slightly off the layer: a restoring force back toward it (stiffness about 2 per voxel).
+    const Eigen::Vector3d up = f.sample(ParticleKind::Surface, 1, at(4.2, 6.3, 19.7), nz).force;
+    CHECK(up.z() < 0);
+    CHECK(up.z() == Approx(-(2 * 0.2 - 0.04) * h));
+    // Volume particles: free inside, pushed in from outside, pushed one voxel inward on the surface.
+    CHECK(f.sample(ParticleKind::Volume, 2, at(5.5, 5.5, 15.5), nz).force.norm() < 1e-12);
+    CHECK((f.sample(ParticleKind::Volume, 2, at(5.5, 5.5, 2.5), nz).force - Eigen::Vector3d(0, 0, 8 * h)).norm() < 1e-12);
+    CHECK((f.sample(ParticleKind::Volume, 2, at(12.5, 10.5, 19.5), nz).force - Eigen::Vector3d(0, 0, -h)).norm() < 1e-6);
+}
+
+TEST_CASE("GM torque turns a surface particle's normal toward the surface normal", "[shape][gm]") {
+    const GradientMap m = slab();
+    const GmField f(m);
+    const Eigen::Vector3d p = Eigen::Vector3d(6.5, 6.5, 19.5) * f.voxelSize();
+    const Eigen::Vector3d ni = Eigen::Vector3d(1, 0, 0);
+    const Eigen::Vector3d tau = f.sample(ParticleKind::Surface, 1, p, ni).torque;
+    CHECK((tau - Eigen::Vector3d(0, -1, 0)).norm() < 1e-3);  // x cross z
+    CHECK(tau.cross(ni).z() > 0.99);                         // dn/dt = omega x n points along +z
+    CHECK(f.sample(ParticleKind::Surface, 1, p, Eigen::Vector3d(0, 0, 1)).torque.norm() < 1e-3);
+    CHECK(f.sample(ParticleKind::Volume, 2, p, ni).torque.norm() == 0.0);
+}
+
+TEST_CASE("GM field equals the per-voxel rule at centres and is continuous between them", "[shape][gm]") {
+    const GradientMap m = ball();
+    const GmField tri(m, Interpolation::Trilinear), near(m, Interpolation::Nearest);
+    const double h = tri.voxelSize();
+    const Dims& d = m.dims();
+    for (int species : {1, 2}) {
+        const auto kind = species == 1 ? ParticleKind::Surface : ParticleKind::Volume;
+        const Eigen::Vector3d n(0, 0, 1);
+        std::size_t mismatches = 0;
+        for (std::size_t v = 0; v < d.count(); v += 7) {
+            const Eigen::Vector3d c = d.coords(v).cast<double>() + Eigen::Vector3d::Constant(0.5);
+            const Eigen::Vector3d rule = tri.ruleAtVoxel(v, kind, species, c) * h;
+            mismatches += (tri.sample(kind, species, c * h, n).force - rule).norm() > 1e-9;
+            mismatches += (near.sample(kind, species, c * h, n).force - rule).norm() > 1e-9;
+        }
+        CHECK(mismatches == 0);
+        // Walk random segments in tiny steps: the trilinear field never jumps; the nearest rule does.
+        std::mt19937 rng(species);
+        std::uniform_real_distribution<double> u(1.0, 29.0);
+        double maxTri = 0, maxNear = 0;
+        const double step = 1e-3;
+        for (int s = 0; s < 40; ++s) {
+            const Eigen::Vector3d a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
+            const Eigen::Vector3d dir = (b - a).normalized();
+            Eigen::Vector3d prevT = tri.sample(kind, species, a * h, n).force, prevN = near.sample(kind, species, a * h, n).force;
+            for (double t = step; t < (b - a).norm(); t += step) {
+                const Eigen::Vector3d p = (a + t * dir) * h;
+                const Eigen::Vector3d ft = tri.sample(kind, species, p, n).force, fn = near.sample(kind, species, p, n).force;
+                maxTri = std::max(maxTri, (ft - prevT).norm() / h);
+                maxNear = std::max(maxNear, (fn - prevN).norm() / h);
+                prevT = ft;
+                prevN = fn;
+            }
+        }
+        INFO("species " << species << ": largest change per 0.001-voxel step: trilinear " << maxTri << ", nearest " << maxNear);
+        CHECK(maxTri < 0.05);   // Lipschitz: at most ~ (|d| + 2) per voxel times the step
+        CHECK(maxNear > 0.5);   // the paper's piecewise rule jumps at voxel faces
+    }
+}
+
+TEST_CASE("a particle beyond the grid is pulled back", "[shape][gm]") {
+    const GradientMap m = ball();
+    const GmField f(m);
+    const double h = f.voxelSize();
+    const Eigen::Vector3d far = Eigen::Vector3d(-5, 15, 15) * h;
+    const Eigen::Vector3d force = f.sample(ParticleKind::Volume, 2, far, Eigen::Vector3d::UnitZ()).force;
+    CHECK(force.x() > 5 * h);  // at least the spring back to the grid edge
+}
