@@ -52,40 +52,41 @@ void rowPass(int n, const std::int32_t* labelIn, std::int32_t* dist2, std::int32
 }
 
 struct Envelope {
-    std::vector<int> v;        // parabola apexes (sample positions)
-    std::vector<double> z;     // boundaries between parabolas
-    std::vector<std::int32_t> f, lab;  // copy of the line being transformed
-    explicit Envelope(int n) : v(n), z(n + 1), f(n), lab(n) {}
+    std::vector<int> v;            // parabola apexes (sample positions)
+    std::vector<std::int64_t> F;   // f[v] + v^2 of each apex
+    std::vector<std::int32_t> fv, lab;  // f and label of each apex
+    explicit Envelope(int n) : v(n), F(n), fv(n), lab(n) {}
 };
 
-// Lower envelope of parabolas along one line of n samples; f and lab are the line's
-// current squared distances and labels, overwritten with the result (unit spacing).
+// Lower envelope of parabolas along one line of n samples; f and lab are the line's current
+// squared distances and labels, overwritten with the result (unit spacing). Integer arithmetic
+// throughout: a parabola is dropped when the new one overtakes it no later than it overtook its
+// predecessor, compared by cross-multiplication instead of division.
 void envelopePass(int n, Envelope& e, std::int32_t* f, std::int32_t* lab) {
     int k = -1;
     for (int q = 0; q < n; ++q) {
         if (f[q] == kInf) continue;
-        const double fq = double(f[q]) + double(q) * q;
-        double s = 0;
-        while (k >= 0) {
-            const int vk = e.v[k];
-            s = (fq - (double(e.f[vk]) + double(vk) * vk)) / (2.0 * (q - vk));
-            if (s <= e.z[k]) --k;
+        const std::int64_t Fq = std::int64_t(f[q]) + std::int64_t(q) * q;
+        while (k >= 1) {
+            // s(q, v_k) <= s(v_k, v_{k-1})  with  s(a, b) = (F_a - F_b) / (2 (a - b))
+            const int vk = e.v[k], vp = e.v[k - 1];
+            if ((Fq - e.F[k]) * (vk - vp) <= (e.F[k] - e.F[k - 1]) * (q - vk)) --k;
             else break;
         }
         ++k;
         e.v[k] = q;
-        e.z[k] = (k == 0) ? -1e300 : s;
-        e.z[k + 1] = 1e300;
-        e.f[q] = f[q];
-        e.lab[q] = lab[q];
+        e.F[k] = Fq;
+        e.fv[k] = f[q];
+        e.lab[k] = lab[q];
     }
     if (k < 0) return;  // no finite sample: the line stays at infinity
     int j = 0;
     for (int p = 0; p < n; ++p) {
-        while (e.z[j + 1] < p) ++j;
+        // Move to the next parabola while it is at least as low at p: F_{j+1} - F_j <= 2 p (v_{j+1} - v_j).
+        while (j < k && e.F[j + 1] - e.F[j] <= 2 * std::int64_t(p) * (e.v[j + 1] - e.v[j])) ++j;
         const int vj = e.v[j];
-        f[p] = (p - vj) * (p - vj) + e.f[vj];
-        lab[p] = e.lab[vj];
+        f[p] = (p - vj) * (p - vj) + e.fv[j];
+        lab[p] = e.lab[j];
     }
 }
 

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages BoP builds and tests with. Idempotent: packages already
+# present are skipped, so a second run costs a few dpkg queries. Runs as root, or via sudo.
+#   scripts/install-deps.sh           build and test dependencies
+#   scripts/install-deps.sh --bench   also the peers the benchmarks compare against
+set -euo pipefail
+
+packages=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config git
+  # libraries (see README "Dependencies")
+  libeigen3-dev libspdlog-dev libtomlplusplus-dev libcli11-dev libstb-dev
+  libtinyobjloader-dev libnifti2-dev libniftiio-dev libznz-dev zlib1g-dev
+  # tests
+  catch2 python3 python3-numpy
+)
+if [[ "${1:-}" == "--bench" ]]; then
+  packages+=(python3-scipy)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [[ ${#missing[@]} -eq 0 ]]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "install-deps: run as root or install sudo" >&2; exit 1; }
+  sudo=sudo
+fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

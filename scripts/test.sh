@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds with warnings as errors, runs every test with ctest, then
+# builds the unit tests with AddressSanitizer + UndefinedBehaviorSanitizer and runs them.
+#   scripts/test.sh                 everything (what CI runs)
+#   scripts/test.sh --no-sanitize   skip the sanitizer build
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs=${BOP_JOBS:-2}
+
+scripts/install-deps.sh
+
+echo "== build (Release, -Werror) =="
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DBOP_WERROR=ON >/dev/null
+cmake --build build -j "$jobs"
+echo "== tests =="
+ctest --test-dir build -j "$jobs" --output-on-failure
+
+if [[ "${1:-}" != "--no-sanitize" ]]; then
+  echo "== unit tests under AddressSanitizer + UndefinedBehaviorSanitizer =="
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBOP_SANITIZE=ON -DBOP_WERROR=ON >/dev/null
+  cmake --build build-asan -j "$jobs" --target bop_unit_tests
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    ctest --test-dir build-asan -L unit -j "$jobs" --output-on-failure
+fi
