@@ -77,7 +77,7 @@ void printShapeReport(std::ostream& os, const shape::ShapeSpec& spec, const shap
             meanH.push_back(sv.meanCurvature / m.grid.voxelMm);
         }
         const auto [wlo, whi] = std::minmax_element(weight.begin(), weight.end());
-        os << "  curvature  median H " << median(meanH) << " 1/mm, median max|k| " << median(kappa)
+        os << "  curvature  median H " << median(meanH) << " 1/mm, median kappa (rms) " << median(kappa)
            << " 1/mm; co-planar weight " << *wlo << " to " << *whi << " (median " << median(weight) << ")\n";
     }
 }

@@ -107,7 +107,7 @@ std::vector<std::string> writeSlicePictures(const std::string& dir, const shape:
             lo << "-" << range << " mm";
             hi << "+" << range << " mm";
             colourBar(c, 2 * gap + pw, y, bw, lo.str(), hi.str(),
-                      "signed distance (inside -, outside +)", divergingMap, -1, 1);
+                      "distance to nearest surface (inside -, outside +)", divergingMap, -1, 1);
             colourBar(c, 3 * gap + 2 * pw, y, bw, "0", "1", "co-planar weight (surface voxels)", colourMap, 0, 1);
             std::ostringstream name;
             name << dir << "/";

@@ -1,7 +1,5 @@
 #include "GmField.hpp"
 
-#include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 

@@ -18,6 +18,7 @@
 #include "bop/common/GradientMap.hpp"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace bop::shape {
 

@@ -1,6 +1,8 @@
 #include "bop/common/Canvas.hpp"
 #include "bop/common/Error.hpp"
 
+#include "TestUtil.hpp"
+
 #include <catch2/catch.hpp>
 
 // Debian's libstb.so provides stbi_load; no STB_IMAGE_IMPLEMENTATION (link -lstb).
@@ -17,10 +19,8 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string tempPath(const std::string& name) {
-    const fs::path dir =
-        fs::temp_directory_path() / ("bop_test_canvas_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return (dir / name).string();
+    static const bop::test::TempDir dir("canvas");
+    return dir.file(name);
 }
 
 const bop::Rgb kBlack{0, 0, 0};

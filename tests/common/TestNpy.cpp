@@ -1,6 +1,8 @@
 #include "bop/common/Error.hpp"
 #include "bop/common/Npy.hpp"
 
+#include "TestUtil.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cstdint>
@@ -19,9 +21,8 @@ namespace {
 
 // A fresh file path in the temporary directory, unique to this process.
 std::string tempPath(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("bop_test_npy_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return (dir / name).string();
+    static const bop::test::TempDir dir("npy");
+    return dir.file(name);
 }
 
 template <class T>

@@ -1,34 +1,7 @@
 #include "ShapeTestUtil.hpp"
 
-#include <fstream>
-#include <random>
-#include <unistd.h>
 
 namespace bop::test {
-
-TempDir::TempDir(const std::string& tag) {
-    path = std::filesystem::temp_directory_path() / ("bop-" + tag + "-" + std::to_string(::getpid()));
-    std::filesystem::remove_all(path);
-    std::filesystem::create_directories(path);
-}
-
-TempDir::~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-}
-
-std::string writeText(const std::string& path, const std::string& text) {
-    std::ofstream(path) << text;
-    return path;
-}
-
-std::string sourceDir() {
-#ifdef BOP_SOURCE_DIR
-    return BOP_SOURCE_DIR;
-#else
-    return ".";
-#endif
-}
 
 Volume<std::uint8_t> depthFrom(const Dims& d, const std::vector<std::function<bool(const Eigen::Vector3d&)>>& inside) {
     Volume<std::uint8_t> depth(d, 0);

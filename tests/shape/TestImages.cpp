@@ -1,4 +1,5 @@
 // Loading NIfTI / raw scalar images and rasterizing them into object masks.
+#include "TestUtil.hpp"
 #include "shape/ImageRasterizer.hpp"
 #include "shape/ScalarImage.hpp"
 
@@ -20,21 +21,6 @@ using bop::VoxelGrid;
 using namespace bop::shape;
 
 namespace {
-
-// Fresh directory under the system temp dir, removed at scope exit.
-struct TempDir {
-    fs::path path;  // directory, absolute
-    TempDir() {
-        std::random_device rd;
-        path = fs::temp_directory_path() / ("bop_test_images_" + std::to_string(rd()) + std::to_string(rd()));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
 
 // 20x16x12 image, spacing 0.8x0.8x1.2 mm: label 1 in [2,18)x[2,14)x[2,10), label 2 in
 // [5,10)x[4,9)x[3,7) (inside the label-1 box), 0 elsewhere.
@@ -89,7 +75,7 @@ std::string errorText(const std::function<void()>& fn) {
 }  // namespace
 
 TEST_CASE("NIfTI 3D images round-trip through .nii and .nii.gz", "[shape][images]") {
-    TempDir dir;
+    bop::test::TempDir dir("images");
     const ScalarImage img = labelledImage();
     for (const std::string name : {"labels.nii", "labels.nii.gz"}) {
         const std::string path = dir.file(name);
@@ -109,7 +95,7 @@ TEST_CASE("NIfTI 3D images round-trip through .nii and .nii.gz", "[shape][images
 }
 
 TEST_CASE("NIfTI 4D file loads one image per frame", "[shape][images]") {
-    TempDir dir;
+    bop::test::TempDir dir("images");
     std::vector<ScalarImage> frames(3, labelledImage());
     for (int f = 0; f < 3; ++f)
         for (float& v : frames[std::size_t(f)].values) v *= float(f + 1) * 100.0f;  // up to 600: needs int16
@@ -126,7 +112,7 @@ TEST_CASE("NIfTI 4D file loads one image per frame", "[shape][images]") {
 }
 
 TEST_CASE("NIfTI scl_slope/scl_inter are applied", "[shape][images]") {
-    TempDir dir;
+    bop::test::TempDir dir("images");
     const ScalarImage img = labelledImage();
     const std::string path = dir.file("scaled.nii");
     writeNifti(path, img, "uint8");
@@ -138,7 +124,7 @@ TEST_CASE("NIfTI scl_slope/scl_inter are applied", "[shape][images]") {
 }
 
 TEST_CASE("NIfTI errors name the file", "[shape][images]") {
-    TempDir dir;
+    bop::test::TempDir dir("images");
     const std::string missing = dir.file("missing.nii");
     const std::string msg = errorText([&] { loadNifti(missing); });
     REQUIRE_THAT(msg, Catch::Contains(missing));
@@ -175,7 +161,7 @@ TEST_CASE("NIfTI errors name the file", "[shape][images]") {
 }
 
 TEST_CASE("raw big-endian uint16 with a header loads equal", "[shape][images]") {
-    TempDir dir;
+    bop::test::TempDir dir("images");
     const ScalarImage img = labelledImage();
     std::vector<unsigned char> bytes(64, 0xAB);  // 64-byte header
     for (int f = 0; f < 2; ++f)

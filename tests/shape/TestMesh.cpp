@@ -1,4 +1,5 @@
 // Tests of mesh loading (OBJ, ASCII/binary STL), the closedness check and voxelization.
+#include "TestUtil.hpp"
 #include "shape/MeshVoxelizer.hpp"
 #include "shape/TriangleMesh.hpp"
 
@@ -29,22 +30,7 @@ constexpr double kMajorMm = 30.0;  // torus major radius R, mm
 constexpr double kMinorMm = 12.0;  // torus minor radius r, mm
 const double kTorusVolumeMm3 = 2.0 * M_PI * M_PI * kMajorMm * kMinorMm * kMinorMm;
 
-std::string torusPath() { return std::string(BOP_SOURCE_DIR) + "/config/models/torus.obj"; }
-
-// A fresh directory under the system temp directory, removed with its contents at scope exit.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::random_device seed;
-        path = fs::temp_directory_path() / ("bop-test-mesh-" + std::to_string(seed()));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
+std::string torusPath() { return bop::test::sourceDir() + "/config/models/torus.obj"; }
 
 // Signed volume by the divergence theorem, mm^3 (positive for outward orientation).
 double signedVolume(const TriangleMesh& mesh) {
@@ -190,7 +176,7 @@ TEST_CASE("binary and ASCII STL load to the same voxelization as the OBJ", "[sha
     Mask expected;
     voxelizeMesh(obj, grid, expected);
 
-    TempDir dir;
+    bop::test::TempDir dir("mesh");
     writeAsciiStl(obj, dir.file("torus-ascii.stl"));
     writeBinaryStl(obj, dir.file("torus-binary.STL"));  // upper-case extension on purpose
     for (const std::string& path : {dir.file("torus-ascii.stl"), dir.file("torus-binary.STL")}) {
@@ -207,7 +193,7 @@ TEST_CASE("binary and ASCII STL load to the same voxelization as the OBJ", "[sha
 
 TEST_CASE("a mesh with a missing or flipped triangle is rejected as not closed", "[shape][mesh]") {
     TriangleMesh mesh = loadMesh(torusPath());
-    TempDir dir;
+    bop::test::TempDir dir("mesh");
     SECTION("one triangle removed") {
         mesh.triangles.erase(mesh.triangles.begin() + 1000);
         const std::string path = dir.file("holed.obj");
@@ -226,7 +212,7 @@ TEST_CASE("a mesh with a missing or flipped triangle is rejected as not closed",
 }
 
 TEST_CASE("loadMesh reports missing and malformed files with their path", "[shape][mesh]") {
-    TempDir dir;
+    bop::test::TempDir dir("mesh");
     const std::string missing = dir.file("no-such-mesh.obj");
     CHECK_THAT(errorMessage([&] { loadMesh(missing); }), Catch::Contains(missing) && Catch::Contains("not found"));
     try {
