@@ -1,0 +1,236 @@
+#include "SceneConfig.hpp"
+
+#include "core/Construction.hpp"
+
+#include "bop/common/ConfigTable.hpp"
+
+#include <cmath>
+
+namespace bop::app {
+namespace {
+
+using core::kR0;
+
+std::array<float, 3> defaultColour(int species) {
+    static const std::array<float, 3> surface[] = {{0.92f, 0.47f, 0.12f}, {0.78f, 0.16f, 0.63f}, {0.90f, 0.78f, 0.16f}};
+    static const std::array<float, 3> volume[] = {{0.31f, 0.59f, 0.90f}, {0.24f, 0.75f, 0.47f}, {0.59f, 0.43f, 0.90f}};
+    const int bag = (species - 1) / 2;
+    return species % 2 ? surface[bag % 3] : volume[bag % 3];
+}
+
+double positive(const ConfigTable& t, const std::string& key, double v) {
+    if (!(v > 0)) t.fail(key, "must be greater than 0, got " + std::to_string(v));
+    return v;
+}
+
+void readMatrix(const ConfigTable& t, const std::string& key, core::WeightMatrix& m) {
+    if (!t.has(key)) return;
+    const toml::array* rows = t.raw().get(key)->as_array();
+    const int n = m.n - 1;
+    if (!rows || int(rows->size()) != n)
+        t.fail(key, "expected " + std::to_string(n) + " rows of " + std::to_string(n) + " numbers (one per species)");
+    for (int a = 0; a < n; ++a) {
+        const toml::array* row = (*rows)[std::size_t(a)].as_array();
+        if (!row || int(row->size()) != n) t.fail(key, "row " + std::to_string(a + 1) + ": expected " + std::to_string(n) + " numbers");
+        for (int b = 0; b < n; ++b) {
+            const auto v = (*row)[std::size_t(b)].value<double>();
+            if (!v || *v < 0) t.fail(key, "row " + std::to_string(a + 1) + ": expected numbers >= 0");
+            m(a + 1, b + 1) = *v;
+        }
+    }
+}
+
+// kindsFromMap: species kinds follow the map numbering (bag k: 2k-1 surface, 2k volume).
+void readSpecies(const ConfigTable& root, core::Model& m, bool kindsFromMap) {
+    if (!root.has("species")) return;
+    const std::vector<ConfigTable> list = root.tableArray("species");
+    if (int(list.size()) != m.speciesCount())
+        root.fail("species", "expected " + std::to_string(m.speciesCount()) + " [[species]] tables (one per species number" +
+                                 (kindsFromMap ? ", 2 per bag" : "") + "), got " + std::to_string(list.size()));
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        const ConfigTable& t = list[i];
+        core::Species& s = m.species[i + 1];
+        s.name = t.string("name", s.name);
+        if (s.name.find_first_of(" \t\"") != std::string::npos) t.fail("name", "must not contain spaces or quotes");
+        const std::string kind = t.choice("kind", {"surface", "volume"}, s.kind == core::ParticleKind::Surface ? "surface" : "volume");
+        const auto wanted = kind == "surface" ? core::ParticleKind::Surface : core::ParticleKind::Volume;
+        if (kindsFromMap && wanted != s.kind)
+            t.fail("kind", "species " + std::to_string(i + 1) + " is a " + (s.kind == core::ParticleKind::Surface ? "surface" : "volume") +
+                               " species of the map (bag k has surface species 2k-1 and volume species 2k)");
+        s.kind = wanted;
+        if (t.has("colour")) {
+            const Eigen::Vector3d c = t.vec3("colour");
+            if (c.minCoeff() < 0 || c.maxCoeff() > 1) t.fail("colour", "expected 3 numbers in [0, 1]");
+            s.colour = {float(c.x()), float(c.y()), float(c.z())};
+        }
+        s.alphaForceOp = t.number("alpha_f_op", s.alphaForceOp);
+        s.alphaForceGm = t.number("alpha_f_gm", s.alphaForceGm);
+        s.alphaTorqueOp = t.number("alpha_tau_op", s.alphaTorqueOp);
+        s.alphaTorqueGm = t.number("alpha_tau_gm", s.alphaTorqueGm);
+        s.dragV = t.number("drag_v", s.dragV);
+        s.dragW = t.number("drag_w", s.dragW);
+        t.finish();
+    }
+}
+
+void readDynamics(const ConfigTable& root, core::Model& m, std::uint64_t& seed) {
+    const auto t = root.optionalTable("dynamics");
+    if (!t) return;
+    m.integration.dt = positive(*t, "time_step", t->number("time_step", m.integration.dt));
+    m.integration.inertia = positive(*t, "inertia", t->number("inertia", m.integration.inertia));
+    const std::string mode = t->choice("lj_cutoff", {"switched", "paper", "energy_shifted", "shifted_force"}, "switched");
+    m.ljParams.mode = mode == "switched" ? core::LjCutoff::Switched
+                      : mode == "paper" ? core::LjCutoff::Truncated
+                      : mode == "energy_shifted" ? core::LjCutoff::EnergyShifted : core::LjCutoff::ShiftedForce;
+    if (mode == "switched") {
+        const std::vector<double> sw = t->has("lj_switch_r0") ? t->numbers("lj_switch_r0") : std::vector<double>{1.2, 1.6};
+        if (sw.size() != 2 || !(0 < sw[0] && sw[0] < sw[1])) t->fail("lj_switch_r0", "expected [start, cutoff] with 0 < start < cutoff");
+        m.ljParams.rOnR0 = sw[0];
+        m.ljParams.rCutR0 = sw[1];
+    } else {
+        m.ljParams.rCutR0 = positive(*t, "lj_cutoff_r0", t->number("lj_cutoff_r0", 3.0));
+    }
+    m.oriented.sigmaR0 = positive(*t, "oriented_sigma_r0", t->number("oriented_sigma_r0", m.oriented.sigmaR0));
+    if (t->has("oriented_taper_r0")) {
+        const std::vector<double> tp = t->numbers("oriented_taper_r0");
+        if (tp.size() != 2 || !(0 < tp[0] && tp[0] < tp[1])) t->fail("oriented_taper_r0", "expected [start, cutoff] with 0 < start < cutoff");
+        m.oriented.taperOnR0 = tp[0];
+        m.oriented.cutoffR0 = tp[1];
+    }
+    m.curvatureWeighting = t->boolean("curvature_weighting", m.curvatureWeighting);
+    seed = std::uint64_t(t->integer("seed", 1));
+    t->finish();
+}
+
+void readConstruction(const ConfigTable& root, Scene& s) {
+    s.construction.seed = s.seed;
+    const auto t = root.optionalTable("construction");
+    if (!t) return;
+    auto& c = s.construction;
+    c.everySteps = int(t->integer("every_steps", c.everySteps));
+    c.deathR0 = t->number("death_r0", c.deathR0);
+    c.sameR0 = t->number("same_r0", c.sameR0);
+    c.anyR0 = t->number("any_r0", c.anyR0);
+    c.frontR0 = t->number("front_r0", c.frontR0);
+    c.capFraction = t->number("cap_fraction", c.capFraction);
+    if (t->has("event"))
+        for (const ConfigTable& e : t->tableArray("event")) {
+            core::ConstructionEvent ev;
+            ev.step = e.integer("step");
+            if (ev.step < 0) e.fail("step", "must be 0 or more");
+            const std::string a = e.choice("action", {"seed", "birth_on", "birth_off"}, "");
+            ev.action = a == "seed" ? core::ConstructionEvent::Action::Seed
+                        : a == "birth_on" ? core::ConstructionEvent::Action::BirthOn : core::ConstructionEvent::Action::BirthOff;
+            ev.species = int(e.integer("species"));
+            if (ev.species < 1 || ev.species > s.model->speciesCount())
+                e.fail("species", "expected a species number from 1 to " + std::to_string(s.model->speciesCount()));
+            if (e.has("position_voxels")) ev.positionVoxels = e.vec3("position_voxels");
+            e.finish();
+            s.timeline.push_back(ev);
+        }
+    t->finish();
+}
+
+}  // namespace
+
+void defaultSpecies(core::Model& m, int bags) {
+    const int n = 2 * bags;
+    m.species.assign(std::size_t(n) + 1, core::Species{});
+    for (int s = 1; s <= n; ++s) {
+        core::Species& sp = m.species[std::size_t(s)];
+        sp.kind = s % 2 ? core::ParticleKind::Surface : core::ParticleKind::Volume;
+        sp.name = "bag" + std::to_string((s + 1) / 2) + (s % 2 ? "-surface" : "-volume");
+        sp.colour = defaultColour(s);
+    }
+    m.lj = core::WeightMatrix(n, 1.0);
+    m.coNormal = core::WeightMatrix(n, 0.0);
+    m.coPlanar = core::WeightMatrix(n, 0.0);
+    for (int s = 1; s <= n; s += 2) m.coNormal(s, s) = m.coPlanar(s, s) = 0.3;  // physics.md §7.4
+}
+
+Scene loadScene(const std::string& path) {
+    const toml::table doc = ConfigTable::parseFile(path);
+    const ConfigTable root(doc, path, "");
+    Scene s;
+    s.file = path;
+    s.model = std::make_shared<core::Model>();
+    core::Model& m = *s.model;
+    if (root.has("box")) {
+        if (root.has("shape")) root.fail("box", "give either [box] (bulk material) or [grid] and [shape] (bags), not both");
+        const ConfigTable b = root.table("box");
+        BulkBox bulk;
+        bulk.sizeR0 = b.vec3("size_r0", bulk.sizeR0);
+        bulk.spacingR0 = positive(b, "spacing_r0", b.number("spacing_r0", bulk.spacingR0));
+        bulk.jitterR0 = b.number("jitter_r0", 0.0);
+        const bool periodic = b.boolean("periodic", true);
+        b.finish();
+        if (bulk.sizeR0.minCoeff() <= 0) b.fail("size_r0", "expected 3 positive numbers");
+        m.box.lo.setZero();
+        m.box.hi = bulk.sizeR0 * kR0;
+        m.box.periodic = {periodic, periodic, periodic};
+        m.species.assign(2, core::Species{});
+        m.species[1].name = "bulk";
+        m.species[1].colour = defaultColour(2);
+        m.lj = core::WeightMatrix(1, 1.0);
+        m.coNormal = m.coPlanar = core::WeightMatrix(1, 0.0);
+        s.bulk = bulk;
+    } else {
+        s.shape = shape::readShapeSpec(root);
+        m.interpolation = s.shape->interpolation;
+        defaultSpecies(m, int(s.shape->bags.size()));
+        for (std::size_t b = 0; b < s.shape->bags.size(); ++b) {
+            m.species[2 * b + 1].name = s.shape->bags[b].name + "-surface";
+            m.species[2 * b + 2].name = s.shape->bags[b].name + "-volume";
+        }
+    }
+    readSpecies(root, m, s.shape.has_value());
+    if (const auto t = root.optionalTable("interactions")) {
+        readMatrix(*t, "lj", m.lj);
+        readMatrix(*t, "co_normal", m.coNormal);
+        readMatrix(*t, "co_planar", m.coPlanar);
+        t->finish();
+    }
+    readDynamics(root, m, s.seed);
+    if (s.bulk && m.hasSurfaceSpecies()) root.fail("species", "a bulk [box] holds volume particles only");
+    readConstruction(root, s);
+    if (const auto t = root.optionalTable("probe")) {
+        s.probe.active = t->boolean("active", false);
+        if (t->has("position_voxels")) s.probePositionVoxels = t->vec3("position_voxels");
+        s.probe.position = t->vec3("position", Eigen::Vector3d::Zero());
+        s.probe.params.k0 = positive(*t, "k0", t->number("k0", 1.0));
+        s.probe.params.k1 = t->number("k1", 1.0);
+        t->finish();
+    }
+    if (const auto t = root.optionalTable("run")) {
+        s.run.steps = t->integer("steps", 0);
+        s.run.snapshotEverySteps = t->integer("snapshot_every_steps", 0);
+        s.run.reportEverySteps = t->integer("report_every_steps", 0);
+        t->finish();
+    }
+    root.finish();
+    return s;
+}
+
+core::Particles bulkLattice(const Scene& scene) {
+    core::Particles p;
+    const BulkBox& b = *scene.bulk;
+    const double a = b.spacingR0 * kR0 * std::sqrt(2.0);  // fcc cube edge for nearest distance d: a = d sqrt 2
+    const Eigen::Vector3d L = scene.model->box.size();
+    const Eigen::Vector3i n = (L / a).array().floor().cast<int>().max(1).matrix();
+    const Eigen::Vector3d cell = L.cwiseQuotient(n.cast<double>());
+    static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+    std::uint64_t id = 1;
+    for (int k = 0; k < n.z(); ++k)
+        for (int j = 0; j < n.y(); ++j)
+            for (int i = 0; i < n.x(); ++i)
+                for (const auto& bs : basis) {
+                    Eigen::Vector3d x = (Eigen::Vector3d(i + bs[0] + 0.25, j + bs[1] + 0.25, k + bs[2] + 0.25)).cwiseProduct(cell);
+                    if (b.jitterR0 > 0)
+                        for (int c = 0; c < 3; ++c)
+                            x[c] += b.jitterR0 * kR0 * (double(core::mixHash(scene.seed, id, std::uint64_t(c)) >> 11) * 0x1.0p-53 - 0.5);
+                    p.add(x, b.speciesNumber, id++);
+                }
+    return p;
+}
+
+}  // namespace bop::app

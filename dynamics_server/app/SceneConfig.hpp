@@ -1,0 +1,52 @@
+#pragma once
+// A whole scene for the server: the shape ([grid], [shape]) or a bulk box ([box]), the species
+// table, interspecies weights, dynamics parameters, probe, construction timeline and run
+// settings. See docs/scene-format.md for every key and its unit.
+#include "core/Construction.hpp"
+#include "core/ForceField.hpp"
+#include "core/Model.hpp"
+#include "shape/ShapeSpec.hpp"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bop::app {
+
+struct BulkBox {
+    Eigen::Vector3d sizeR0{10, 10, 10};  // box edges, multiples of r0
+    double spacingR0 = 1.0;              // nearest-neighbour distance of the initial fcc lattice, r0
+    double jitterR0 = 0.0;               // random displacement of each lattice site, r0
+    int speciesNumber = 1;               // species of the lattice particles
+};
+
+struct RunSettings {
+    long long steps = 0;                 // default for --steps
+    long long snapshotEverySteps = 0;    // extended XYZ snapshot period, steps (0 = none)
+    long long reportEverySteps = 0;      // progress line period, steps (0 = about 10 per run)
+};
+
+struct Scene {
+    std::string file;
+    std::optional<shape::ShapeSpec> shape;   // the bag(s), or nothing for bulk material
+    std::optional<BulkBox> bulk;
+    std::shared_ptr<core::Model> model;      // without its map: the server builds or loads it
+    core::ConstructionParams construction;
+    std::vector<core::ConstructionEvent> timeline;
+    core::ProbeState probe;
+    std::optional<Eigen::Vector3d> probePositionVoxels;
+    RunSettings run;
+    std::uint64_t seed = 1;
+};
+
+// Reads and checks every table; bop::Error naming the file and key on any problem.
+Scene loadScene(const std::string& path);
+
+// The default species table and weights for a map of `bags` nested bags (paper-like bags).
+void defaultSpecies(core::Model& m, int bags);
+
+// Initial particles of a bulk box: an fcc lattice filling the box (deterministic jitter).
+core::Particles bulkLattice(const Scene& scene);
+
+}  // namespace bop::app

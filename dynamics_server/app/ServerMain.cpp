@@ -1,0 +1,129 @@
+// bop-server SCENE.toml: the dynamics host. In batch mode (--steps K --no-listen) it builds or
+// loads the scene's gradient map, places or reads the particles, runs K steps with the
+// construction timeline, prints progress, per-phase timings and a Table-1 style summary, and
+// writes extended XYZ snapshots.
+#include "BatchReport.hpp"
+#include "ExtendedXyz.hpp"
+#include "SceneConfig.hpp"
+
+#include "shape/GradientMapFile.hpp"
+#include "shape/ShapeBuilder.hpp"
+
+#include "bop/common/Error.hpp"
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+
+namespace fs = std::filesystem;
+using namespace bop;
+
+namespace {
+
+std::shared_ptr<const GradientMap> loadMap(const app::Scene& scene, const std::string& cache) {
+    const std::uint64_t key = shape::hashText(scene.shape->canonical);
+    if (auto cached = shape::readGradientMaps(cache, key)) {
+        spdlog::info("gradient map from the cache {}", cache);
+        return std::make_shared<GradientMap>(std::move(cached->front()));
+    }
+    shape::ShapeBuild build = shape::buildShape(*scene.shape, [](const std::string& m) { spdlog::info("{}", m); });
+    shape::writeGradientMaps(cache, build.frames, key);
+    return std::make_shared<GradientMap>(std::move(build.frames.front()));
+}
+
+int run(int argc, char** argv) {
+    CLI::App app{"bop-server: the BoP dynamics host. Batch mode: bop-server SCENE.toml --steps K --no-listen"};
+    std::string scenePath, outDir, restart, cache;
+    long long steps = -1, snapshotEvery = -1, reportEvery = -1;
+    bool noListen = false;
+    app.add_option("scene", scenePath, "scene file (TOML)")->required();
+    app.add_option("--steps", steps, "steps to run (default: [run].steps of the scene)");
+    app.add_flag("--no-listen", noListen, "batch run without the network front");
+    app.add_option("-o,--out", outDir, "output folder (default: out/<scene name>)");
+    app.add_option("--snapshot-every", snapshotEvery, "extended XYZ snapshot period in steps (0 = only the final state)");
+    app.add_option("--report-every", reportEvery, "progress line period in steps");
+    app.add_option("--restart", restart, "start from the last frame of an extended XYZ file");
+    app.add_option("--cache", cache, "gradient-map cache (default: <out>/gradient-map.bopgm)");
+    CLI11_PARSE(app, argc, argv);
+    if (!noListen) throw Error("bop-server", "the network front is not part of this build; run batch mode with --no-listen");
+
+    spdlog::set_pattern("[bop-server] %v");
+    app::Scene scene = app::loadScene(scenePath);
+    if (outDir.empty()) outDir = "out/" + fs::path(scenePath).stem().string();
+    if (cache.empty()) cache = outDir + "/gradient-map.bopgm";
+    fs::create_directories(outDir);
+    if (steps < 0) steps = scene.run.steps;
+    if (snapshotEvery < 0) snapshotEvery = scene.run.snapshotEverySteps;
+    if (reportEvery < 0) reportEvery = scene.run.reportEverySteps > 0 ? scene.run.reportEverySteps : std::max(1LL, steps / 10);
+
+    core::Model& model = *scene.model;
+    if (scene.shape) {
+        model.map = loadMap(scene, cache);
+        const Dims& d = model.map->dims();
+        const double h = core::kR0 / model.map->r0Voxels;
+        model.box.lo.setZero();
+        model.box.hi = Eigen::Vector3d(d.nx, d.ny, d.nz) * h;
+        if (scene.probePositionVoxels) scene.probe.position = *scene.probePositionVoxels * h;
+    }
+    if (model.ljParams.mode == core::LjCutoff::Truncated)
+        spdlog::warn("paper mode: LJ truncated at {} r0; bulk material collapses with this cutoff (docs/dynamics.md)",
+                     model.ljParams.rCutR0);
+
+    std::vector<std::string> names;
+    for (const auto& s : model.species) names.push_back(s.name);
+    core::Particles particles;
+    long long firstStep = 0;
+    if (!restart.empty()) {
+        app::XyzFrame f = app::readExtendedXyz(restart, names);
+        particles = std::move(f.particles);
+        firstStep = f.info.step;
+        spdlog::info("restart from {} at step {} with {} particles", restart, firstStep, particles.size());
+    } else if (scene.bulk) {
+        particles = app::bulkLattice(scene);
+    }
+    core::Simulation sim(scene.model, std::move(particles),
+                         core::Construction(scene.construction, scene.timeline, model.speciesCount()), firstStep);
+    sim.probe() = scene.probe;
+
+    const std::string trajectory = outDir + "/trajectory.xyz";
+    if (snapshotEvery > 0) fs::remove(trajectory);
+    auto snapshot = [&](const std::string& path) {
+        app::XyzFrameInfo info;
+        info.step = sim.stats().step;
+        info.time = sim.stats().time;
+        info.boxLo = model.box.lo;
+        info.boxHi = model.box.hi;
+        info.periodic = model.box.periodic;
+        app::appendExtendedXyz(path, sim.particles(), names, info);
+    };
+    app::BatchReport report(std::cout, model);
+    const auto t0 = std::chrono::steady_clock::now();
+    for (long long s = 1; s <= steps; ++s) {
+        sim.step();
+        if (snapshotEvery > 0 && s % snapshotEvery == 0) snapshot(trajectory);
+        if (s % reportEvery == 0 || s == steps) report.progress(sim, s, steps, t0);
+    }
+    const std::string finalFile = outDir + "/final.xyz";
+    fs::remove(finalFile);
+    snapshot(finalFile);
+    report.summary(sim, steps, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    spdlog::info("final state: {}{}", finalFile, snapshotEvery > 0 ? ", trajectory: " + trajectory : "");
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        return run(argc, argv);
+    } catch (const bop::Error& e) {
+        std::cerr << "bop-server: error: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "bop-server: error: " << e.what() << "\n";
+        return 1;
+    }
+}

@@ -1,0 +1,97 @@
+#include "CellList.hpp"
+
+#include "Model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace bop::core {
+
+void CellList::build(const Box& box, double minCell, const std::vector<Eigen::Vector3d>& pos) {
+    lo_ = box.lo;
+    boxSize_ = box.size();
+    periodic_ = box.periodic;
+    for (int a = 0; a < 3; ++a) {
+        n_[a] = std::max(1, int(std::floor(boxSize_[a] / minCell)));
+        if (periodic_[a] && n_[a] < 3)
+            throw std::invalid_argument("periodic box side shorter than 3 cutoffs: enlarge the box");
+        width_[a] = boxSize_[a] / n_[a];
+    }
+    const int cells = n_[0] * n_[1] * n_[2];
+    start_.assign(std::size_t(cells) + 1, 0);
+    cellOfParticle_.resize(pos.size());
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+        const int c = cellOf(pos[i]);
+        cellOfParticle_[i] = c;
+        ++start_[std::size_t(c) + 1];
+    }
+    for (int c = 0; c < cells; ++c) start_[std::size_t(c) + 1] += start_[std::size_t(c)];
+    order_.resize(pos.size());
+    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+    for (std::size_t i = 0; i < pos.size(); ++i) order_[fill[std::size_t(cellOfParticle_[i])]++] = std::uint32_t(i);
+}
+
+int CellList::cellOf(const Eigen::Vector3d& p) const {
+    int ijk[3];
+    for (int a = 0; a < 3; ++a) {
+        const double u = (p[a] - lo_[a]) / width_[a];
+        int c = std::isfinite(u) ? int(std::floor(u)) : 0;
+        if (periodic_[a]) c = ((c % n_[a]) + n_[a]) % n_[a];
+        ijk[a] = std::clamp(c, 0, n_[a] - 1);
+    }
+    return index(ijk[0], ijk[1], ijk[2]);
+}
+
+int CellList::halfStencil(int c, std::array<Neighbour, 14>& out) const {
+    // Offsets (dx, dy, dz) that are "forward": dz > 0, or dz == 0 and dy > 0, or dz == dy == 0 and dx > 0.
+    const auto x = coords(c);
+    int count = 0;
+    out[count++] = {c, Eigen::Vector3d::Zero()};
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const bool forward = dz > 0 || (dz == 0 && (dy > 0 || (dy == 0 && dx > 0)));
+                if (!forward) continue;
+                const int d[3] = {dx, dy, dz};
+                int y[3];
+                Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+                bool ok = true;
+                for (int a = 0; a < 3 && ok; ++a) {
+                    y[a] = x[a] + d[a];
+                    if (y[a] < 0 || y[a] >= n_[a]) {
+                        if (!periodic_[a]) ok = false;
+                        else {
+                            shift[a] = y[a] < 0 ? -boxSize_[a] : boxSize_[a];
+                            y[a] = (y[a] + n_[a]) % n_[a];
+                        }
+                    }
+                }
+                if (ok) out[count++] = {index(y[0], y[1], y[2]), shift};
+            }
+    return count;
+}
+
+void CellList::around(int c, int reach, std::vector<Neighbour>& out) const {
+    out.clear();
+    const auto x = coords(c);
+    for (int dz = -reach; dz <= reach; ++dz)
+        for (int dy = -reach; dy <= reach; ++dy)
+            for (int dx = -reach; dx <= reach; ++dx) {
+                const int d[3] = {dx, dy, dz};
+                int y[3];
+                Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+                bool ok = true;
+                for (int a = 0; a < 3 && ok; ++a) {
+                    y[a] = x[a] + d[a];
+                    if (y[a] >= 0 && y[a] < n_[a]) continue;
+                    if (!periodic_[a] || std::abs(d[a]) >= n_[a]) { ok = false; continue; }
+                    const int wraps = y[a] < 0 ? -1 : 1;
+                    shift[a] = wraps * boxSize_[a];
+                    y[a] -= wraps * n_[a];
+                }
+                if (ok) out.push_back({index(y[0], y[1], y[2]), shift});
+            }
+}
+
+}  // namespace bop::core

@@ -1,0 +1,47 @@
+#pragma once
+// Cell lists over the simulation box (paper §4.5): cells at least one cutoff wide, particles
+// binned by a counting sort, and a half stencil of 13 neighbour cells plus the cell itself so
+// that every pair within the cutoff is visited exactly once. Particles outside a non-periodic
+// box are binned into the border cells, which keeps every close pair in adjacent cells.
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace bop::core {
+
+struct Box;
+
+class CellList {
+public:
+    // Cells of at least minCell (simulation length units) across box; periodic axes need at
+    // least 3 cells, otherwise that axis uses one cell and pairs take the minimum image.
+    void build(const Box& box, double minCell, const std::vector<Eigen::Vector3d>& pos);
+
+    int cellCount() const { return int(start_.size()) - 1; }
+    const std::array<int, 3>& dims() const { return n_; }
+    // Particle indices sorted by cell; cell c holds order()[start(c) .. start(c+1)).
+    const std::vector<std::uint32_t>& order() const { return order_; }
+    std::uint32_t start(int c) const { return start_[std::size_t(c)]; }
+    int cellOf(const Eigen::Vector3d& p) const;
+    std::array<int, 3> coords(int c) const { return {c % n_[0], (c / n_[0]) % n_[1], c / (n_[0] * n_[1])}; }
+    int index(int i, int j, int k) const { return i + n_[0] * (j + n_[1] * k); }
+
+    struct Neighbour {
+        int cell;                // neighbour cell index
+        Eigen::Vector3d shift;   // add to the neighbour's positions (periodic image), length units
+    };
+    // The half stencil of cell c: itself first (shift 0), then up to 13 distinct neighbours.
+    int halfStencil(int c, std::array<Neighbour, 14>& out) const;
+    // Every cell within `reach` cells of c (for range queries), with periodic shifts.
+    void around(int c, int reach, std::vector<Neighbour>& out) const;
+
+private:
+    std::array<int, 3> n_{1, 1, 1};
+    Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), width_ = Eigen::Vector3d::Ones(), boxSize_ = Eigen::Vector3d::Ones();
+    std::array<bool, 3> periodic_{false, false, false};
+    std::vector<std::uint32_t> start_, order_;
+    std::vector<int> cellOfParticle_;
+};
+
+}  // namespace bop::core

@@ -1,0 +1,67 @@
+#pragma once
+// Building a bag by birth and death (paper §3.6, physics.md §7): the user seeds one particle
+// per species; where a species' voxels lack particles next to existing ones, particles are born;
+// where two particles are too close, one dies. Rate-limited, surfaces first, then volumes.
+// Deterministic for a given seed: every choice is ordered by a counter-based hash of
+// (seed, step, species, voxel or id), never by iteration order.
+#include "Model.hpp"
+#include "Particles.hpp"
+
+#include <optional>
+#include <vector>
+
+namespace bop::core {
+
+struct ConstructionParams {
+    int everySteps = 10;       // steps between birth/death checks
+    double deathR0 = 0.5;      // a pair closer than this dies (one of the two), multiples of r0
+    double sameR0 = 0.8;       // no birth within this of a particle of the same species, r0
+    double anyR0 = 0.69;       // no birth within this of any particle, r0
+    double frontR0 = 2.0;      // births only within this of a particle of the same species, r0
+    double capFraction = 0.05; // at most max(1, ceil(fraction * N_species)) births (deaths) per check
+    std::uint64_t seed = 1;    // random seed of every construction choice
+};
+
+struct ConstructionEvent {
+    enum class Action { Seed, BirthOn, BirthOff };
+    long long step = 0;                           // applied at the start of this step
+    Action action = Action::Seed;
+    int species = 1;
+    std::optional<Eigen::Vector3d> positionVoxels;  // seed position in voxel coordinates; default: a voxel of the species
+};
+
+struct ConstructionCounts {
+    std::size_t births = 0, deaths = 0;
+};
+
+class Construction {
+public:
+    Construction(ConstructionParams params, std::vector<ConstructionEvent> timeline, int speciesCount);
+
+    // Commands (scripted by the timeline, or sent by a viewer between steps).
+    std::uint64_t seed(const Model& model, Particles& p, int species, const Eigen::Vector3d& position, long long step);
+    Eigen::Vector3d defaultSeedPosition(const Model& model, int species) const;  // simulation units
+    void setBirth(int species, bool on);
+    bool birthOn(int species) const { return birth_[std::size_t(species)]; }
+
+    // At the start of a step: the timeline's events for this step, then (every everySteps
+    // steps) deaths followed by births of every species whose birth is on.
+    ConstructionCounts update(const Model& model, Particles& p, long long step);
+
+    const ConstructionParams& params() const { return params_; }
+    ConstructionCounts totals() const { return totals_; }
+
+private:
+    std::size_t deaths(const Model& model, Particles& p, long long step);
+    std::size_t births(const Model& model, Particles& p, int species, long long step);
+
+    ConstructionParams params_;
+    std::vector<ConstructionEvent> timeline_;
+    std::vector<char> birth_;
+    ConstructionCounts totals_;
+};
+
+// SplitMix64 of a combination of integers: the construction's only source of randomness.
+std::uint64_t mixHash(std::uint64_t a, std::uint64_t b, std::uint64_t c = 0, std::uint64_t d = 0);
+
+}  // namespace bop::core

@@ -1,0 +1,63 @@
+#pragma once
+// All forces and torques of one step (paper eqs. 2-11 without the drag, which the integrator
+// applies exactly): LJ, co-normal and co-planar pairs over cell lists with a half stencil
+// (each pair once, asymmetric weights applied per side), gradient-map forces and torques, and
+// the probe particle.
+#include "CellList.hpp"
+#include "Model.hpp"
+#include "Particles.hpp"
+
+#include <memory>
+
+namespace bop::core {
+
+struct ProbeState {
+    bool active = false;
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();  // simulation length units
+    ProbeParams params;                                   // k0, k1 (eq. 9)
+};
+
+struct ForceStats {
+    double pairEnergy = 0;      // LJ + co-normal + co-planar energy (weights symmetrised), energy units
+    double probeEnergy = 0;     // energy of the probe's interaction with the particles
+    double virial = 0;          // sum over pairs of r_ij . F_j (conservative pair forces), energy
+    double virialVolume = 0;    // the same over pairs of two volume particles only
+    Eigen::Vector3d probeReaction = Eigen::Vector3d::Zero();  // force of the particles on the probe
+    std::size_t pairsInRange = 0;  // pairs within the largest cutoff
+};
+
+struct PhaseTimes {
+    double cells = 0, pairs = 0, gradientMap = 0, probe = 0;  // seconds, accumulated
+};
+
+class ForceField {
+public:
+    explicit ForceField(const Model& model);
+
+    // Overwrites particles.force and particles.torque.
+    void compute(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats,
+                 PhaseTimes* times = nullptr);
+
+    // Reference O(N^2) pair forces (for tests): same weights, no cell lists.
+    static void computePairsBruteForce(const Model& model, Particles& particles, ForceStats& stats);
+
+    double cellSize() const { return cellSize_; }
+    const CellList& cells() const { return cells_; }
+
+private:
+    void pairForces(const Model& model, Particles& particles, ForceStats& stats);
+    void gradientMapForces(const Model& model, Particles& particles);
+    void probeForces(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats);
+
+    double cellSize_ = 1;
+    CellList cells_;
+    std::unique_ptr<shape::GmField> field_;
+    const GradientMap* fieldMap_ = nullptr;
+    // Cell-ordered copies for the pair loop.
+    std::vector<Eigen::Vector3d> sp_, sn_, sf_, st_;
+    std::vector<std::uint8_t> ss_;
+    std::vector<float> sw_;
+    std::vector<float> cpWeight_;  // per particle, from the map (1 without a map)
+};
+
+}  // namespace bop::core

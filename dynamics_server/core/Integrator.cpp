@@ -1,0 +1,74 @@
+#include "Integrator.hpp"
+
+#include <cmath>
+
+namespace bop::core {
+namespace {
+
+struct Decay {
+    std::vector<double> v, w;  // per species: exp(-beta_v dt / 2), exp(-beta_tau dt / (2 I))
+    Decay(const Model& m) : v(m.species.size(), 1.0), w(m.species.size(), 1.0) {
+        const double dt = m.integration.dt;
+        for (std::size_t s = 1; s < m.species.size(); ++s) {
+            v[s] = std::exp(-m.species[s].dragV * dt / 2.0);
+            w[s] = std::exp(-m.species[s].dragW * dt / (2.0 * m.integration.inertia));
+        }
+    }
+};
+
+Eigen::Quaterniond rotation(const Eigen::Vector3d& theta) {
+    const double angle = theta.norm();
+    if (angle < 1e-8) return Eigen::Quaterniond(1.0, 0.5 * theta.x(), 0.5 * theta.y(), 0.5 * theta.z()).normalized();
+    const double s = std::sin(0.5 * angle) / angle;
+    return Eigen::Quaterniond(std::cos(0.5 * angle), s * theta.x(), s * theta.y(), s * theta.z());
+}
+
+}  // namespace
+
+void kickDrift(const Model& model, Particles& p) {
+    const Decay decay(model);
+    const double dt = model.integration.dt, half = 0.5 * dt, invI = 1.0 / model.integration.inertia;
+    const Eigen::Vector3d lo = model.box.lo, L = model.box.size();
+    const bool anyPeriodic = model.box.periodic[0] || model.box.periodic[1] || model.box.periodic[2];
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const int s = p.species[i];
+        p.vel[i] = decay.v[std::size_t(s)] * p.vel[i] + half * p.force[i];
+        p.pos[i] += dt * p.vel[i];
+        if (anyPeriodic)
+            for (int a = 0; a < 3; ++a)
+                if (model.box.periodic[std::size_t(a)]) p.pos[i][a] -= L[a] * std::floor((p.pos[i][a] - lo[a]) / L[a]);
+        if (!model.isSurface(s)) continue;
+        p.omega[i] = decay.w[std::size_t(s)] * p.omega[i] + half * invI * p.torque[i];
+        p.q[i] = (rotation(dt * p.omega[i]) * p.q[i]).normalized();
+        p.normal[i] = p.q[i] * Eigen::Vector3d::UnitZ();
+    }
+}
+
+void kick(const Model& model, Particles& p) {
+    const Decay decay(model);
+    const double half = 0.5 * model.integration.dt, invI = 1.0 / model.integration.inertia;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const int s = p.species[i];
+        p.vel[i] = decay.v[std::size_t(s)] * (p.vel[i] + half * p.force[i]);
+        if (model.isSurface(s)) p.omega[i] = decay.w[std::size_t(s)] * (p.omega[i] + half * invI * p.torque[i]);
+    }
+}
+
+double kineticEnergy(const Model& model, const Particles& p) {
+    double e = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        e += 0.5 * p.vel[i].squaredNorm();
+        if (model.isSurface(p.species[i])) e += 0.5 * model.integration.inertia * p.omega[i].squaredNorm();
+    }
+    return e;
+}
+
+Eigen::Quaterniond orientationFor(const Eigen::Vector3d& n) {
+    const Eigen::Vector3d u = n.normalized();
+    const double w = 1.0 + u.z();
+    if (w < 1e-9) return Eigen::Quaterniond(0, 1, 0, 0);
+    const Eigen::Vector3d c = Eigen::Vector3d::UnitZ().cross(u);
+    return Eigen::Quaterniond(w, c.x(), c.y(), c.z()).normalized();
+}
+
+}  // namespace bop::core

@@ -1,0 +1,24 @@
+#pragma once
+// Damped velocity Verlet with exact drag and exact rotation (physics.md §3.2), split as
+// O-B-A | forces | B-O:
+//   O: v *= exp(-beta_v dt / 2m), omega *= exp(-beta_tau dt / 2I)   (exact half step of the drag)
+//   B: v += dt/2 F/m, omega += dt/2 tau/I
+//   A: p += dt v;  q = exp(dt omega / 2) q (rotation by |omega| dt about omega), normal = q e_z
+// Mass 1; surface particles rotate with inertia I, volume particles do not rotate.
+#include "Model.hpp"
+#include "Particles.hpp"
+
+namespace bop::core {
+
+// O, B and A; wraps positions into the box along periodic axes.
+void kickDrift(const Model& model, Particles& p);
+// B and O with the forces of the new positions.
+void kick(const Model& model, Particles& p);
+
+// Kinetic energy: sum of v^2/2 + I omega^2/2 over particles, energy units.
+double kineticEnergy(const Model& model, const Particles& p);
+
+// Shortest-arc rotation that carries e_z to n (physics.md §3.3).
+Eigen::Quaterniond orientationFor(const Eigen::Vector3d& n);
+
+}  // namespace bop::core

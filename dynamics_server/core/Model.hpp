@@ -1,0 +1,75 @@
+#pragma once
+// The scene model: everything a step reads and never changes (species table, interspecies
+// weights, potentials, integration parameters, box and gradient map). Built once from the
+// scene file; commands from the network replace parts of it only between steps.
+#include "Potentials.hpp"
+
+#include "bop/common/GradientMap.hpp"
+#include "shape/GmField.hpp"
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bop::core {
+
+using shape::ParticleKind;
+
+struct Species {
+    std::string name;                          // shown in reports and snapshots (no spaces)
+    ParticleKind kind = ParticleKind::Volume;  // surface (oriented) or volume
+    std::array<float, 3> colour{0.5f, 0.5f, 0.5f};  // RGB in [0, 1]
+    double alphaForceOp = 1.0;    // alpha_f^OP: weight of LJ + co-normal + co-planar forces (eq. 2)
+    double alphaForceGm = 1.0;    // alpha_f^GM: gradient-map spring stiffness, energy / length^2
+    double alphaTorqueOp = 1.0;   // alpha_tau^OP: weight of oriented-particle torques (eq. 3)
+    double alphaTorqueGm = 1.0;   // alpha_tau^GM: gradient-map torque, energy
+    double dragV = 1.0;           // beta_v: translational damping, mass / time (eq. 10)
+    double dragW = 0.3;           // beta_tau: rotational damping, inertia / time (eq. 11)
+};
+
+// alpha_ab for one potential: the weight applied to the force (torque) on a particle of species
+// a from a particle of species b (paper eqs. 6-8; asymmetric allowed). Index 0 is unused.
+struct WeightMatrix {
+    int n = 0;                 // species count + 1
+    std::vector<double> w;     // n x n, row = receiving species
+    WeightMatrix() = default;
+    WeightMatrix(int species, double fill) : n(species + 1), w(std::size_t(n) * n, fill) {}
+    double operator()(int a, int b) const { return w[std::size_t(a) * n + b]; }
+    double& operator()(int a, int b) { return w[std::size_t(a) * n + b]; }
+};
+
+struct Box {
+    Eigen::Vector3d lo = Eigen::Vector3d::Zero();  // simulation length units
+    Eigen::Vector3d hi = Eigen::Vector3d::Zero();
+    std::array<bool, 3> periodic{false, false, false};
+    Eigen::Vector3d size() const { return hi - lo; }
+};
+
+struct Integration {
+    double dt = 0.02;       // time step, simulation time units (physics.md §3.4: 0.02-0.03)
+    double inertia = 0.3;   // moment of inertia of a surface particle, mass * length^2
+};
+
+struct Model {
+    std::vector<Species> species;      // index = species number; [0] is a placeholder
+    WeightMatrix lj, coNormal, coPlanar;
+    LjParams ljParams;
+    OrientedParams oriented;
+    Integration integration;
+    Box box;
+    bool curvatureWeighting = true;    // multiply co-planar weights by the map's curvature weight
+    std::shared_ptr<const GradientMap> map;  // shape of the bag(s); null for bulk material
+    shape::Interpolation interpolation = shape::Interpolation::Trilinear;
+
+    int speciesCount() const { return int(species.size()) - 1; }
+    bool isSurface(int s) const { return species[std::size_t(s)].kind == ParticleKind::Surface; }
+    bool hasSurfaceSpecies() const {
+        for (int s = 1; s <= speciesCount(); ++s)
+            if (isSurface(s)) return true;
+        return false;
+    }
+};
+
+}  // namespace bop::core

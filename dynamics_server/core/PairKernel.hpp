@@ -1,0 +1,93 @@
+#pragma once
+// The work for one pair (i, j) with r = p_j - p_i: LJ for every pair, co-normal and co-planar
+// for two surface particles; weights alpha_ab to i and alpha_ba to j (paper eqs. 6-8) combined
+// with each species' alpha_f^OP and alpha_tau^OP (eqs. 2-3) into one table per potential.
+#include "Model.hpp"
+#include "Potentials.hpp"
+
+#include <vector>
+
+namespace bop::core {
+
+class PairKernel {
+public:
+    explicit PairKernel(const Model& m)
+        : lj_(m.ljParams), weight_(m.oriented), n_(m.speciesCount() + 1),
+          useCurvature_(m.curvatureWeighting && m.map != nullptr) {
+        const std::size_t nn = std::size_t(n_) * n_;
+        ljF_.assign(nn, 0); ljE_.assign(nn, 0); cnF_.assign(nn, 0); cnT_.assign(nn, 0);
+        cpF_.assign(nn, 0); cpT_.assign(nn, 0); cnE_.assign(nn, 0); cpE_.assign(nn, 0);
+        oriented_.assign(nn, 0);
+        for (int a = 1; a < n_; ++a)
+            for (int b = 1; b < n_; ++b) {
+                const std::size_t k = std::size_t(a) * n_ + b;
+                const Species& sa = m.species[std::size_t(a)];
+                ljF_[k] = sa.alphaForceOp * m.lj(a, b);
+                ljE_[k] = 0.5 * (m.lj(a, b) + m.lj(b, a));
+                const bool both = m.isSurface(a) && m.isSurface(b);
+                if (!both) continue;
+                cnF_[k] = sa.alphaForceOp * m.coNormal(a, b);
+                cnT_[k] = sa.alphaTorqueOp * m.coNormal(a, b);
+                cpF_[k] = sa.alphaForceOp * m.coPlanar(a, b);
+                cpT_[k] = sa.alphaTorqueOp * m.coPlanar(a, b);
+                cnE_[k] = 0.5 * (m.coNormal(a, b) + m.coNormal(b, a));
+                cpE_[k] = 0.5 * (m.coPlanar(a, b) + m.coPlanar(b, a));
+                oriented_[k] = (m.coNormal(a, b) != 0 || m.coNormal(b, a) != 0 || m.coPlanar(a, b) != 0 ||
+                                m.coPlanar(b, a) != 0);
+            }
+        cutoff2_ = std::max(lj_.cutoff2(), m.hasSurfaceSpecies() ? weight_.cutoff2() : 0.0);
+    }
+
+    double cutoff() const { return std::sqrt(cutoff2_); }
+    double cutoff2() const { return cutoff2_; }
+
+    struct Sums {
+        double energy = 0, virial = 0, virialVolume = 0;
+        std::size_t inRange = 0;
+    };
+
+    // Accumulates the pair's forces and torques into f[i], f[j], t[i], t[j].
+    // wi, wj: curvature weights of the co-planar term (1 without a map).
+    inline void apply(std::size_t i, std::size_t j, int a, int b, const Eigen::Vector3d& r, double r2,
+                      const Eigen::Vector3d& ni, const Eigen::Vector3d& nj, float wi, float wj,
+                      Eigen::Vector3d* f, Eigen::Vector3d* t, bool volumeA, bool volumeB, Sums& s) const {
+        if (r2 >= cutoff2_) return;
+        ++s.inRange;
+        const std::size_t ab = std::size_t(a) * n_ + b, ba = std::size_t(b) * n_ + a;
+        double fOverR, e;
+        if (lj_.eval(r2, fOverR, e)) {
+            const Eigen::Vector3d fj = fOverR * r;
+            f[j] += ljF_[ba] * fj;
+            f[i] -= ljF_[ab] * fj;
+            s.energy += ljE_[ab] * e;
+            const double w = ljE_[ab] * fOverR * r2;
+            s.virial += w;
+            if (volumeA && volumeB) s.virialVolume += w;
+        }
+        if (!oriented_[ab] || r2 >= weight_.cutoff2()) return;
+        const double rlen = std::sqrt(r2);
+        double psi, dpsi;
+        if (!weight_.eval(rlen, psi, dpsi)) return;
+        OrientedPair cn, cp;
+        coNormal(r, rlen, ni, nj, psi, dpsi, cn);
+        const double c = useCurvature_ ? 0.5 * (double(wi) + double(wj)) : 1.0;
+        coPlanar(r, rlen, ni, nj, c * psi, c * dpsi, cp);
+        f[j] += cnF_[ba] * cn.fj + cpF_[ba] * cp.fj;
+        f[i] -= cnF_[ab] * cn.fj + cpF_[ab] * cp.fj;
+        t[i] += cnT_[ab] * cn.taui + cpT_[ab] * cp.taui;
+        t[j] += cnT_[ba] * cn.tauj + cpT_[ba] * cp.tauj;
+        s.energy += cnE_[ab] * cn.energy + cpE_[ab] * cp.energy;
+        s.virial += cnE_[ab] * r.dot(cn.fj) + cpE_[ab] * r.dot(cp.fj);
+    }
+
+private:
+    LjForm lj_;
+    OrientedWeight weight_;
+    int n_;
+    bool useCurvature_;
+    double cutoff2_ = 0;
+    std::vector<double> ljF_, ljE_, cnF_, cnT_, cpF_, cpT_, cnE_, cpE_;
+    std::vector<char> oriented_;
+};
+
+}  // namespace bop::core

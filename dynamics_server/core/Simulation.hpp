@@ -1,0 +1,60 @@
+#pragma once
+// One process's simulation: the model (read-only during a step), the particles, the probe and
+// the construction timeline, advanced by step(). Free of MPI, sockets and files.
+#include "Construction.hpp"
+#include "ForceField.hpp"
+#include "Integrator.hpp"
+
+#include <memory>
+
+namespace bop::core {
+
+struct StepStats {
+    long long step = 0;          // steps completed
+    double time = 0;             // simulation time
+    double kinetic = 0;          // kinetic energy (translation + rotation)
+    ForceStats forces;           // energies, virial and probe reaction of the last force evaluation
+    ConstructionCounts built;    // births and deaths at the start of the last step
+    double total() const { return kinetic + forces.pairEnergy + forces.probeEnergy; }
+};
+
+struct StepTimes {
+    PhaseTimes forces;           // cells, pairs, gradient map, probe
+    double integrate = 0;        // kicks and drift, s
+    double construction = 0;     // births and deaths, s
+    double total() const { return forces.cells + forces.pairs + forces.gradientMap + forces.probe + integrate + construction; }
+};
+
+class Simulation {
+public:
+    Simulation(std::shared_ptr<const Model> model, Particles particles, Construction construction,
+               long long firstStep = 0);
+
+    void step();
+    void run(long long steps) { for (long long s = 0; s < steps; ++s) step(); }
+
+    const Model& model() const { return *model_; }
+    void setModel(std::shared_ptr<const Model> m);  // between steps
+    const Particles& particles() const { return p_; }
+    Particles& particles() { return p_; }  // between steps (commands, tests)
+    ProbeState& probe() { return probe_; }
+    Construction& construction() { return construction_; }
+    const Construction& construction() const { return construction_; }
+    const StepStats& stats() const { return stats_; }
+    const StepTimes& times() const { return times_; }
+
+    // Recomputes forces for the current state (after commands changed particles or the model).
+    void refreshForces();
+
+private:
+    std::shared_ptr<const Model> model_;
+    Particles p_;
+    Construction construction_;
+    ProbeState probe_;
+    ForceField forces_;
+    StepStats stats_;
+    StepTimes times_;
+    bool forcesValid_ = false;
+};
+
+}  // namespace bop::core
