@@ -15,7 +15,7 @@ packages=(
   catch2 python3 python3-numpy
 )
 if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(python3-scipy)
+  packages+=(python3-scipy lammps time)
 fi
 
 missing=()

@@ -5,9 +5,8 @@
 #include "BatchReport.hpp"
 #include "ExtendedXyz.hpp"
 #include "SceneConfig.hpp"
+#include "SimulationSetup.hpp"
 
-#include "shape/GradientMapFile.hpp"
-#include "shape/ShapeBuilder.hpp"
 
 #include "bop/common/Error.hpp"
 
@@ -22,17 +21,6 @@ namespace fs = std::filesystem;
 using namespace bop;
 
 namespace {
-
-std::shared_ptr<const GradientMap> loadMap(const app::Scene& scene, const std::string& cache) {
-    const std::uint64_t key = shape::hashText(scene.shape->canonical);
-    if (auto cached = shape::readGradientMaps(cache, key)) {
-        spdlog::info("gradient map from the cache {}", cache);
-        return std::make_shared<GradientMap>(std::move(cached->front()));
-    }
-    shape::ShapeBuild build = shape::buildShape(*scene.shape, [](const std::string& m) { spdlog::info("{}", m); });
-    shape::writeGradientMaps(cache, build.frames, key);
-    return std::make_shared<GradientMap>(std::move(build.frames.front()));
-}
 
 int run(int argc, char** argv) {
     CLI::App app{"bop-server: the BoP dynamics host. Batch mode: bop-server SCENE.toml --steps K --no-listen"};
@@ -60,34 +48,15 @@ int run(int argc, char** argv) {
     if (reportEvery < 0) reportEvery = scene.run.reportEverySteps > 0 ? scene.run.reportEverySteps : std::max(1LL, steps / 10);
 
     core::Model& model = *scene.model;
-    if (scene.shape) {
-        model.map = loadMap(scene, cache);
-        const Dims& d = model.map->dims();
-        const double h = core::kR0 / model.map->r0Voxels;
-        model.box.lo.setZero();
-        model.box.hi = Eigen::Vector3d(d.nx, d.ny, d.nz) * h;
-        if (scene.probePositionVoxels) scene.probe.position = *scene.probePositionVoxels * h;
-    }
     if (model.ljParams.mode == core::LjCutoff::Truncated)
         spdlog::warn("paper mode: LJ truncated at {} r0; bulk material collapses with this cutoff (docs/dynamics.md)",
                      model.ljParams.rCutR0);
-
-    std::vector<std::string> names;
-    for (const auto& s : model.species) names.push_back(s.name);
-    core::Particles particles;
-    long long firstStep = 0;
-    if (!restart.empty()) {
-        app::XyzFrame f = app::readExtendedXyz(restart, names);
-        particles = std::move(f.particles);
-        firstStep = f.info.step;
-        spdlog::info("restart from {} at step {} with {} particles", restart, firstStep, particles.size());
-    } else if (scene.bulk) {
-        particles = app::bulkLattice(scene);
-    }
-    core::Simulation sim(scene.model, std::move(particles),
-                         core::Construction(scene.construction, scene.timeline, model.speciesCount()), firstStep);
-    sim.probe() = scene.probe;
-
+    const auto t00 = std::chrono::steady_clock::now();
+    std::unique_ptr<core::Simulation> simPtr = app::startSimulation(scene, cache, restart);
+    core::Simulation& sim = *simPtr;
+    spdlog::info("ready in {:.2f} s: {} particles at step {}", std::chrono::duration<double>(std::chrono::steady_clock::now() - t00).count(),
+                 sim.particles().size(), sim.stats().step);
+    const std::vector<std::string> names = app::speciesNames(model);
     const std::string trajectory = outDir + "/trajectory.xyz";
     if (snapshotEvery > 0) fs::remove(trajectory);
     auto snapshot = [&](const std::string& path) {
@@ -110,6 +79,12 @@ int run(int argc, char** argv) {
     fs::remove(finalFile);
     snapshot(finalFile);
     report.summary(sim, steps, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    if (model.map) {
+        const app::Fidelity f = app::measureFidelity(model, sim.particles());
+        std::cout << "shape fidelity: " << 100 * f.surfaceInOwnVoxels << "% of surface particles in their surface voxels, "
+                  << 100 * f.volumeInOwnVoxels << "% of volume particles in their volume voxels, median normal angle "
+                  << f.medianNormalAngleDeg << " deg\n";
+    }
     spdlog::info("final state: {}{}", finalFile, snapshotEvery > 0 ? ", trajectory: " + trajectory : "");
     return 0;
 }

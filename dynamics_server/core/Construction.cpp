@@ -57,12 +57,16 @@ void Construction::setBirth(int species, bool on) {
 Eigen::Vector3d Construction::defaultSeedPosition(const Model& model, int species) const {
     if (!model.map) throw std::invalid_argument("seeding needs a gradient map");
     const GradientMap& m = *model.map;
+    // Surface species: a surface voxel chosen by the hash. Volume species: the deepest voxel
+    // (farthest from any surface), so the seed does not die next to a surface particle.
+    const bool surface = model.isSurface(species);
     std::size_t best = m.occ.size();
-    std::uint64_t bestKey = ~0ULL;
+    std::pair<int, std::uint64_t> bestKey{0, ~0ULL};
     for (std::size_t v = 0; v < m.occ.size(); ++v) {
         if (m.occ[v] != species) continue;
-        const std::uint64_t k = mixHash(params_.seed, 0x5eedULL, std::uint64_t(species), v);
-        if (k < bestKey) { bestKey = k; best = v; }
+        const std::pair<int, std::uint64_t> key{surface ? 0 : -m.delta(v).squaredNorm(),
+                                                mixHash(params_.seed, 0x5eedULL, std::uint64_t(species), v)};
+        if (key < bestKey) { bestKey = key; best = v; }
     }
     if (best == m.occ.size()) throw std::invalid_argument("species " + std::to_string(species) + " has no voxels in the map");
     const double h = kR0 / m.r0Voxels;

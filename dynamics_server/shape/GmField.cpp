@@ -47,7 +47,8 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
     const Eigen::Vector3d back = q - pVox;
 
     Eigen::Vector3d f = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero();
-    if (interp_ == Interpolation::Nearest) {
+    const bool nearest = interp_ == Interpolation::Nearest || (interp_ == Interpolation::Mixed && kind == ParticleKind::Surface);
+    if (nearest) {
         const Eigen::Vector3i c = q.array().floor().cast<int>().min(Eigen::Array3i(dm.nx - 1, dm.ny - 1, dm.nz - 1)).matrix();
         const std::size_t v = dm.index(c.x(), c.y(), c.z());
         f = ruleAtVoxel(v, kind, species, q);

@@ -8,12 +8,16 @@
 // multiplied by the species weight alpha_f^GM); the torque is n_i x n(p) (dimensionless, times
 // alpha_tau^GM).
 //
-// Between voxel centres (Interpolation::Trilinear, the default) the rule of each of the 8
-// surrounding voxels is evaluated at the particle and blended with trilinear weights, so the
-// force is continuous everywhere and equals the paper's per-voxel rule at voxel centres; inside
-// a run of surface voxels the in-voxel springs cancel, so surface particles slide freely along
-// the surface instead of being pinned to voxel centres. Interpolation::Nearest is the paper's
-// rule on the voxel that contains the particle (piecewise, jumps at voxel faces).
+// Between voxel centres, three choices (docs/shape-pipeline.md):
+//  - Nearest: the paper's rule on the voxel containing the particle. A surface particle feels a
+//    spring to its voxel's centre, which pins it to the layer of surface voxels (stable; spacing
+//    quantised by the voxels).
+//  - Trilinear: the rules of the 8 voxels around the particle, evaluated at the particle and
+//    blended with trilinear weights: continuous everywhere, equal to the paper's rule at voxel
+//    centres. For surface particles the in-voxel springs cancel inside the shell, which lets them
+//    drift through shells two voxels deep; surfaces then overfill with births.
+//  - Mixed (default): Nearest for surface particles, Trilinear for volume particles, whose
+//    rules have no in-voxel spring, so their force is continuous.
 // Outside the grid the nearest border voxel's rule is used plus a spring back to its centre.
 #include "bop/common/GradientMap.hpp"
 
@@ -23,7 +27,7 @@
 namespace bop::shape {
 
 enum class ParticleKind : std::uint8_t { Surface, Volume };
-enum class Interpolation : std::uint8_t { Trilinear, Nearest };
+enum class Interpolation : std::uint8_t { Mixed, Trilinear, Nearest };
 
 struct GmSample {
     Eigen::Vector3d force = Eigen::Vector3d::Zero();   // f^GM, simulation length units
@@ -34,7 +38,7 @@ class GmField {
 public:
     static constexpr double kR0 = 1.7320508075688772;  // r0 = sqrt(3), simulation length units
 
-    GmField(const GradientMap& map, Interpolation interp = Interpolation::Trilinear);
+    GmField(const GradientMap& map, Interpolation interp = Interpolation::Mixed);
 
     double voxelSize() const { return h_; }  // h, simulation length units per voxel
     const GradientMap& map() const { return map_; }

@@ -154,8 +154,9 @@ ShapeSpec readShapeSpec(const ConfigTable& root) {
     if (s.geometry.cpWeightC < 0) shape.fail("cp_weight_c", "must be 0 or more");
     s.geometry.cpWeightForm = shape.choice("cp_weight_form", {"linear", "quadratic"}, "linear") == "linear"
                                   ? CpWeightForm::Linear : CpWeightForm::Quadratic;
-    s.interpolation = shape.choice("interpolation", {"trilinear", "nearest"}, "trilinear") == "trilinear"
-                          ? Interpolation::Trilinear : Interpolation::Nearest;
+    const std::string interp = shape.choice("interpolation", {"mixed", "trilinear", "nearest"}, "mixed");
+    s.interpolation = interp == "mixed" ? Interpolation::Mixed
+                      : interp == "trilinear" ? Interpolation::Trilinear : Interpolation::Nearest;
     std::string stamps;
     const std::vector<ConfigTable> bags = shape.tableArray("bag");
     if (bags.empty() || bags.size() > 127) shape.fail("bag", "expected 1 to 127 [[shape.bag]] tables, outer to inner");

@@ -32,7 +32,7 @@ struct ShapeSpec {
     GridSpec grid;
     std::vector<BagSpec> bags;            // outer to inner
     SurfaceGeometryParams geometry;
-    Interpolation interpolation = Interpolation::Trilinear;
+    Interpolation interpolation = Interpolation::Mixed;
     std::string canonical;                // the shape tables as TOML text (for the cache key)
 };
 
@@ -41,8 +41,11 @@ struct ShapeSpec {
 // Throws bop::Error naming the file and key for every malformed input.
 ShapeSpec readShapeSpec(const ConfigTable& root);
 
+// Top-level scene tables that other readers own (the server's); shape-only tools accept them.
+inline const std::vector<std::string> kOtherSceneTables = {"species", "interactions", "dynamics", "construction", "probe", "run"};
+
 // Convenience for tools that only need the shape: parse the file, read [grid]/[shape], and
 // reject unknown top-level tables other than those listed in `otherTables`.
-ShapeSpec loadShapeSpec(const std::string& sceneFile, const std::vector<std::string>& otherTables = {});
+ShapeSpec loadShapeSpec(const std::string& sceneFile, const std::vector<std::string>& otherTables = kOtherSceneTables);
 
 }  // namespace bop::shape

@@ -156,3 +156,19 @@ TEST_CASE("drag is integrated exactly and runs are deterministic", "[core][integ
     CHECK(a.particles().pos == b.particles().pos);
     CHECK(a.particles().q[7].coeffs() == b.particles().q[7].coeffs());
 }
+
+TEST_CASE("an undamped cluster of oriented particles conserves energy", "[core][conservation]") {
+    auto m = mixedModel(true, false, false, 14.0);
+    Particles p = randomParticles(*m, 60, 0.8, 11);
+    for (auto& x : p.pos) x = Eigen::Vector3d::Constant(7 * kR0) + 0.75 * (x - Eigen::Vector3d::Constant(7 * kR0));
+    Simulation sim(m, p, Construction({}, {}, 3));
+    sim.refreshForces();
+    const double e0 = sim.stats().forces.pairEnergy + kineticEnergy(*m, sim.particles());
+    double worst = 0;
+    for (int s = 0; s < 2000; ++s) {
+        sim.step();
+        worst = std::max(worst, std::abs(sim.stats().total() - e0));
+    }
+    INFO("E0 " << e0 << ", largest |E - E0| " << worst << ", final E_kin " << sim.stats().kinetic);
+    CHECK(worst < 1e-3 * std::abs(e0));
+}

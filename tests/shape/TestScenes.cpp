@@ -107,7 +107,7 @@ TEST_CASE("every shipped scene builds a map whose vectors are exact nearest-surf
         const std::string text = [&] { std::ifstream f(entry.path()); return std::string(std::istreambuf_iterator<char>(f), {}); }();
         if (text.find("[shape]") == std::string::npos) continue;  // bulk material, no map
         ++scenes;
-        const ShapeSpec spec = loadShapeSpec(entry.path().string(), {"species", "interactions", "dynamics", "construction", "probe", "run"});
+        const ShapeSpec spec = loadShapeSpec(entry.path().string());
         const ShapeBuild b = buildShape(spec);
         const GradientMap& m = b.frames[0];
         INFO(entry.path());

@@ -68,7 +68,7 @@ TEST_CASE("shape input errors name the file and key", "[shape][errors]") {
         CHECK_THAT(errorOf(s), Contains(s) && Contains("'shape.bag[0].colour': unknown key"));
     }
     SECTION("unknown top-level table") {
-        const auto s = scene("table.toml", kGrid + kSphere + "[physics]\nx = 1\n");
+        const auto s = scene("table.toml", kGrid + kSphere + "[physics]\nx = 1\n");  // not a scene table
         CHECK_THAT(errorOf(s), Contains(s) && Contains("'physics': unknown key"));
     }
     SECTION("wrong unit") {

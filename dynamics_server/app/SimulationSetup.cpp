@@ -1,0 +1,87 @@
+#include "SimulationSetup.hpp"
+
+#include "ExtendedXyz.hpp"
+
+#include "shape/GradientMapFile.hpp"
+#include "shape/ShapeBuilder.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace bop::app {
+
+std::vector<std::string> speciesNames(const core::Model& model) {
+    std::vector<std::string> names;
+    for (const auto& s : model.species) names.push_back(s.name);
+    return names;
+}
+
+std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart) {
+    core::Model& model = *scene.model;
+    if (scene.shape) {
+        const std::uint64_t key = shape::hashText(scene.shape->canonical);
+        std::optional<std::vector<GradientMap>> maps;
+        if (!cache.empty()) maps = shape::readGradientMaps(cache, key);
+        if (!maps) {
+            maps = shape::buildShape(*scene.shape).frames;
+            if (!cache.empty()) shape::writeGradientMaps(cache, *maps, key);
+        }
+        model.map = std::make_shared<GradientMap>(std::move(maps->front()));
+        const Dims& d = model.map->dims();
+        const double h = core::kR0 / model.map->r0Voxels;
+        model.box.lo.setZero();
+        model.box.hi = Eigen::Vector3d(d.nx, d.ny, d.nz) * h;
+        if (scene.probePositionVoxels) scene.probe.position = *scene.probePositionVoxels * h;
+    }
+    core::Particles particles;
+    long long firstStep = 0;
+    if (!restart.empty()) {
+        XyzFrame f = readExtendedXyz(restart, speciesNames(model));
+        particles = std::move(f.particles);
+        firstStep = f.info.step;
+    } else if (scene.bulk) {
+        particles = bulkLattice(scene);
+    }
+    auto sim = std::make_unique<core::Simulation>(
+        scene.model, std::move(particles), core::Construction(scene.construction, scene.timeline, model.speciesCount()),
+        firstStep);
+    sim->probe() = scene.probe;
+    return sim;
+}
+
+Fidelity measureFidelity(const core::Model& model, const core::Particles& p) {
+    Fidelity f;
+    if (!model.map) return f;
+    const GradientMap& m = *model.map;
+    const Dims& d = m.dims();
+    const double h = core::kR0 / m.r0Voxels;
+    std::size_t surfaceIn = 0, volumeIn = 0;
+    std::vector<double> angles;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const Eigen::Vector3d v = p.pos[i] / h;
+        const Eigen::Vector3i c = v.array().floor().cast<int>().matrix();
+        const bool inGrid = d.contains(c.x(), c.y(), c.z());
+        const std::size_t idx = inGrid ? d.index(c.x(), c.y(), c.z()) : 0;
+        const bool own = inGrid && m.occ[idx] == p.species[i];
+        if (model.isSurface(p.species[i])) {
+            ++f.surface;
+            surfaceIn += own;
+            if (inGrid) {
+                const double cosA = std::clamp(p.normal[i].dot(m.nearestSurface(idx).normal.cast<double>()), -1.0, 1.0);
+                angles.push_back(std::acos(cosA) * 180.0 / M_PI);
+            }
+        } else {
+            ++f.volume;
+            volumeIn += own;
+        }
+    }
+    f.surfaceInOwnVoxels = f.surface ? double(surfaceIn) / double(f.surface) : 0;
+    f.volumeInOwnVoxels = f.volume ? double(volumeIn) / double(f.volume) : 0;
+    if (!angles.empty()) {
+        std::nth_element(angles.begin(), angles.begin() + long(angles.size() / 2), angles.end());
+        f.medianNormalAngleDeg = angles[angles.size() / 2];
+    }
+    return f;
+}
+
+}  // namespace bop::app

@@ -1,0 +1,32 @@
+#pragma once
+// From a loaded scene to a running simulation: the gradient map (built, or read from the cache),
+// the box around it, the initial particles (a restart file, a bulk lattice, or none for a bag
+// built by its construction timeline) and the probe.
+#include "SceneConfig.hpp"
+
+#include "core/Simulation.hpp"
+
+#include <memory>
+#include <string>
+
+namespace bop::app {
+
+// cache: gradient-map cache file ("" = always build); restart: extended XYZ file ("" = none).
+std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart);
+
+// Species names by number (index 0 unused), as snapshots write them.
+std::vector<std::string> speciesNames(const core::Model& model);
+
+// Shape fidelity of a bag (issue acceptance; independent of the code that places particles):
+// fractions of surface particles in voxels of their own species, of volume particles in voxels
+// of their own species, and the median angle between a surface particle's normal and the map
+// normal at its voxel.
+struct Fidelity {
+    double surfaceInOwnVoxels = 0;   // fraction
+    double volumeInOwnVoxels = 0;    // fraction
+    double medianNormalAngleDeg = 0; // degrees
+    std::size_t surface = 0, volume = 0;
+};
+Fidelity measureFidelity(const core::Model& model, const core::Particles& p);
+
+}  // namespace bop::app

@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# Particle-steps per second of the dynamics core on bulk volume material (fcc at nearest-neighbour
+# distance r0, periodic, undamped, dt 0.005) at several sizes, one core, with the default
+# switched cutoff [1.2, 1.6] r0 and with the paper's plain cutoff at 3 r0, and in the same run
+# LAMMPS (Debian package lammps) on the identical workload: the same potential as a
+# `pair_style table` written by bop-lj-table, same density, cutoff, time step and steps.
+# Prints rates, their ratio, ns per particle-step and peak memory per particle; also the bag
+# scenes. The paper cutoff collapses the lattice after a few hundred steps (PEERS.md), so
+# those runs stay at or below 300 steps from a fresh lattice.
+#   scripts/bench/step.sh [N ...]      (default 1000 10000 100000 1000000; CSV in out/bench/step.csv)
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+sizes=("$@"); [[ ${#sizes[@]} -gt 0 ]] || sizes=(1000 10000 100000 1000000)
+scripts/install-deps.sh --bench >/dev/null
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j "${BOP_JOBS:-2}" --target bop-server bop-lj-table >/dev/null
+out=out/bench/step; mkdir -p "$out"
+csv=out/bench/step.csv
+echo "workload,particles,steps,bop_particle_steps_per_s,lammps_atom_steps_per_s,ratio,bop_ns_per_particle_step,bop_peak_bytes_per_particle" >"$csv"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
+
+rate_of_bop() { awk '/^this run/ {print $7}' "$1"; }
+rate_of_lammps() { awk '/^Loop time of/ {t=$4; s=$9; n=$12} END {if (t > 0) printf "%.0f", n*s/t}' "$1"; }
+
+printf "%-10s %9s %6s %14s %14s %7s %10s %10s\n" workload particles steps "BoP p-steps/s" "LAMMPS a-s/s" ratio "ns/p-step" "bytes/p"
+for mode in switched paper; do
+  build/dynamics_server/bop-lj-table "$out/table-$mode.txt" --mode "$mode" \
+    $([[ $mode == switched ]] && echo "--switch-r0 1.2 --cutoff-r0 1.6" || echo "--cutoff-r0 3.0") >/dev/null
+  cutoff=$([[ $mode == switched ]] && echo 2.7712812921102037 || echo 5.196152422706632)
+  for n in "${sizes[@]}"; do
+    cells=$(awk -v n="$n" 'BEGIN {c = int((n / 4) ^ (1 / 3) + 0.5); print (c < 3 ? 3 : c)}')
+    particles=$((4 * cells * cells * cells))
+    steps=$(awk -v n="$particles" -v m="$mode" 'BEGIN {s = int(3e7 / n); if (s > 300) s = 300; if (s < 10) s = 10; print s}')
+    scene=$out/bulk-$mode-$particles.toml
+    side=$(awk -v c="$cells" 'BEGIN {printf "%.12f", c * sqrt(2)}')
+    cat >"$scene" <<TOML
+[box]
+size_r0 = [$side, $side, $side]
+spacing_r0 = 1.0
+jitter_r0 = 0.0
+periodic = true
+[[species]]
+name = "bulk"
+kind = "volume"
+drag_v = 0.0
+[dynamics]
+time_step = 0.005
+lj_cutoff = "$mode"
+$([[ $mode == switched ]] && echo 'lj_switch_r0 = [1.2, 1.6]' || echo 'lj_cutoff_r0 = 3.0')
+TOML
+    /usr/bin/time -f "%M" -o "$out/bop-$mode-$particles.mem" \
+      build/dynamics_server/bop-server "$scene" --no-listen --steps "$steps" -o "$out/run-$mode-$particles" \
+      --report-every "$steps" >"$out/bop-$mode-$particles.log" 2>&1
+    bop=$(rate_of_bop "$out/bop-$mode-$particles.log")
+    mem=$(awk -v k="$(cat "$out/bop-$mode-$particles.mem")" -v n="$particles" 'BEGIN {printf "%.0f", k * 1024 / n}')
+    cat >"$out/in-$mode-$particles.lmp" <<LMP
+units lj
+atom_style atomic
+boundary p p p
+lattice fcc 0.27216552697590868
+region box block 0 $cells 0 $cells 0 $cells
+create_box 1 box
+create_atoms 1 box
+mass 1 1.0
+pair_style table linear 20000
+pair_coeff 1 1 $out/table-$mode.txt LJ $cutoff
+neighbor 0.5196152422706632 bin
+neigh_modify every 1 delay 0 check yes
+timestep 0.005
+fix 1 all nve
+thermo $steps
+run $steps
+LMP
+    lmp -in "$out/in-$mode-$particles.lmp" -log none -screen "$out/lammps-$mode-$particles.log" >/dev/null 2>&1 || true
+    lmp_rate=$(rate_of_lammps "$out/lammps-$mode-$particles.log")
+    ratio=$(awk -v a="$bop" -v b="${lmp_rate:-0}" 'BEGIN {if (b > 0) printf "%.2f", a / b; else print "n/a"}')
+    ns=$(awk -v a="$bop" 'BEGIN {printf "%.0f", 1e9 / a}')
+    printf "%-10s %9d %6d %14.0f %14s %7s %10s %10s\n" "$mode" "$particles" "$steps" "$bop" "${lmp_rate:-n/a}" "$ratio" "$ns" "$mem"
+    echo "bulk-$mode,$particles,$steps,$bop,${lmp_rate:-},$ratio,$ns,$mem" >>"$csv"
+  done
+done
+for scene in torus star bag-in-bag; do
+  build/dynamics_server/bop-server "config/scenes/$scene.toml" --no-listen -o "$out/$scene" >"$out/$scene.log" 2>&1
+  awk -v s="$scene" '/^this run/ {printf "%-10s %9d %6s %14.0f   (bag scene incl. construction; %s steps/s)\n", s, $5, "-", $7, $6}' "$out/$scene.log"
+done
+echo "CSV: $csv"
