@@ -14,6 +14,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <limits>
 #include <filesystem>
 #include <iostream>
 
@@ -57,6 +58,7 @@ int run(int argc, char** argv) {
     spdlog::info("ready in {:.2f} s: {} particles at step {}", std::chrono::duration<double>(std::chrono::steady_clock::now() - t00).count(),
                  sim.particles().size(), sim.stats().step);
     const std::vector<std::string> names = app::speciesNames(model);
+    sim.setEnergyEvery(std::numeric_limits<long long>::max());  // energies only for the reports below
     const std::string trajectory = outDir + "/trajectory.xyz";
     if (snapshotEvery > 0) fs::remove(trajectory);
     auto snapshot = [&](const std::string& path) {
@@ -73,7 +75,10 @@ int run(int argc, char** argv) {
     for (long long s = 1; s <= steps; ++s) {
         sim.step();
         if (snapshotEvery > 0 && s % snapshotEvery == 0) snapshot(trajectory);
-        if (s % reportEvery == 0 || s == steps) report.progress(sim, s, steps, t0);
+        if (s % reportEvery == 0 || s == steps) {
+            sim.refreshForces();  // the same forces again, now with the energies
+            report.progress(sim, s, steps, t0);
+        }
     }
     const std::string finalFile = outDir + "/final.xyz";
     fs::remove(finalFile);

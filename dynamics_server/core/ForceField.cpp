@@ -18,7 +18,7 @@ ForceField::ForceField(const Model& model) {
 }
 
 void ForceField::compute(const Model& model, const ProbeState& probe, Particles& p, ForceStats& stats,
-                         PhaseTimes* times) {
+                         PhaseTimes* times, bool energies) {
     stats = ForceStats{};
     for (std::size_t i = 0; i < p.size(); ++i) {
         p.force[i].setZero();
@@ -31,7 +31,7 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
     cells_.build(model.box, cellSize_, p.pos);
     if (times) times->cells += since(t0);
     t0 = Clock::now();
-    pairForces(model, p, stats);
+    pairForces(model, p, stats, energies);
     if (times) times->pairs += since(t0);
     t0 = Clock::now();
     probeForces(model, probe, p, stats);
@@ -61,8 +61,9 @@ void ForceField::gradientMapForces(const Model& model, Particles& p) {
     }
 }
 
-void ForceField::pairForces(const Model& model, Particles& p, ForceStats& stats) {
-    const PairKernel kernel(model);
+void ForceField::pairForces(const Model& model, Particles& p, ForceStats& stats, bool energies) {
+    PairKernel kernel(model);
+    kernel.setEnergy(energies);
     const auto& order = cells_.order();
     const std::size_t n = p.size();
     sp_.resize(n); sn_.resize(n); ss_.resize(n); sw_.resize(n);

@@ -34,9 +34,10 @@ class ForceField {
 public:
     explicit ForceField(const Model& model);
 
-    // Overwrites particles.force and particles.torque.
+    // Overwrites particles.force and particles.torque. energies = false skips the LJ pair
+    // energy (stats.pairEnergy then holds only the oriented terms' energy).
     void compute(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats,
-                 PhaseTimes* times = nullptr);
+                 PhaseTimes* times = nullptr, bool energies = true);
 
     // Reference O(N^2) pair forces (for tests): same weights, no cell lists.
     static void computePairsBruteForce(const Model& model, Particles& particles, ForceStats& stats);
@@ -45,7 +46,7 @@ public:
     const CellList& cells() const { return cells_; }
 
 private:
-    void pairForces(const Model& model, Particles& particles, ForceStats& stats);
+    void pairForces(const Model& model, Particles& particles, ForceStats& stats, bool energies);
     void gradientMapForces(const Model& model, Particles& particles);
     void probeForces(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats);
 

@@ -38,6 +38,9 @@ public:
         cutoff2_ = std::max(lj_.cutoff2(), m.hasSurfaceSpecies() ? weight_.cutoff2() : 0.0);
     }
 
+    // Whether apply() accumulates energies (the LJ energy of the switch costs a logarithm).
+    void setEnergy(bool on) { energy_ = on; }
+
     double cutoff() const { return std::sqrt(cutoff2_); }
     double cutoff2() const { return cutoff2_; }
 
@@ -54,8 +57,8 @@ public:
         if (r2 >= cutoff2_) return;
         ++s.inRange;
         const std::size_t ab = std::size_t(a) * n_ + b, ba = std::size_t(b) * n_ + a;
-        double fOverR, e;
-        if (lj_.eval(r2, fOverR, e)) {
+        double fOverR, e = 0;
+        if (energy_ ? lj_.eval(r2, fOverR, e) : lj_.evalForce(r2, fOverR)) {
             const Eigen::Vector3d fj = fOverR * r;
             f[j] += ljF_[ba] * fj;
             f[i] -= ljF_[ab] * fj;
@@ -85,6 +88,7 @@ private:
     OrientedWeight weight_;
     int n_;
     bool useCurvature_;
+    bool energy_ = true;
     double cutoff2_ = 0;
     std::vector<double> ljF_, ljE_, cnF_, cnT_, cpF_, cpT_, cnE_, cpE_;
     std::vector<char> oriented_;

@@ -51,6 +51,23 @@ public:
     // r2: squared distance (> 0), length^2. Outputs fOverR = f(r)/r (energy / length^2; the
     // force on j is fOverR * (p_j - p_i)) and the pair energy. Returns false, with both outputs
     // zero, when r2 >= cutoff2().
+    // The force alone (no energy): the pair loop's fast path on steps that report no energy.
+    bool evalForce(double r2, double& fOverR) const {
+        if (r2 >= rc2_) {
+            fOverR = 0.0;
+            return false;
+        }
+        const double inv2 = 1.0 / r2;
+        const double f = 4.5 * inv2 * inv2 - 1.5 * inv2;
+        if (r2 <= rOn2_) {
+            fOverR = fShift_ == 0.0 ? f * std::sqrt(inv2) : (f - fShift_) * std::sqrt(inv2);
+        } else {
+            const double r = std::sqrt(r2);
+            const double t = (r - rOn_) * invWidth_;
+            fOverR = f * (1.0 + t * t * (2.0 * t - 3.0)) / r;
+        }
+        return true;
+    }
     bool eval(double r2, double& fOverR, double& energy) const {
         if (r2 >= rc2_) {
             fOverR = 0.0;

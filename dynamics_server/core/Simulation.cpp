@@ -37,7 +37,7 @@ void Simulation::step() {
     t0 = Clock::now();
     kickDrift(*model_, p_);
     times_.integrate += since(t0);
-    refreshForces();
+    forces_.compute(*model_, probe_, p_, stats_.forces, &times_.forces, (stats_.step + 1) % energyEvery_ == 0);
     t0 = Clock::now();
     kick(*model_, p_);
     stats_.kinetic = kineticEnergy(*model_, p_);

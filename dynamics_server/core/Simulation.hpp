@@ -46,6 +46,10 @@ public:
     // Recomputes forces for the current state (after commands changed particles or the model).
     void refreshForces();
 
+    // Compute the LJ pair energy only every n steps (1 = every step, the default); the stats of
+    // other steps leave it out. Batch runs set their report period here.
+    void setEnergyEvery(long long n) { energyEvery_ = n > 0 ? n : 1; }
+
 private:
     std::shared_ptr<const Model> model_;
     Particles p_;
@@ -55,6 +59,7 @@ private:
     StepStats stats_;
     StepTimes times_;
     bool forcesValid_ = false;
+    long long energyEvery_ = 1;
 };
 
 }  // namespace bop::core

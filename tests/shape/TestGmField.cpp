@@ -29,7 +29,7 @@ GradientMap ball() {
 
 TEST_CASE("GM rules follow the paper's table for a single bag", "[shape][gm]") {
     const GradientMap m = slab();
-    const GmField f(m);
+    const GmField f(m, Interpolation::Trilinear);
     const double h = f.voxelSize();
     CHECK(h == Approx(std::sqrt(3.0) / 2.0));
     const Eigen::Vector3d nz(0, 0, 1);
@@ -45,6 +45,9 @@ TEST_CASE("GM rules follow the paper's table for a single bag", "[shape][gm]") {
     const Eigen::Vector3d up = f.sample(ParticleKind::Surface, 1, at(4.2, 6.3, 19.7), nz).force;
     CHECK(up.z() < 0);
     CHECK(up.z() == Approx(-(2 * 0.2 - 0.04) * h));
+    // The default (mixed) keeps the paper's spring to the voxel centre for surface particles.
+    const GmField paper(m);
+    CHECK((paper.sample(ParticleKind::Surface, 1, at(4.2, 6.3, 19.7), nz).force - Eigen::Vector3d(0.3, 0.2, -0.2) * h).norm() < 1e-12);
     // Volume particles: free inside, pushed in from outside, pushed one voxel inward on the surface.
     CHECK(f.sample(ParticleKind::Volume, 2, at(5.5, 5.5, 15.5), nz).force.norm() < 1e-12);
     CHECK((f.sample(ParticleKind::Volume, 2, at(5.5, 5.5, 2.5), nz).force - Eigen::Vector3d(0, 0, 8 * h)).norm() < 1e-12);
