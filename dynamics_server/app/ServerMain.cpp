@@ -9,6 +9,7 @@
 
 
 #include "bop/common/Error.hpp"
+#include "bop/common/ToolMain.hpp"
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -53,7 +54,7 @@ int run(int argc, char** argv) {
         spdlog::warn("paper mode: LJ truncated at {} r0; bulk material collapses with this cutoff (docs/dynamics.md)",
                      model.ljParams.rCutR0);
     const auto t00 = std::chrono::steady_clock::now();
-    std::unique_ptr<core::Simulation> simPtr = app::startSimulation(scene, cache, restart);
+    std::unique_ptr<core::Simulation> simPtr = app::startSimulation(scene, cache, restart, [](const std::string& m) { spdlog::info("{}", m); });
     core::Simulation& sim = *simPtr;
     spdlog::info("ready in {:.2f} s: {} particles at step {}", std::chrono::duration<double>(std::chrono::steady_clock::now() - t00).count(),
                  sim.particles().size(), sim.stats().step);
@@ -97,13 +98,5 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    try {
-        return run(argc, argv);
-    } catch (const bop::Error& e) {
-        std::cerr << "bop-server: error: " << e.what() << "\n";
-        return 2;
-    } catch (const std::exception& e) {
-        std::cerr << "bop-server: error: " << e.what() << "\n";
-        return 1;
-    }
+    return bop::runTool("bop-server", [&] { return run(argc, argv); });
 }

@@ -2,10 +2,10 @@
 // each stage took, writes PNG slices and .npy arrays, and caches the map for the server.
 #include "ShapeReport.hpp"
 
-#include "shape/GradientMapFile.hpp"
 #include "shape/ShapeBuilder.hpp"
 
 #include "bop/common/Error.hpp"
+#include "bop/common/ToolMain.hpp"
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -61,21 +61,8 @@ int run(int argc, char** argv) {
     spdlog::set_pattern("[bop-shape] %v");
     const auto t0 = std::chrono::steady_clock::now();
     const bop::shape::ShapeSpec spec = bop::shape::loadShapeSpec(scene);
-    const std::uint64_t key = bop::shape::hashText(spec.canonical);
-    bop::shape::ShapeBuild build;
-    if (!noCache && !rebuild) {
-        if (auto cached = bop::shape::readGradientMaps(cache, key)) {
-            build.frames = std::move(*cached);
-            spdlog::info("read the gradient map from the cache {}", cache);
-        }
-    }
-    if (build.frames.empty()) {
-        build = bop::shape::buildShape(spec, [](const std::string& m) { spdlog::info("{}", m); }, threads);
-        if (!noCache) {
-            bop::shape::writeGradientMaps(cache, build.frames, key);
-            spdlog::info("cached the gradient map in {}", cache);
-        }
-    }
+    const bop::shape::ShapeBuild build = bop::shape::loadOrBuildShape(
+        spec, noCache ? "" : cache, rebuild, [](const std::string& m) { spdlog::info("{}", m); }, threads);
     bop::app::printShapeReport(std::cout, spec, build);
     bop::app::printTimings(std::cout, build.timings);
     if (!timingsCsv.empty()) bop::app::writeTimingsCsv(timingsCsv, build.frames.front(), build.timings);
@@ -94,13 +81,5 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    try {
-        return run(argc, argv);
-    } catch (const bop::Error& e) {
-        std::cerr << "bop-shape: error: " << e.what() << "\n";
-        return 2;
-    } catch (const std::exception& e) {
-        std::cerr << "bop-shape: error: " << e.what() << "\n";
-        return 1;
-    }
+    return bop::runTool("bop-shape", [&] { return run(argc, argv); });
 }

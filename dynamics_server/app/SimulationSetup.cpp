@@ -2,8 +2,6 @@
 
 #include "ExtendedXyz.hpp"
 
-#include "shape/GradientMapFile.hpp"
-#include "shape/ShapeBuilder.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,17 +14,12 @@ std::vector<std::string> speciesNames(const core::Model& model) {
     return names;
 }
 
-std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart) {
+std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart,
+                                                  const shape::ProgressFn& progress) {
     core::Model& model = *scene.model;
     if (scene.shape) {
-        const std::uint64_t key = shape::hashText(scene.shape->canonical);
-        std::optional<std::vector<GradientMap>> maps;
-        if (!cache.empty()) maps = shape::readGradientMaps(cache, key);
-        if (!maps) {
-            maps = shape::buildShape(*scene.shape).frames;
-            if (!cache.empty()) shape::writeGradientMaps(cache, *maps, key);
-        }
-        model.map = std::make_shared<GradientMap>(std::move(maps->front()));
+        shape::ShapeBuild maps = shape::loadOrBuildShape(*scene.shape, cache, false, progress);
+        model.map = std::make_shared<GradientMap>(std::move(maps.frames.front()));
         const Dims& d = model.map->dims();
         const double h = core::kR0 / model.map->r0Voxels;
         model.box.lo.setZero();

@@ -5,14 +5,17 @@
 #include "SceneConfig.hpp"
 
 #include "core/Simulation.hpp"
+#include "shape/ShapeBuilder.hpp"
 
 #include <memory>
 #include <string>
 
 namespace bop::app {
 
-// cache: gradient-map cache file ("" = always build); restart: extended XYZ file ("" = none).
-std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart);
+// cache: gradient-map cache file ("" = always build); restart: extended XYZ file ("" = none);
+// progress: messages while the map is built.
+std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart,
+                                                  const shape::ProgressFn& progress = {});
 
 // Species names by number (index 0 unused), as snapshots write them.
 std::vector<std::string> speciesNames(const core::Model& model);

@@ -43,31 +43,32 @@ int CellList::cellOf(const Eigen::Vector3d& p) const {
     return index(ijk[0], ijk[1], ijk[2]);
 }
 
+bool CellList::neighbour(const std::array<int, 3>& x, const int d[3], Neighbour& out) const {
+    int y[3];
+    out.shift.setZero();
+    for (int a = 0; a < 3; ++a) {
+        y[a] = x[a] + d[a];
+        if (y[a] >= 0 && y[a] < n_[a]) continue;
+        if (!periodic_[a] || std::abs(d[a]) >= n_[a]) return false;
+        const int wraps = y[a] < 0 ? -1 : 1;
+        out.shift[a] = wraps * boxSize_[a];
+        y[a] -= wraps * n_[a];
+    }
+    out.cell = index(y[0], y[1], y[2]);
+    return true;
+}
+
 int CellList::halfStencil(int c, std::array<Neighbour, 14>& out) const {
-    // Offsets (dx, dy, dz) that are "forward": dz > 0, or dz == 0 and dy > 0, or dz == dy == 0 and dx > 0.
+    // Itself, then the offsets that are "forward": dz > 0, or dz == 0 and dy > 0, or dz == dy == 0 and dx > 0.
     const auto x = coords(c);
     int count = 0;
     out[count++] = {c, Eigen::Vector3d::Zero()};
-    for (int dz = -1; dz <= 1; ++dz)
+    for (int dz = 0; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx) {
-                const bool forward = dz > 0 || (dz == 0 && (dy > 0 || (dy == 0 && dx > 0)));
-                if (!forward) continue;
+                const bool forward = dz > 0 || dy > 0 || (dy == 0 && dx > 0);
                 const int d[3] = {dx, dy, dz};
-                int y[3];
-                Eigen::Vector3d shift = Eigen::Vector3d::Zero();
-                bool ok = true;
-                for (int a = 0; a < 3 && ok; ++a) {
-                    y[a] = x[a] + d[a];
-                    if (y[a] < 0 || y[a] >= n_[a]) {
-                        if (!periodic_[a]) ok = false;
-                        else {
-                            shift[a] = y[a] < 0 ? -boxSize_[a] : boxSize_[a];
-                            y[a] = (y[a] + n_[a]) % n_[a];
-                        }
-                    }
-                }
-                if (ok) out[count++] = {index(y[0], y[1], y[2]), shift};
+                if (forward && neighbour(x, d, out[std::size_t(count)])) ++count;
             }
     return count;
 }
@@ -75,22 +76,12 @@ int CellList::halfStencil(int c, std::array<Neighbour, 14>& out) const {
 void CellList::around(int c, int reach, std::vector<Neighbour>& out) const {
     out.clear();
     const auto x = coords(c);
+    Neighbour nb;
     for (int dz = -reach; dz <= reach; ++dz)
         for (int dy = -reach; dy <= reach; ++dy)
             for (int dx = -reach; dx <= reach; ++dx) {
                 const int d[3] = {dx, dy, dz};
-                int y[3];
-                Eigen::Vector3d shift = Eigen::Vector3d::Zero();
-                bool ok = true;
-                for (int a = 0; a < 3 && ok; ++a) {
-                    y[a] = x[a] + d[a];
-                    if (y[a] >= 0 && y[a] < n_[a]) continue;
-                    if (!periodic_[a] || std::abs(d[a]) >= n_[a]) { ok = false; continue; }
-                    const int wraps = y[a] < 0 ? -1 : 1;
-                    shift[a] = wraps * boxSize_[a];
-                    y[a] -= wraps * n_[a];
-                }
-                if (ok) out.push_back({index(y[0], y[1], y[2]), shift});
+                if (neighbour(x, d, nb)) out.push_back(nb);
             }
 }
 

@@ -37,6 +37,10 @@ public:
     void around(int c, int reach, std::vector<Neighbour>& out) const;
 
 private:
+    // The cell at offset d from cell coordinates x, with its periodic image shift; false if the
+    // offset leaves a non-periodic box (or wraps a periodic axis more than once).
+    bool neighbour(const std::array<int, 3>& x, const int d[3], Neighbour& out) const;
+
     std::array<int, 3> n_{1, 1, 1};
     Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), width_ = Eigen::Vector3d::Ones(), boxSize_ = Eigen::Vector3d::Ones();
     std::array<bool, 3> periodic_{false, false, false};

@@ -1,7 +1,5 @@
 #include "ForceField.hpp"
 
-#include "PairKernel.hpp"
-
 #include <chrono>
 
 namespace bop::core {
@@ -12,9 +10,9 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 }  // namespace
 
-ForceField::ForceField(const Model& model) {
-    const PairKernel kernel(model);
-    cellSize_ = kernel.cutoff();
+ForceField::ForceField(const Model& model)
+    : kernel_(model), isVolume_(std::size_t(model.speciesCount()) + 1, 0), cellSize_(kernel_.cutoff()) {
+    for (int s = 1; s <= model.speciesCount(); ++s) isVolume_[std::size_t(s)] = !model.isSurface(s);
 }
 
 void ForceField::compute(const Model& model, const ProbeState& probe, Particles& p, ForceStats& stats,
@@ -31,7 +29,7 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
     cells_.build(model.box, cellSize_, p.pos);
     if (times) times->cells += since(t0);
     t0 = Clock::now();
-    pairForces(model, p, stats, energies);
+    pairForces(p, stats, energies);
     if (times) times->pairs += since(t0);
     t0 = Clock::now();
     probeForces(model, probe, p, stats);
@@ -61,8 +59,8 @@ void ForceField::gradientMapForces(const Model& model, Particles& p) {
     }
 }
 
-void ForceField::pairForces(const Model& model, Particles& p, ForceStats& stats, bool energies) {
-    PairKernel kernel(model);
+void ForceField::pairForces(Particles& p, ForceStats& stats, bool energies) {
+    PairKernel& kernel = kernel_;
     kernel.setEnergy(energies);
     const auto& order = cells_.order();
     const std::size_t n = p.size();
@@ -73,8 +71,6 @@ void ForceField::pairForces(const Model& model, Particles& p, ForceStats& stats,
         const std::uint32_t i = order[k];
         sp_[k] = p.pos[i]; sn_[k] = p.normal[i]; ss_[k] = p.species[i]; sw_[k] = cpWeight_[i];
     }
-    std::vector<char> isVolume(std::size_t(model.speciesCount()) + 1, 0);
-    for (int s = 1; s <= model.speciesCount(); ++s) isVolume[std::size_t(s)] = !model.isSurface(s);
     PairKernel::Sums sums;
     std::array<CellList::Neighbour, 14> stencil;
     const double cut2 = kernel.cutoff2();
@@ -93,7 +89,7 @@ void ForceField::pairForces(const Model& model, Particles& p, ForceStats& stats,
                     const double r2 = r.squaredNorm();
                     if (r2 >= cut2) continue;
                     kernel.apply(i, j, a, ss_[j], r, r2, sn_[i], sn_[j], sw_[i], sw_[j], sf_.data(), st_.data(),
-                                 isVolume[std::size_t(a)], isVolume[ss_[j]], sums);
+                                 isVolume_[std::size_t(a)], isVolume_[ss_[j]], sums);
                 }
             }
         }

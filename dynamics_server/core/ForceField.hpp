@@ -5,6 +5,7 @@
 // the probe particle.
 #include "CellList.hpp"
 #include "Model.hpp"
+#include "PairKernel.hpp"
 #include "Particles.hpp"
 
 #include <memory>
@@ -46,10 +47,12 @@ public:
     const CellList& cells() const { return cells_; }
 
 private:
-    void pairForces(const Model& model, Particles& particles, ForceStats& stats, bool energies);
+    void pairForces(Particles& particles, ForceStats& stats, bool energies);
     void gradientMapForces(const Model& model, Particles& particles);
     void probeForces(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats);
 
+    PairKernel kernel_;            // weights and evaluators of this model, built once
+    std::vector<char> isVolume_;   // per species number
     double cellSize_ = 1;
     CellList cells_;
     std::unique_ptr<shape::GmField> field_;

@@ -5,17 +5,6 @@
 namespace bop::core {
 namespace {
 
-struct Decay {
-    std::vector<double> v, w;  // per species: exp(-beta_v dt / 2), exp(-beta_tau dt / (2 I))
-    Decay(const Model& m) : v(m.species.size(), 1.0), w(m.species.size(), 1.0) {
-        const double dt = m.integration.dt;
-        for (std::size_t s = 1; s < m.species.size(); ++s) {
-            v[s] = std::exp(-m.species[s].dragV * dt / 2.0);
-            w[s] = std::exp(-m.species[s].dragW * dt / (2.0 * m.integration.inertia));
-        }
-    }
-};
-
 Eigen::Quaterniond rotation(const Eigen::Vector3d& theta) {
     const double angle = theta.norm();
     if (angle < 1e-8) return Eigen::Quaterniond(1.0, 0.5 * theta.x(), 0.5 * theta.y(), 0.5 * theta.z()).normalized();
@@ -25,8 +14,15 @@ Eigen::Quaterniond rotation(const Eigen::Vector3d& theta) {
 
 }  // namespace
 
-void kickDrift(const Model& model, Particles& p) {
-    const Decay decay(model);
+DragFactors::DragFactors(const Model& m) : v(m.species.size(), 1.0), w(m.species.size(), 1.0) {
+    const double dt = m.integration.dt;
+    for (std::size_t s = 1; s < m.species.size(); ++s) {
+        v[s] = std::exp(-m.species[s].dragV * dt / 2.0);
+        w[s] = std::exp(-m.species[s].dragW * dt / (2.0 * m.integration.inertia));
+    }
+}
+
+void kickDrift(const Model& model, const DragFactors& decay, Particles& p) {
     const double dt = model.integration.dt, half = 0.5 * dt, invI = 1.0 / model.integration.inertia;
     const Eigen::Vector3d lo = model.box.lo, L = model.box.size();
     const bool anyPeriodic = model.box.periodic[0] || model.box.periodic[1] || model.box.periodic[2];
@@ -44,8 +40,7 @@ void kickDrift(const Model& model, Particles& p) {
     }
 }
 
-void kick(const Model& model, Particles& p) {
-    const Decay decay(model);
+void kick(const Model& model, const DragFactors& decay, Particles& p) {
     const double half = 0.5 * model.integration.dt, invI = 1.0 / model.integration.inertia;
     for (std::size_t i = 0; i < p.size(); ++i) {
         const int s = p.species[i];

@@ -10,10 +10,17 @@
 
 namespace bop::core {
 
+// Per species: exp(-beta_v dt / 2) and exp(-beta_tau dt / (2 I)), the drag's exact half step.
+// Built once per model, outside the step loop.
+struct DragFactors {
+    std::vector<double> v, w;
+    explicit DragFactors(const Model& m);
+};
+
 // O, B and A; wraps positions into the box along periodic axes.
-void kickDrift(const Model& model, Particles& p);
+void kickDrift(const Model& model, const DragFactors& drag, Particles& p);
 // B and O with the forces of the new positions.
-void kick(const Model& model, Particles& p);
+void kick(const Model& model, const DragFactors& drag, Particles& p);
 
 // Kinetic energy: sum of v^2/2 + I omega^2/2 over particles, energy units.
 double kineticEnergy(const Model& model, const Particles& p);

@@ -10,13 +10,15 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 Simulation::Simulation(std::shared_ptr<const Model> model, Particles particles, Construction construction,
                        long long firstStep)
-    : model_(std::move(model)), p_(std::move(particles)), construction_(std::move(construction)), forces_(*model_) {
+    : model_(std::move(model)), p_(std::move(particles)), construction_(std::move(construction)), drag_(*model_),
+      forces_(*model_) {
     stats_.step = firstStep;
     stats_.time = double(firstStep) * model_->integration.dt;
 }
 
 void Simulation::setModel(std::shared_ptr<const Model> m) {
     model_ = std::move(m);
+    drag_ = DragFactors(*model_);
     forces_ = ForceField(*model_);
     forcesValid_ = false;
 }
@@ -35,11 +37,11 @@ void Simulation::step() {
     if (!forcesValid_) refreshForces();
 
     t0 = Clock::now();
-    kickDrift(*model_, p_);
+    kickDrift(*model_, drag_, p_);
     times_.integrate += since(t0);
     forces_.compute(*model_, probe_, p_, stats_.forces, &times_.forces, (stats_.step + 1) % energyEvery_ == 0);
     t0 = Clock::now();
-    kick(*model_, p_);
+    kick(*model_, drag_, p_);
     stats_.kinetic = kineticEnergy(*model_, p_);
     times_.integrate += since(t0);
     ++stats_.step;

@@ -55,6 +55,7 @@ private:
     Particles p_;
     Construction construction_;
     ProbeState probe_;
+    DragFactors drag_;
     ForceField forces_;
     StepStats stats_;
     StepTimes times_;

@@ -59,16 +59,14 @@ static_assert(sizeof(SurfaceRecord) == 36);
 
 }  // namespace
 
-std::uint64_t hashText(const std::string& text) {
-    std::uint64_t h = 1469598103934665603ULL;
-    for (unsigned char c : text) { h ^= c; h *= 1099511628211ULL; }
+static std::uint64_t hashBytes(const unsigned char* p, std::size_t n) {
+    std::uint64_t h = 1469598103934665603ULL;  // FNV-1a, 64 bit
+    for (std::size_t i = 0; i < n; ++i) { h ^= p[i]; h *= 1099511628211ULL; }
     return h;
 }
 
-static std::uint64_t hashBytes(const unsigned char* p, std::size_t n) {
-    std::uint64_t h = 1469598103934665603ULL;
-    for (std::size_t i = 0; i < n; ++i) { h ^= p[i]; h *= 1099511628211ULL; }
-    return h;
+std::uint64_t hashText(const std::string& text) {
+    return hashBytes(reinterpret_cast<const unsigned char*>(text.data()), text.size());
 }
 
 void writeGradientMaps(const std::string& path, const std::vector<GradientMap>& frames, std::uint64_t key) {

@@ -1,6 +1,7 @@
 #include "ShapeBuilder.hpp"
 
 #include "DistanceTransform.hpp"
+#include "GradientMapFile.hpp"
 #include "Labels.hpp"
 
 #include <chrono>
@@ -152,6 +153,22 @@ ShapeBuild buildShape(const ShapeSpec& spec, const ProgressFn& progress, int thr
         say(os.str());
     }
     return out;
+}
+
+ShapeBuild loadOrBuildShape(const ShapeSpec& spec, const std::string& cachePath, bool rebuild,
+                            const ProgressFn& progress, int threads) {
+    const std::uint64_t key = hashText(spec.canonical);
+    if (!cachePath.empty() && !rebuild)
+        if (auto cached = readGradientMaps(cachePath, key)) {
+            if (progress) progress("read the gradient map from the cache " + cachePath);
+            return ShapeBuild{std::move(*cached), {}};
+        }
+    ShapeBuild build = buildShape(spec, progress, threads);
+    if (!cachePath.empty()) {
+        writeGradientMaps(cachePath, build.frames, key);
+        if (progress) progress("cached the gradient map in " + cachePath);
+    }
+    return build;
 }
 
 }  // namespace bop::shape

@@ -39,4 +39,9 @@ GradientMap buildGradientMap(const VoxelGrid& grid, const Volume<std::uint8_t>& 
 
 ShapeBuild buildShape(const ShapeSpec& spec, const ProgressFn& progress = {}, int threads = 0);
 
+// The maps from the cache file when it was made for this spec (and rebuild is false), else
+// built and written to it. cachePath "" = no cache. Timings are empty for maps from the cache.
+ShapeBuild loadOrBuildShape(const ShapeSpec& spec, const std::string& cachePath, bool rebuild = false,
+                            const ProgressFn& progress = {}, int threads = 0);
+
 }  // namespace bop::shape

@@ -152,14 +152,8 @@ TEST_CASE("particle counts scale with r0 as in Table 1", "[physics][scaling]") {
         const double s2 = double(count(b.sim->model(), b.sim->particles(), true)) / double(count(a.sim->model(), a.sim->particles(), true));
         const double v3 = double(count(b.sim->model(), b.sim->particles(), false)) / double(count(a.sim->model(), a.sim->particles(), false));
         INFO(name << ": surface ratio " << s2 << " (expected (2/1.4)^2 = 2.04), volume ratio " << v3 << " (expected (2/1.4)^3 = 2.92)");
+        CHECK(s2 == Approx(std::pow(2 / 1.4, 2)).epsilon(0.20));
         CHECK(v3 == Approx(std::pow(2 / 1.4, 3)).epsilon(0.20));
-        if (std::string(name) == "star") {
-            CHECK(s2 == Approx(std::pow(2 / 1.4, 2)).epsilon(0.20));
-        } else if (std::abs(s2 / std::pow(2 / 1.4, 2) - 1) > 0.2) {
-            // Known: on the torus tube (about 1.3 r0 thick) births on voxel centres saturate at
-            // 81% of the hexagonal count at r0 = 2 voxels but 63% at 1.4 (docs/dynamics.md).
-            WARN("torus surface ratio " << s2 << " is outside 20% of 2.04");
-        }
     }
 }
 
