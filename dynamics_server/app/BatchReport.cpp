@@ -32,11 +32,14 @@ void BatchReport::summary(const core::Simulation& sim, long long steps, double s
             << std::setw(7) << std::setprecision(1) << 100.0 * s / total << "%\n";
     };
     row("pairs", t.forces.pairs);
-    row("cells", t.forces.cells);
+    row("neighbours", t.forces.neighbours);
     row("gradient map", t.forces.gradientMap);
     row("probe", t.forces.probe);
     row("integrate", t.integrate);
     row("construction", t.construction);
+    const core::NeighbourList& list = sim.forceField().neighbours();
+    os_ << "neighbour list: built " << list.builds() << " times (set-up included), " << list.pairCount()
+        << " pairs within cutoff + skin, " << list.ghostCount() << " periodic images\n";
     const double rate = double(steps) / std::max(seconds, 1e-12);
     os_ << "\n            Surface  Volume   Total   steps/s   particle-steps/s\n"
         << "this run  " << std::setw(9) << surface << std::setw(8) << volume << std::setw(8) << surface + volume

@@ -78,6 +78,8 @@ void readDynamics(const ConfigTable& root, core::Model& m, std::uint64_t& seed) 
     if (!t) return;
     m.integration.dt = positive(*t, "time_step", t->number("time_step", m.integration.dt));
     m.integration.inertia = positive(*t, "inertia", t->number("inertia", m.integration.inertia));
+    m.integration.skinR0 = t->number("neighbour_skin_r0", m.integration.skinR0);
+    if (!(m.integration.skinR0 >= 0 && m.integration.skinR0 <= 2)) t->fail("neighbour_skin_r0", "expected a skin from 0 to 2 r0");
     const std::string mode = t->choice("lj_cutoff", {"switched", "paper", "energy_shifted", "shifted_force"}, "switched");
     m.ljParams.mode = mode == "switched" ? core::LjCutoff::Switched
                       : mode == "paper" ? core::LjCutoff::Truncated

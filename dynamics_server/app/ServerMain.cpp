@@ -56,6 +56,8 @@ int run(int argc, char** argv) {
     const auto t00 = std::chrono::steady_clock::now();
     std::unique_ptr<core::Simulation> simPtr = app::startSimulation(scene, cache, restart, [](const std::string& m) { spdlog::info("{}", m); });
     core::Simulation& sim = *simPtr;
+    sim.refreshForces();  // set-up: the first neighbour list and forces, outside the timed steps
+    sim.resetTimes();
     spdlog::info("ready in {:.2f} s: {} particles at step {}", std::chrono::duration<double>(std::chrono::steady_clock::now() - t00).count(),
                  sim.particles().size(), sim.stats().step);
     const std::vector<std::string> names = app::speciesNames(model);

@@ -19,21 +19,26 @@ std::uint64_t splitMix(std::uint64_t x) {
 
 double unit(std::uint64_t h) { return double(h >> 11) * 0x1.0p-53; }  // [0, 1)
 
-// Spatial lookup over a set of points with one query radius.
+// Spatial lookup over a set of points with one query radius (or less). Cells are at least
+// the radius wide, and wider in big boxes so that the grid stays under about 10^7 cells.
 struct PointGrid {
     CellList cells;
     std::vector<CellList::Neighbour> near;
-    void build(const Box& box, double radius, const std::vector<Eigen::Vector3d>& pts) { cells.build(box, radius, pts); }
-    // Calls f(index, distance^2) for every point within `radius` of x.
-    template <class F> void forEachNear(const Eigen::Vector3d& x, double radius, const std::vector<Eigen::Vector3d>& pts, F f) {
+    void build(const Box& box, double radius, const std::vector<Eigen::Vector3d>& pts) {
+        cells.build(box, std::max(radius, box.size().maxCoeff() / 200.0), pts);
+    }
+    // Calls f(index, distance^2) for every point within `radius` of x until f returns true;
+    // returns whether it did.
+    template <class F> bool anyNear(const Eigen::Vector3d& x, double radius, const std::vector<Eigen::Vector3d>& pts, F f) {
         cells.around(cells.cellOf(x), 1, near);
         const double r2 = radius * radius;
         for (const auto& nb : near)
             for (std::uint32_t k = cells.start(nb.cell); k < cells.start(nb.cell + 1); ++k) {
                 const std::uint32_t j = cells.order()[k];
                 const double d2 = (pts[j] + nb.shift - x).squaredNorm();
-                if (d2 < r2) f(j, d2);
+                if (d2 < r2 && f(j, d2)) return true;
             }
+        return false;
     }
 };
 
@@ -102,6 +107,7 @@ ConstructionCounts Construction::update(const Model& model, Particles& p, long l
     }
     ConstructionCounts c;
     if (params_.everySteps <= 0 || step % params_.everySteps != 0) return c;
+    if (std::find(birth_.begin(), birth_.end(), char(1)) == birth_.end()) return c;  // not building
     c.deaths = deaths(model, p, step);
     if (model.map)
         for (int s = 1; s < int(birth_.size()); ++s)
@@ -114,16 +120,17 @@ ConstructionCounts Construction::update(const Model& model, Particles& p, long l
 std::size_t Construction::deaths(const Model& model, Particles& p, long long step) {
     const double d = params_.deathR0 * kR0;
     PointGrid grid;
-    grid.build(model.box, std::max(d, params_.frontR0 * kR0), p.pos);
+    grid.build(model.box, d, p.pos);
     std::vector<char> marked(p.size(), 0);
     for (std::size_t i = 0; i < p.size(); ++i)
-        grid.forEachNear(p.pos[i], d, p.pos, [&](std::uint32_t j, double) {
-            if (j <= i) return;
+        grid.anyNear(p.pos[i], d, p.pos, [&](std::uint32_t j, double) {
+            if (j <= i) return false;
             const bool si = model.isSurface(p.species[i]), sj = model.isSurface(p.species[j]);
             std::size_t victim;
             if (si != sj) victim = si ? j : i;  // surface + volume: the volume particle dies
             else victim = p.id[i] > p.id[j] ? i : j;
             marked[victim] = 1;
+            return false;
         });
     // Cap per species, in hash order.
     std::vector<std::size_t> count(model.species.size(), 0);
@@ -151,8 +158,12 @@ std::size_t Construction::births(const Model& model, Particles& p, int species, 
     const GradientMap& m = *model.map;
     const double h = kR0 / m.r0Voxels;
     const double dSame = params_.sameR0 * kR0, dAny = params_.anyR0 * kR0, dFront = params_.frontR0 * kR0;
-    PointGrid grid;
-    grid.build(model.box, dFront, p.pos);
+    // Blocked: a particle closer than dAny, or one of the species closer than dSame (a small
+    // grid, and most voxels of a growing bag are blocked). Front: one of the species within dFront.
+    const double dClose = std::max(dSame, dAny);
+    PointGrid close, far;
+    close.build(model.box, dClose, p.pos);
+    far.build(model.box, dFront, p.pos);
     struct Candidate { Eigen::Vector3d pos; std::uint64_t key; std::size_t voxel; };
     std::vector<Candidate> accepted;
     std::size_t have = 0;
@@ -163,15 +174,12 @@ std::size_t Construction::births(const Model& model, Particles& p, int species, 
         const std::uint64_t key = mixHash(params_.seed, std::uint64_t(step), std::uint64_t(species), v);
         const Eigen::Vector3d jitter(unit(mixHash(key, 1)) - 0.5, unit(mixHash(key, 2)) - 0.5, unit(mixHash(key, 3)) - 0.5);
         const Eigen::Vector3d c = (m.dims().coords(v).cast<double>() + Eigen::Vector3d::Constant(0.5) + 0.1 * jitter) * h;
-        bool blocked = false, front = false;
-        grid.forEachNear(c, dFront, p.pos, [&](std::uint32_t j, double d2) {
-            if (p.species[j] == species) {
-                front = true;
-                if (d2 < dSame * dSame) blocked = true;
-            }
-            if (d2 < dAny * dAny) blocked = true;
+        const bool blocked = close.anyNear(c, dClose, p.pos, [&](std::uint32_t j, double d2) {
+            return d2 < dAny * dAny || (p.species[j] == species && d2 < dSame * dSame);
         });
-        if (!blocked && front) accepted.push_back({c, key, v});
+        if (blocked) continue;
+        const bool front = far.anyNear(c, dFront, p.pos, [&](std::uint32_t j, double) { return p.species[j] == species; });
+        if (front) accepted.push_back({c, key, v});
     }
     // One priority round among candidates that conflict (closer than dSame): the smallest key wins.
     std::vector<Eigen::Vector3d> pts;
@@ -181,8 +189,9 @@ std::size_t Construction::births(const Model& model, Particles& p, int species, 
     std::vector<std::pair<std::uint64_t, std::size_t>> winners;
     for (std::size_t a = 0; a < accepted.size(); ++a) {
         bool keep = true;
-        cand.forEachNear(accepted[a].pos, dSame, pts, [&](std::uint32_t b, double) {
+        cand.anyNear(accepted[a].pos, dSame, pts, [&](std::uint32_t b, double) {
             if (b != a && accepted[b].key < accepted[a].key) keep = false;
+            return !keep;
         });
         if (keep) winners.emplace_back(accepted[a].key, a);
     }

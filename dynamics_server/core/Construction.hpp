@@ -45,7 +45,8 @@ public:
     bool birthOn(int species) const { return birth_[std::size_t(species)]; }
 
     // At the start of a step: the timeline's events for this step, then (every everySteps
-    // steps) deaths followed by births of every species whose birth is on.
+    // steps, while some species' birth is on) deaths followed by births of every species whose
+    // birth is on. With every birth off the bag is left alone: no check runs.
     ConstructionCounts update(const Model& model, Particles& p, long long step);
 
     const ConstructionParams& params() const { return params_; }

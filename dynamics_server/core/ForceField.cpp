@@ -8,10 +8,58 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// Pair forces of a model without oriented weights on force-only steps: LJ alone, with the
+// species weights looked up per pair only when there is more than one species.
+template <bool OneSpecies>
+void ljForcePairs(const PairKernel& kernel, const NeighbourList& list, const std::uint8_t* species,
+                  const char* isVolume, Eigen::Vector3d* f, PairKernel::Sums& sums) {
+    const LjForm lj = kernel.lj();
+    const double cut2 = lj.cutoff2();
+    const double* wF = kernel.ljForceWeights();
+    const double* wE = kernel.ljEnergyWeights();
+    const std::size_t side = std::size_t(kernel.tableSide());
+    const std::size_t one = side + 1;  // table index of species pair (1, 1)
+    const double wF11 = wF[one], wE11 = wE[one];  // copies: the force stores below may alias wF
+    const Eigen::Vector3d* e = list.positions().data();
+    const std::uint32_t* nbr = list.neighbours();
+    double virial = 0, virialVolume = 0;
+    std::size_t inRange = 0;
+    const std::size_t ne = list.entryCount();
+    for (std::size_t x = 0; x < ne; ++x) {
+        const Eigen::Vector3d pi = e[x];
+        const std::size_t a = species[x];
+        Eigen::Vector3d fi = Eigen::Vector3d::Zero();
+        double wi = 0, wiVolume = 0;
+        const std::uint32_t k1 = list.first(x + 1);
+        for (std::uint32_t k = list.first(x); k < k1; ++k) {
+            const std::uint32_t y = nbr[k];
+            const Eigen::Vector3d r = e[y] - pi;
+            const double r2 = r.squaredNorm();
+            if (r2 >= cut2) continue;
+            ++inRange;
+            const double fr = lj.forceOverR(r2);
+            const std::size_t b = species[y];
+            const std::size_t ab = a * side + b, ba = b * side + a;
+            f[y] += ((OneSpecies ? wF11 : wF[ba]) * fr) * r;
+            fi -= ((OneSpecies ? wF11 : wF[ab]) * fr) * r;
+            const double w = (OneSpecies ? wE11 : wE[ab]) * fr * r2;
+            wi += w;
+            if (OneSpecies || (isVolume[a] & isVolume[b])) wiVolume += w;
+        }
+        f[x] += fi;
+        virial += wi;
+        virialVolume += OneSpecies && !isVolume[1] ? 0.0 : wiVolume;
+    }
+    sums.virial += virial;
+    sums.virialVolume += virialVolume;
+    sums.inRange += inRange;
+}
+
 }  // namespace
 
 ForceField::ForceField(const Model& model)
-    : kernel_(model), isVolume_(std::size_t(model.speciesCount()) + 1, 0), cellSize_(kernel_.cutoff()) {
+    : kernel_(model), isVolume_(std::size_t(model.speciesCount()) + 1, 0), oriented_(kernel_.anyOriented()),
+      skin_(model.integration.skinR0 * kR0) {
     for (int s = 1; s <= model.speciesCount(); ++s) isVolume_[std::size_t(s)] = !model.isSurface(s);
 }
 
@@ -26,8 +74,12 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
     gradientMapForces(model, p);
     if (times) times->gradientMap += since(t0);
     t0 = Clock::now();
-    cells_.build(model.box, cellSize_, p.pos);
-    if (times) times->cells += since(t0);
+    if (p.revision != revision_ || !list_.update(model.box, p.pos, 0.5 * skin_)) {
+        list_.build(model.box, kernel_.cutoff() + skin_, p.pos);
+        list_.update(model.box, p.pos, 0.5 * skin_);
+        revision_ = p.revision;
+    }
+    if (times) times->neighbours += since(t0);
     t0 = Clock::now();
     pairForces(p, stats, energies);
     if (times) times->pairs += since(t0);
@@ -37,7 +89,7 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
 }
 
 void ForceField::gradientMapForces(const Model& model, Particles& p) {
-    cpWeight_.assign(p.size(), 1.0f);
+    if (oriented_) cpWeight_.assign(p.size(), 1.0f);  // curvature weights serve the co-planar pairs only
     if (!model.map) return;
     if (fieldMap_ != model.map.get()) {
         field_ = std::make_unique<shape::GmField>(*model.map, model.interpolation);
@@ -52,6 +104,7 @@ void ForceField::gradientMapForces(const Model& model, Particles& p) {
         p.force[i] += sp.alphaForceGm * g.force;
         if (sp.kind == ParticleKind::Surface) {
             p.torque[i] += sp.alphaTorqueGm * g.torque;
+            if (!oriented_) continue;
             const Eigen::Vector3i v = (p.pos[i] / h).array().floor().cast<int>().max(0).min(
                 Eigen::Array3i(d.nx - 1, d.ny - 1, d.nz - 1)).matrix();
             cpWeight_[i] = map.nearestSurface(d.index(v.x(), v.y(), v.z())).cpWeight;
@@ -60,48 +113,64 @@ void ForceField::gradientMapForces(const Model& model, Particles& p) {
 }
 
 void ForceField::pairForces(Particles& p, ForceStats& stats, bool energies) {
-    PairKernel& kernel = kernel_;
-    kernel.setEnergy(energies);
-    const auto& order = cells_.order();
-    const std::size_t n = p.size();
-    sp_.resize(n); sn_.resize(n); ss_.resize(n); sw_.resize(n);
-    sf_.assign(n, Eigen::Vector3d::Zero());
-    st_.assign(n, Eigen::Vector3d::Zero());
-    for (std::size_t k = 0; k < n; ++k) {
-        const std::uint32_t i = order[k];
-        sp_[k] = p.pos[i]; sn_[k] = p.normal[i]; ss_[k] = p.species[i]; sw_[k] = cpWeight_[i];
+    kernel_.setEnergy(energies);
+    const auto& owner = list_.owner();
+    const std::size_t ne = list_.entryCount();
+    if (speciesBuild_ != list_.builds()) {  // entries change only when the list is built
+        ss_.resize(ne);
+        for (std::size_t k = 0; k < ne; ++k) ss_[k] = p.species[owner[k]];
+        speciesBuild_ = list_.builds();
     }
+    sf_.assign(ne, Eigen::Vector3d::Zero());
     PairKernel::Sums sums;
-    std::array<CellList::Neighbour, 14> stencil;
-    const double cut2 = kernel.cutoff2();
-    for (int c = 0; c < cells_.cellCount(); ++c) {
-        const std::uint32_t b0 = cells_.start(c), b1 = cells_.start(c + 1);
-        if (b0 == b1) continue;
-        const int m = cells_.halfStencil(c, stencil);
-        for (int s = 0; s < m; ++s) {
-            const std::uint32_t e0 = cells_.start(stencil[s].cell), e1 = cells_.start(stencil[s].cell + 1);
-            const Eigen::Vector3d shift = stencil[s].shift;
-            for (std::uint32_t i = b0; i < b1; ++i) {
-                const Eigen::Vector3d pi = sp_[i] - shift;
-                const int a = ss_[i];
-                for (std::uint32_t j = (s == 0 ? i + 1 : e0); j < e1; ++j) {
-                    const Eigen::Vector3d r = sp_[j] - pi;
-                    const double r2 = r.squaredNorm();
-                    if (r2 >= cut2) continue;
-                    kernel.apply(i, j, a, ss_[j], r, r2, sn_[i], sn_[j], sw_[i], sw_[j], sf_.data(), st_.data(),
-                                 isVolume_[std::size_t(a)], isVolume_[ss_[j]], sums);
-                }
-            }
-        }
+    if (!oriented_ && !energies) {
+        if (isVolume_.size() == 2)
+            ljForcePairs<true>(kernel_, list_, ss_.data(), isVolume_.data(), sf_.data(), sums);
+        else
+            ljForcePairs<false>(kernel_, list_, ss_.data(), isVolume_.data(), sf_.data(), sums);
+    } else {
+        generalPairs(p, sums);
     }
-    for (std::size_t k = 0; k < n; ++k) {
-        p.force[order[k]] += sf_[k];
-        p.torque[order[k]] += st_[k];
-    }
+    for (std::size_t k = 0; k < ne; ++k) p.force[owner[k]] += sf_[k];
+    if (oriented_)
+        for (std::size_t k = 0; k < ne; ++k) p.torque[owner[k]] += st_[k];
     stats.pairEnergy = sums.energy;
     stats.virial = sums.virial;
     stats.virialVolume = sums.virialVolume;
     stats.pairsInRange = sums.inRange;
+}
+
+void ForceField::generalPairs(const Particles& p, PairKernel::Sums& sums) {
+    const auto& owner = list_.owner();
+    const auto& e = list_.positions();
+    const std::size_t ne = list_.entryCount();
+    if (oriented_) {
+        sn_.resize(ne);
+        sw_.resize(ne);
+        st_.assign(ne, Eigen::Vector3d::Zero());
+        for (std::size_t k = 0; k < ne; ++k) {
+            sn_[k] = p.normal[owner[k]];
+            sw_[k] = cpWeight_[owner[k]];
+        }
+    }
+    const double cut2 = kernel_.cutoff2();
+    const std::uint32_t* nbr = list_.neighbours();
+    for (std::uint32_t x = 0; x < ne; ++x) {
+        const Eigen::Vector3d pi = e[x];
+        const int a = ss_[x];
+        const std::uint32_t k1 = list_.first(x + 1);
+        for (std::uint32_t k = list_.first(x); k < k1; ++k) {
+            const std::uint32_t y = nbr[k];
+            const Eigen::Vector3d r = e[y] - pi;
+            const double r2 = r.squaredNorm();
+            if (r2 >= cut2) continue;
+            if (oriented_)
+                kernel_.apply(x, y, a, ss_[y], r, r2, sn_[x], sn_[y], sw_[x], sw_[y], sf_.data(), st_.data(),
+                              isVolume_[std::size_t(a)], isVolume_[ss_[y]], sums);
+            else
+                kernel_.applyLj(x, y, a, ss_[y], r, r2, sf_.data(), isVolume_[std::size_t(a)], isVolume_[ss_[y]], sums);
+        }
+    }
 }
 
 void ForceField::computePairsBruteForce(const Model& model, Particles& p, ForceStats& stats) {

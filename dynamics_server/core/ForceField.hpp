@@ -1,10 +1,10 @@
 #pragma once
 // All forces and torques of one step (paper eqs. 2-11 without the drag, which the integrator
-// applies exactly): LJ, co-normal and co-planar pairs over cell lists with a half stencil
-// (each pair once, asymmetric weights applied per side), gradient-map forces and torques, and
-// the probe particle.
-#include "CellList.hpp"
+// applies exactly): LJ, co-normal and co-planar pairs over a Verlet neighbour list built from
+// cell lists with a half stencil (each pair once, asymmetric weights applied per side),
+// gradient-map forces and torques, and the probe particle.
 #include "Model.hpp"
+#include "NeighbourList.hpp"
 #include "PairKernel.hpp"
 #include "Particles.hpp"
 
@@ -28,7 +28,7 @@ struct ForceStats {
 };
 
 struct PhaseTimes {
-    double cells = 0, pairs = 0, gradientMap = 0, probe = 0;  // seconds, accumulated
+    double neighbours = 0, pairs = 0, gradientMap = 0, probe = 0;  // seconds, accumulated
 };
 
 class ForceField {
@@ -43,21 +43,24 @@ public:
     // Reference O(N^2) pair forces (for tests): same weights, no cell lists.
     static void computePairsBruteForce(const Model& model, Particles& particles, ForceStats& stats);
 
-    double cellSize() const { return cellSize_; }
-    const CellList& cells() const { return cells_; }
+    const NeighbourList& neighbours() const { return list_; }
 
 private:
     void pairForces(Particles& particles, ForceStats& stats, bool energies);
+    void generalPairs(const Particles& particles, PairKernel::Sums& sums);  // any model, energies
     void gradientMapForces(const Model& model, Particles& particles);
     void probeForces(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats);
 
     PairKernel kernel_;            // weights and evaluators of this model, built once
     std::vector<char> isVolume_;   // per species number
-    double cellSize_ = 1;
-    CellList cells_;
+    bool oriented_ = false;        // some species pair has co-normal or co-planar weights
+    double skin_ = 0;              // neighbour-list skin, length units
+    NeighbourList list_;
+    std::uint64_t revision_ = ~std::uint64_t(0);  // particles.revision at the last build
+    std::size_t speciesBuild_ = 0;                // list build that ss_ was gathered for
     std::unique_ptr<shape::GmField> field_;
     const GradientMap* fieldMap_ = nullptr;
-    // Cell-ordered copies for the pair loop.
+    // Per neighbour-list entry (cell order, ghosts included): copies for the pair loop.
     std::vector<Eigen::Vector3d> sp_, sn_, sf_, st_;
     std::vector<std::uint8_t> ss_;
     std::vector<float> sw_;

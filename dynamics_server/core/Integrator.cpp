@@ -24,7 +24,7 @@ DragFactors::DragFactors(const Model& m) : v(m.species.size(), 1.0), w(m.species
 
 void kickDrift(const Model& model, const DragFactors& decay, Particles& p) {
     const double dt = model.integration.dt, half = 0.5 * dt, invI = 1.0 / model.integration.inertia;
-    const Eigen::Vector3d lo = model.box.lo, L = model.box.size();
+    const Eigen::Vector3d lo = model.box.lo, hi = model.box.hi, L = model.box.size();
     const bool anyPeriodic = model.box.periodic[0] || model.box.periodic[1] || model.box.periodic[2];
     for (std::size_t i = 0; i < p.size(); ++i) {
         const int s = p.species[i];
@@ -32,7 +32,8 @@ void kickDrift(const Model& model, const DragFactors& decay, Particles& p) {
         p.pos[i] += dt * p.vel[i];
         if (anyPeriodic)
             for (int a = 0; a < 3; ++a)
-                if (model.box.periodic[std::size_t(a)]) p.pos[i][a] -= L[a] * std::floor((p.pos[i][a] - lo[a]) / L[a]);
+                if (model.box.periodic[std::size_t(a)] && (p.pos[i][a] < lo[a] || p.pos[i][a] >= hi[a]))
+                    p.pos[i][a] -= L[a] * std::floor((p.pos[i][a] - lo[a]) / L[a]);
         if (!model.isSurface(s)) continue;
         p.omega[i] = decay.w[std::size_t(s)] * p.omega[i] + half * invI * p.torque[i];
         p.q[i] = (rotation(dt * p.omega[i]) * p.q[i]).normalized();
@@ -40,13 +41,18 @@ void kickDrift(const Model& model, const DragFactors& decay, Particles& p) {
     }
 }
 
-void kick(const Model& model, const DragFactors& decay, Particles& p) {
+double kick(const Model& model, const DragFactors& decay, Particles& p) {
     const double half = 0.5 * model.integration.dt, invI = 1.0 / model.integration.inertia;
+    double twiceKinetic = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
         const int s = p.species[i];
         p.vel[i] = decay.v[std::size_t(s)] * (p.vel[i] + half * p.force[i]);
-        if (model.isSurface(s)) p.omega[i] = decay.w[std::size_t(s)] * (p.omega[i] + half * invI * p.torque[i]);
+        twiceKinetic += p.vel[i].squaredNorm();
+        if (!model.isSurface(s)) continue;
+        p.omega[i] = decay.w[std::size_t(s)] * (p.omega[i] + half * invI * p.torque[i]);
+        twiceKinetic += model.integration.inertia * p.omega[i].squaredNorm();
     }
+    return 0.5 * twiceKinetic;
 }
 
 double kineticEnergy(const Model& model, const Particles& p) {

@@ -19,8 +19,9 @@ struct DragFactors {
 
 // O, B and A; wraps positions into the box along periodic axes.
 void kickDrift(const Model& model, const DragFactors& drag, Particles& p);
-// B and O with the forces of the new positions.
-void kick(const Model& model, const DragFactors& drag, Particles& p);
+// B and O with the forces of the new positions; returns the kinetic energy afterwards (the
+// value of kineticEnergy(), in the same pass).
+double kick(const Model& model, const DragFactors& drag, Particles& p);
 
 // Kinetic energy: sum of v^2/2 + I omega^2/2 over particles, energy units.
 double kineticEnergy(const Model& model, const Particles& p);

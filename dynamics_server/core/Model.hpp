@@ -50,6 +50,7 @@ struct Box {
 struct Integration {
     double dt = 0.02;       // time step, simulation time units (physics.md §3.4: 0.02-0.03)
     double inertia = 0.3;   // moment of inertia of a surface particle, mass * length^2
+    double skinR0 = 0.3;    // neighbour-list skin beyond the largest cutoff, multiples of r0
 };
 
 struct Model {

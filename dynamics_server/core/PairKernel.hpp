@@ -42,6 +42,15 @@ public:
     void setEnergy(bool on) { energy_ = on; }
 
     double cutoff() const { return std::sqrt(cutoff2_); }
+    const LjForm& lj() const { return lj_; }
+    int tableSide() const { return n_; }  // species tables are tableSide() x tableSide(), row a, column b
+    const double* ljForceWeights() const { return ljF_.data(); }   // alpha_f^OP(a) * alpha_ab
+    const double* ljEnergyWeights() const { return ljE_.data(); }  // (alpha_ab + alpha_ba) / 2
+    bool anyOriented() const {
+        for (char o : oriented_)
+            if (o) return true;
+        return false;
+    }
     double cutoff2() const { return cutoff2_; }
 
     struct Sums {
@@ -49,12 +58,9 @@ public:
         std::size_t inRange = 0;
     };
 
-    // Accumulates the pair's forces and torques into f[i], f[j], t[i], t[j].
-    // wi, wj: curvature weights of the co-planar term (1 without a map).
-    inline void apply(std::size_t i, std::size_t j, int a, int b, const Eigen::Vector3d& r, double r2,
-                      const Eigen::Vector3d& ni, const Eigen::Vector3d& nj, float wi, float wj,
-                      Eigen::Vector3d* f, Eigen::Vector3d* t, bool volumeA, bool volumeB, Sums& s) const {
-        if (r2 >= cutoff2_) return;
+    // The LJ part of apply() alone (the whole of it for models without oriented weights).
+    inline void applyLj(std::size_t i, std::size_t j, int a, int b, const Eigen::Vector3d& r, double r2,
+                        Eigen::Vector3d* f, bool volumeA, bool volumeB, Sums& s) const {
         ++s.inRange;
         const std::size_t ab = std::size_t(a) * n_ + b, ba = std::size_t(b) * n_ + a;
         double fOverR, e = 0;
@@ -67,6 +73,16 @@ public:
             s.virial += w;
             if (volumeA && volumeB) s.virialVolume += w;
         }
+    }
+
+    // Accumulates the pair's forces and torques into f[i], f[j], t[i], t[j].
+    // wi, wj: curvature weights of the co-planar term (1 without a map).
+    inline void apply(std::size_t i, std::size_t j, int a, int b, const Eigen::Vector3d& r, double r2,
+                      const Eigen::Vector3d& ni, const Eigen::Vector3d& nj, float wi, float wj,
+                      Eigen::Vector3d* f, Eigen::Vector3d* t, bool volumeA, bool volumeB, Sums& s) const {
+        if (r2 >= cutoff2_) return;
+        applyLj(i, j, a, b, r, r2, f, volumeA, volumeB, s);
+        const std::size_t ab = std::size_t(a) * n_ + b, ba = std::size_t(b) * n_ + a;
         if (!oriented_[ab] || r2 >= weight_.cutoff2()) return;
         const double rlen = std::sqrt(r2);
         double psi, dpsi;

@@ -20,6 +20,7 @@ struct Particles {
     std::vector<Eigen::Vector3d> torque;   // total torque of the last evaluation (without drag)
     std::vector<std::uint8_t> species;     // species number (1-based, see the scene's species table)
     std::vector<std::uint64_t> id;         // global id, unique for the particle's lifetime
+    std::uint64_t revision = 0;            // counts add/remove/resize (neighbour lists rebuild on change)
 
     std::size_t size() const { return pos.size(); }
 
@@ -35,6 +36,7 @@ struct Particles {
         torque.push_back(Eigen::Vector3d::Zero());
         species.push_back(std::uint8_t(speciesNumber));
         id.push_back(globalId);
+        ++revision;
         return pos.size() - 1;
     }
 
@@ -53,6 +55,7 @@ struct Particles {
     }
 
     void resize(std::size_t n) {
+        ++revision;
         pos.resize(n); vel.resize(n); q.resize(n); omega.resize(n); normal.resize(n);
         force.resize(n); torque.resize(n); species.resize(n); id.resize(n);
     }

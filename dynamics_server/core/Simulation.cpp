@@ -41,8 +41,7 @@ void Simulation::step() {
     times_.integrate += since(t0);
     forces_.compute(*model_, probe_, p_, stats_.forces, &times_.forces, (stats_.step + 1) % energyEvery_ == 0);
     t0 = Clock::now();
-    kick(*model_, drag_, p_);
-    stats_.kinetic = kineticEnergy(*model_, p_);
+    stats_.kinetic = kick(*model_, drag_, p_);
     times_.integrate += since(t0);
     ++stats_.step;
     stats_.time += model_->integration.dt;

@@ -19,10 +19,10 @@ struct StepStats {
 };
 
 struct StepTimes {
-    PhaseTimes forces;           // cells, pairs, gradient map, probe
+    PhaseTimes forces;           // neighbour list, pairs, gradient map, probe
     double integrate = 0;        // kicks and drift, s
     double construction = 0;     // births and deaths, s
-    double total() const { return forces.cells + forces.pairs + forces.gradientMap + forces.probe + integrate + construction; }
+    double total() const { return forces.neighbours + forces.pairs + forces.gradientMap + forces.probe + integrate + construction; }
 };
 
 class Simulation {
@@ -42,6 +42,8 @@ public:
     const Construction& construction() const { return construction_; }
     const StepStats& stats() const { return stats_; }
     const StepTimes& times() const { return times_; }
+    void resetTimes() { times_ = StepTimes{}; }
+    const ForceField& forceField() const { return forces_; }
 
     // Recomputes forces for the current state (after commands changed particles or the model).
     void refreshForces();

@@ -202,6 +202,25 @@ TEST_CASE("LJ-form values, continuity and cutoff", "[core][potentials]") {
     CHECK(sf.energy(rMin) == Approx(-0.131).margin(5e-4));
 }
 
+TEST_CASE("the branch-free LJ force of the pair loop equals the evaluator's in every mode", "[core][potentials]") {
+    for (const LjParams& c : {LjParams{LjCutoff::Switched, 1.2, 1.6}, LjParams{LjCutoff::Switched, 2.0, 3.0},
+                              LjParams{LjCutoff::Truncated, 1.2, 2.99}, LjParams{LjCutoff::EnergyShifted, 1.2, 2.5},
+                              LjParams{LjCutoff::ShiftedForce, 1.2, 2.5}}) {
+        const LjForm lj(c);
+        double worst = 0;
+        int inSwitch = 0;
+        for (double r = 0.6 * kR0; r < lj.cutoff(); r += 1e-3) {
+            double expected = 0, e = 0;
+            REQUIRE(lj.eval(r * r, expected, e));
+            worst = std::max(worst, std::abs(lj.forceOverR(r * r) - expected) / std::max(1.0, std::abs(expected)));
+            inSwitch += r > lj.switchOn();
+        }
+        INFO("mode " << int(c.mode) << ", cutoff " << c.rCutR0 << " r0: " << inSwitch << " samples in the switch");
+        CHECK(worst < 1e-13);
+        CHECK((inSwitch > 100) == (c.mode == LjCutoff::Switched));
+    }
+}
+
 TEST_CASE("LJ-form and oriented parameters are validated", "[core][potentials]") {
     CHECK_THROWS_AS(LjForm({LjCutoff::Switched, 1.6, 1.6}), std::invalid_argument);
     CHECK_THROWS_AS(LjForm({LjCutoff::Switched, 0.0, 1.6}), std::invalid_argument);
