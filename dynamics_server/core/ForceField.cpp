@@ -1,5 +1,7 @@
 #include "ForceField.hpp"
 
+#include "LjPairLoop.hpp"
+
 #include <chrono>
 
 namespace bop::core {
@@ -7,53 +9,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-// Pair forces of a model without oriented weights on force-only steps: LJ alone, with the
-// species weights looked up per pair only when there is more than one species.
-template <bool OneSpecies>
-void ljForcePairs(const PairKernel& kernel, const NeighbourList& list, const std::uint8_t* species,
-                  const char* isVolume, Eigen::Vector3d* f, PairKernel::Sums& sums) {
-    const LjForm lj = kernel.lj();
-    const double cut2 = lj.cutoff2();
-    const double* wF = kernel.ljForceWeights();
-    const double* wE = kernel.ljEnergyWeights();
-    const std::size_t side = std::size_t(kernel.tableSide());
-    const std::size_t one = side + 1;  // table index of species pair (1, 1)
-    const double wF11 = wF[one], wE11 = wE[one];  // copies: the force stores below may alias wF
-    const Eigen::Vector3d* e = list.positions().data();
-    const std::uint32_t* nbr = list.neighbours();
-    double virial = 0, virialVolume = 0;
-    std::size_t inRange = 0;
-    const std::size_t ne = list.entryCount();
-    for (std::size_t x = 0; x < ne; ++x) {
-        const Eigen::Vector3d pi = e[x];
-        const std::size_t a = species[x];
-        Eigen::Vector3d fi = Eigen::Vector3d::Zero();
-        double wi = 0, wiVolume = 0;
-        const std::uint32_t k1 = list.first(x + 1);
-        for (std::uint32_t k = list.first(x); k < k1; ++k) {
-            const std::uint32_t y = nbr[k];
-            const Eigen::Vector3d r = e[y] - pi;
-            const double r2 = r.squaredNorm();
-            if (r2 >= cut2) continue;
-            ++inRange;
-            const double fr = lj.forceOverR(r2);
-            const std::size_t b = species[y];
-            const std::size_t ab = a * side + b, ba = b * side + a;
-            f[y] += ((OneSpecies ? wF11 : wF[ba]) * fr) * r;
-            fi -= ((OneSpecies ? wF11 : wF[ab]) * fr) * r;
-            const double w = (OneSpecies ? wE11 : wE[ab]) * fr * r2;
-            wi += w;
-            if (OneSpecies || (isVolume[a] & isVolume[b])) wiVolume += w;
-        }
-        f[x] += fi;
-        virial += wi;
-        virialVolume += OneSpecies && !isVolume[1] ? 0.0 : wiVolume;
-    }
-    sums.virial += virial;
-    sums.virialVolume += virialVolume;
-    sums.inRange += inRange;
-}
 
 }  // namespace
 
@@ -124,10 +79,7 @@ void ForceField::pairForces(Particles& p, ForceStats& stats, bool energies) {
     sf_.assign(ne, Eigen::Vector3d::Zero());
     PairKernel::Sums sums;
     if (!oriented_ && !energies) {
-        if (isVolume_.size() == 2)
-            ljForcePairs<true>(kernel_, list_, ss_.data(), isVolume_.data(), sf_.data(), sums);
-        else
-            ljForcePairs<false>(kernel_, list_, ss_.data(), isVolume_.data(), sf_.data(), sums);
+        ljForcePairs(kernel_, list_, ss_.data(), isVolume_.data(), sf_.data(), sums);
     } else {
         generalPairs(p, sums);
     }

@@ -47,6 +47,8 @@ public:
     double cutoff2() const { return rc2_; }      // squared cutoff, simulation length units^2
     double switchOn() const { return rOn_; }     // start of the switch (= cutoff if none), length
     double energyConstant() const { return c_; } // constant C added to phi below rOn (energy)
+    double invSwitchWidth() const { return invWidth_; }  // 1 / (rc - rOn), 1/length; 0 without a switch
+    double forceShift() const { return fShift_; }        // f(rc) subtracted by ShiftedForce, else 0
 
     // r2: squared distance (> 0), length^2. Outputs fOverR = f(r)/r (energy / length^2; the
     // force on j is fOverR * (p_j - p_i)) and the pair energy. Returns false, with both outputs
@@ -54,10 +56,11 @@ public:
     // f(r)/r for r2 < cutoff2() (the caller has checked), without branches: the LJ-only pair
     // loop's fast path. Below the switch t clamps to 0 (S = 1); without a switch invWidth_ is 0.
     double forceOverR(double r2) const {
-        const double inv2 = 1.0 / r2;
-        const double rinv = std::sqrt(inv2);
+        const double inv2 = 1.0 / r2;   // the division and the root run side by side
+        const double r = std::sqrt(r2);
+        const double rinv = r * inv2;
         const double f = (4.5 * inv2 - 1.5) * inv2 - fShift_;
-        const double u = (r2 * rinv - rOn_) * invWidth_;
+        const double u = (r - rOn_) * invWidth_;
         const double t = u > 0.0 ? u : 0.0;
         return f * (1.0 + t * t * (2.0 * t - 3.0)) * rinv;
     }

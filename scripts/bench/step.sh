@@ -5,7 +5,8 @@
 # LAMMPS (Debian package lammps) on the identical workload: the same potential as a
 # `pair_style table` written by bop-lj-table, same density, cutoff, time step and steps.
 # Prints rates, their ratio, ns per particle-step and peak memory per particle; also the bag
-# scenes. The paper cutoff collapses the lattice after a few hundred steps (PEERS.md), so
+# scenes. Each code runs BOP_BENCH_REPEATS times (default 3), alternating, and the best rate of
+# each is kept: on a shared machine the slowest runs measure the neighbours, not the code. The paper cutoff collapses the lattice after a few hundred steps (PEERS.md), so
 # those runs stay at or below 300 steps from a fresh lattice; it is taken at 2.99 r0 in both
 # codes because 3 r0 falls exactly on the ninth fcc shell, where rounding decides which pairs count.
 #   scripts/bench/step.sh [N ...]      (default 1000 10000 100000 1000000; CSV in out/bench/step.csv)
@@ -51,11 +52,6 @@ time_step = 0.005
 lj_cutoff = "$mode"
 $([[ $mode == switched ]] && echo 'lj_switch_r0 = [1.2, 1.6]' || echo 'lj_cutoff_r0 = 2.99')
 TOML
-    /usr/bin/time -f "%M" -o "$out/bop-$mode-$particles.mem" \
-      build/dynamics_server/bop-server "$scene" --no-listen --steps "$steps" -o "$out/run-$mode-$particles" \
-      --report-every "$steps" >"$out/bop-$mode-$particles.log" 2>&1
-    bop=$(rate_of_bop "$out/bop-$mode-$particles.log")
-    mem=$(awk -v k="$(cat "$out/bop-$mode-$particles.mem")" -v n="$particles" 'BEGIN {printf "%.0f", k * 1024 / n}')
     cat >"$out/in-$mode-$particles.lmp" <<LMP
 units lj
 atom_style atomic
@@ -74,8 +70,17 @@ fix 1 all nve
 thermo $steps
 run $steps
 LMP
-    lmp -in "$out/in-$mode-$particles.lmp" -log none -screen "$out/lammps-$mode-$particles.log" >/dev/null 2>&1 || true
-    lmp_rate=$(rate_of_lammps "$out/lammps-$mode-$particles.log")
+    bop=0 lmp_rate=0
+    for ((rep = 1; rep <= ${BOP_BENCH_REPEATS:-3}; rep++)); do
+      /usr/bin/time -f "%M" -o "$out/bop-$mode-$particles.mem" \
+        build/dynamics_server/bop-server "$scene" --no-listen --steps "$steps" -o "$out/run-$mode-$particles" \
+        --report-every "$steps" >"$out/bop-$mode-$particles.log" 2>&1
+      bop=$(awk -v a="$bop" -v b="$(rate_of_bop "$out/bop-$mode-$particles.log")" 'BEGIN {print (b > a ? b : a)}')
+      lmp -in "$out/in-$mode-$particles.lmp" -log none -screen "$out/lammps-$mode-$particles.log" >/dev/null 2>&1 || true
+      lmp_rate=$(awk -v a="$lmp_rate" -v b="$(rate_of_lammps "$out/lammps-$mode-$particles.log")" 'BEGIN {print (b > a ? b : a)}')
+    done
+    [[ $lmp_rate != 0 ]] || lmp_rate=""
+    mem=$(awk -v k="$(cat "$out/bop-$mode-$particles.mem")" -v n="$particles" 'BEGIN {printf "%.0f", k * 1024 / n}')
     ratio=$(awk -v a="$bop" -v b="${lmp_rate:-0}" 'BEGIN {if (b > 0) printf "%.2f", a / b; else print "n/a"}')
     ns=$(awk -v a="$bop" 'BEGIN {printf "%.0f", 1e9 / a}')
     printf "%-10s %9d %6d %14.0f %14s %7s %10s %10s\n" "$mode" "$particles" "$steps" "$bop" "${lmp_rate:-n/a}" "$ratio" "$ns" "$mem"
