@@ -83,10 +83,11 @@ int run(int argc, char** argv) {
             report.progress(sim, s, steps, t0);
         }
     }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::string finalFile = outDir + "/final.xyz";
     fs::remove(finalFile);
     snapshot(finalFile);
-    report.summary(sim, steps, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    report.summary(sim, steps, seconds);
     if (model.map) {
         const app::Fidelity f = app::measureFidelity(model, sim.particles());
         std::cout << "shape fidelity: " << 100 * f.surfaceInOwnVoxels << "% of surface particles in their surface voxels, "
