@@ -218,7 +218,8 @@ core::Particles bulkLattice(const Scene& scene) {
     const BulkBox& b = *scene.bulk;
     const double a = b.spacingR0 * kR0 * std::sqrt(2.0);  // fcc cube edge for nearest distance d: a = d sqrt 2
     const Eigen::Vector3d L = scene.model->box.size();
-    const Eigen::Vector3i n = (L / a).array().floor().cast<int>().max(1).matrix();
+    // Whole fcc cells per edge; an edge of exactly n cells must not lose one to rounding.
+    const Eigen::Vector3i n = ((L / a).array() * (1 + 1e-9)).floor().cast<int>().max(1).matrix();
     const Eigen::Vector3d cell = L.cwiseQuotient(n.cast<double>());
     static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
     std::uint64_t id = 1;
