@@ -12,6 +12,16 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 }  // namespace
 
+float ForceField::curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species) const {
+    if (!model.map || !model.isSurface(species)) return 1.0f;
+    const GradientMap& map = *model.map;
+    const Dims& d = map.dims();
+    const double h = kR0 / map.r0Voxels;
+    const Eigen::Vector3i v = (x / h).array().floor().cast<int>().max(0).min(
+        Eigen::Array3i(d.nx - 1, d.ny - 1, d.nz - 1)).matrix();
+    return map.nearestSurface(d.index(v.x(), v.y(), v.z())).cpWeight;
+}
+
 ForceField::ForceField(const Model& model)
     : kernel_(model), isVolume_(std::size_t(model.speciesCount()) + 1, 0), oriented_(kernel_.anyOriented()),
       skin_(model.integration.skinR0 * kR0) {
@@ -19,7 +29,9 @@ ForceField::ForceField(const Model& model)
 }
 
 void ForceField::compute(const Model& model, const ProbeState& probe, Particles& p, ForceStats& stats,
-                         PhaseTimes* times, bool energies) {
+                         PhaseTimes* times, bool energies, const Halo* halo) {
+    static const std::vector<Eigen::Vector3d> kNoHalo;
+    const std::vector<Eigen::Vector3d>& haloPos = halo ? halo->pos : kNoHalo;
     stats = ForceStats{};
     for (std::size_t i = 0; i < p.size(); ++i) {
         p.force[i].setZero();
@@ -29,18 +41,24 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
     gradientMapForces(model, p);
     if (times) times->gradientMap += since(t0);
     t0 = Clock::now();
-    if (p.revision != revision_ || !list_.update(model.box, p.pos, 0.5 * skin_)) {
-        list_.build(model.box, kernel_.cutoff() + skin_, p.pos);
-        list_.update(model.box, p.pos, 0.5 * skin_);
+    if (p.revision != revision_ || !list_.measure(model.box, p.pos, 0.5 * skin_)) {
+        list_.build(model.box, kernel_.cutoff() + skin_, p.pos, haloPos);
+        list_.measure(model.box, p.pos, 0.5 * skin_);
         revision_ = p.revision;
     }
+    list_.move(haloPos);
     if (times) times->neighbours += since(t0);
     t0 = Clock::now();
-    pairForces(p, stats, energies);
+    gatherEntries(model, p, halo);
+    pairForces(p, halo, stats, energies);
     if (times) times->pairs += since(t0);
     t0 = Clock::now();
     probeForces(model, probe, p, stats);
     if (times) times->probe += since(t0);
+}
+
+bool ForceField::listHolds(const Model& model, const Particles& p) {
+    return p.revision == revision_ && list_.measure(model.box, p.pos, 0.5 * skin_);
 }
 
 void ForceField::gradientMapForces(const Model& model, Particles& p) {
@@ -50,68 +68,76 @@ void ForceField::gradientMapForces(const Model& model, Particles& p) {
         field_ = std::make_unique<shape::GmField>(*model.map, model.interpolation);
         fieldMap_ = model.map.get();
     }
-    const GradientMap& map = *model.map;
-    const Dims& d = map.dims();
-    const double h = field_->voxelSize();
     for (std::size_t i = 0; i < p.size(); ++i) {
         const Species& sp = model.species[p.species[i]];
         const shape::GmSample g = field_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
         p.force[i] += sp.alphaForceGm * g.force;
         if (sp.kind == ParticleKind::Surface) {
             p.torque[i] += sp.alphaTorqueGm * g.torque;
-            if (!oriented_) continue;
-            const Eigen::Vector3i v = (p.pos[i] / h).array().floor().cast<int>().max(0).min(
-                Eigen::Array3i(d.nx - 1, d.ny - 1, d.nz - 1)).matrix();
-            cpWeight_[i] = map.nearestSurface(d.index(v.x(), v.y(), v.z())).cpWeight;
+            if (oriented_) cpWeight_[i] = curvatureWeight(model, p.pos[i], p.species[i]);
         }
     }
 }
 
-void ForceField::pairForces(Particles& p, ForceStats& stats, bool energies) {
-    kernel_.setEnergy(energies);
+void ForceField::gatherEntries(const Model& model, const Particles& p, const Halo* halo) {
     const auto& owner = list_.owner();
-    const std::size_t ne = list_.entryCount();
+    const std::size_t ne = list_.entryCount(), n = p.size();
     if (speciesBuild_ != list_.builds()) {  // entries change only when the list is built
         ss_.resize(ne);
-        for (std::size_t k = 0; k < ne; ++k) ss_[k] = p.species[owner[k]];
+        for (std::size_t k = 0; k < ne; ++k) ss_[k] = owner[k] < n ? p.species[owner[k]] : halo->species[owner[k] - n];
         speciesBuild_ = list_.builds();
     }
-    sf_.assign(ne, Eigen::Vector3d::Zero());
-    PairKernel::Sums sums;
-    if (!oriented_ && !energies) {
-        ljForcePairs(kernel_, list_, ss_.data(), isVolume_.data(), sf_.data(), sums);
-    } else {
-        generalPairs(p, sums);
-    }
-    for (std::size_t k = 0; k < ne; ++k) p.force[owner[k]] += sf_[k];
-    if (oriented_)
-        for (std::size_t k = 0; k < ne; ++k) p.torque[owner[k]] += st_[k];
-    stats.pairEnergy = sums.energy;
-    stats.virial = sums.virial;
-    stats.virialVolume = sums.virialVolume;
-    stats.pairsInRange = sums.inRange;
-}
-
-void ForceField::generalPairs(const Particles& p, PairKernel::Sums& sums) {
-    const auto& owner = list_.owner();
-    const auto& e = list_.positions();
-    const std::size_t ne = list_.entryCount();
-    if (oriented_) {
-        sn_.resize(ne);
-        sw_.resize(ne);
-        st_.assign(ne, Eigen::Vector3d::Zero());
-        for (std::size_t k = 0; k < ne; ++k) {
+    if (!oriented_) return;
+    sn_.resize(ne);
+    sw_.resize(ne);
+    for (std::size_t k = 0; k < ne; ++k) {
+        if (owner[k] < n) {
             sn_[k] = p.normal[owner[k]];
             sw_[k] = cpWeight_[owner[k]];
+        } else {
+            sn_[k] = halo->normal[owner[k] - n];
+            sw_[k] = curvatureWeight(model, halo->pos[owner[k] - n], halo->species[owner[k] - n]);
         }
     }
+}
+
+void ForceField::pairForces(Particles& p, const Halo* halo, ForceStats& stats, bool energies) {
+    kernel_.setEnergy(energies);
+    const auto& owner = list_.owner();
+    const std::size_t ne = list_.entryCount(), n = p.size();
+    sf_.assign(ne, Eigen::Vector3d::Zero());
+    if (oriented_) st_.assign(ne, Eigen::Vector3d::Zero());
+    PairKernel::Sums sums, haloSums;
+    if (!oriented_ && !energies) {
+        const Eigen::Vector3d* e = list_.positions().data();
+        ljForcePairs(kernel_, list_.pairs(), e, ss_.data(), isVolume_.data(), sf_.data(), sums);
+        if (halo) ljForcePairs(kernel_, list_.haloPairs(), e, ss_.data(), isVolume_.data(), sf_.data(), haloSums);
+    } else {
+        generalPairs(list_.pairs(), sums);
+        if (halo) generalPairs(list_.haloPairs(), haloSums);
+    }
+    // Forces on images go to their particles; forces on halo ghosts are their owners' business.
+    for (std::size_t k = 0; k < ne; ++k)
+        if (owner[k] < n) p.force[owner[k]] += sf_[k];
+    if (oriented_)
+        for (std::size_t k = 0; k < ne; ++k)
+            if (owner[k] < n) p.torque[owner[k]] += st_[k];
+    stats.pairEnergy = sums.energy + 0.5 * haloSums.energy;
+    stats.virial = sums.virial + 0.5 * haloSums.virial;
+    stats.virialVolume = sums.virialVolume + 0.5 * haloSums.virialVolume;
+    stats.pairsInRange = sums.inRange + haloSums.inRange;
+}
+
+void ForceField::generalPairs(const NeighbourList::Pairs& pairs, PairKernel::Sums& sums) {
+    const auto& e = list_.positions();
     const double cut2 = kernel_.cutoff2();
-    const std::uint32_t* nbr = list_.neighbours();
+    const std::uint32_t* nbr = pairs.nbr.data();
+    const std::size_t ne = pairs.start.size() - 1;
     for (std::uint32_t x = 0; x < ne; ++x) {
         const Eigen::Vector3d pi = e[x];
         const int a = ss_[x];
-        const std::uint32_t k1 = list_.first(x + 1);
-        for (std::uint32_t k = list_.first(x); k < k1; ++k) {
+        const std::uint32_t k1 = pairs.start[x + 1];
+        for (std::uint32_t k = pairs.start[x]; k < k1; ++k) {
             const std::uint32_t y = nbr[k];
             const Eigen::Vector3d r = e[y] - pi;
             const double r2 = r.squaredNorm();

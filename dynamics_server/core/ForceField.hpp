@@ -18,6 +18,15 @@ struct ProbeState {
     ProbeParams params;                                   // k0, k1 (eq. 9)
 };
 
+// Particles owned elsewhere (another rank's subdomain) that the pair terms read: positions
+// (already shifted to this side of a periodic face), normals and species. Between two builds
+// of the neighbour list the halo holds the same ghosts in the same order.
+struct Halo {
+    std::vector<Eigen::Vector3d> pos, normal;
+    std::vector<std::uint8_t> species;
+    std::size_t size() const { return pos.size(); }
+};
+
 struct ForceStats {
     double pairEnergy = 0;      // LJ + co-normal + co-planar energy (weights symmetrised), energy units
     double probeEnergy = 0;     // energy of the probe's interaction with the particles
@@ -36,9 +45,16 @@ public:
     explicit ForceField(const Model& model);
 
     // Overwrites particles.force and particles.torque. energies = false skips the LJ pair
-    // energy (stats.pairEnergy then holds only the oriented terms' energy).
+    // energy (stats.pairEnergy then holds only the oriented terms' energy). halo: ghosts owned
+    // elsewhere; pairs with them count for the particles here, their energy and virial by half.
     void compute(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats,
-                 PhaseTimes* times = nullptr, bool energies = true);
+                 PhaseTimes* times = nullptr, bool energies = true, const Halo* halo = nullptr);
+
+    // Whether the neighbour list still serves these particles (none added or removed, none moved
+    // more than half the skin). A decomposed run asks every rank and rebuilds on all if one says
+    // no: requestRebuild() makes the next compute() build the list (with the new halo).
+    bool listHolds(const Model& model, const Particles& particles);
+    void requestRebuild() { revision_ = ~std::uint64_t(0); }
 
     // Reference O(N^2) pair forces (for tests): same weights, no cell lists.
     static void computePairsBruteForce(const Model& model, Particles& particles, ForceStats& stats);
@@ -46,8 +62,12 @@ public:
     const NeighbourList& neighbours() const { return list_; }
 
 private:
-    void pairForces(Particles& particles, ForceStats& stats, bool energies);
-    void generalPairs(const Particles& particles, PairKernel::Sums& sums);  // any model, energies
+    void pairForces(Particles& particles, const Halo* halo, ForceStats& stats, bool energies);
+    void gatherEntries(const Model& model, const Particles& particles, const Halo* halo);
+    // The co-planar curvature weight at x (1 without a map or for volume species).
+    float curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species) const;
+    // Any model, energies or not, over one pair list.
+    void generalPairs(const NeighbourList::Pairs& pairs, PairKernel::Sums& sums);
     void gradientMapForces(const Model& model, Particles& particles);
     void probeForces(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats);
 

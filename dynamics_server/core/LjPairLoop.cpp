@@ -31,23 +31,23 @@ inline void onePair(const LjForm& lj, const Weights& w, double cut2, std::size_t
 }
 
 template <bool OneSpecies>
-void loop(const PairKernel& kernel, const NeighbourList& list, const std::uint8_t* species,
-          const char* isVolume, Eigen::Vector3d* f, PairKernel::Sums& sums) {
+void loop(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const Eigen::Vector3d* e,
+          const std::uint8_t* species, const char* isVolume, Eigen::Vector3d* f, PairKernel::Sums& sums) {
     const LjForm lj = kernel.lj();
     const double cut2 = lj.cutoff2();
     const std::size_t side = std::size_t(kernel.tableSide());
     const Weights w{kernel.ljForceWeights(), kernel.ljEnergyWeights(), side, kernel.ljForceWeights()[side + 1],
                     kernel.ljEnergyWeights()[side + 1]};
-    const Eigen::Vector3d* e = list.positions().data();
-    const std::uint32_t* nbr = list.neighbours();
+    const std::uint32_t* nbr = pairs.nbr.data();
+    const std::uint32_t* start = pairs.start.data();
     double virial = 0, virialVolume = 0;
     std::size_t inRange = 0;
-    const std::size_t ne = list.entryCount();
+    const std::size_t ne = pairs.start.size() - 1;
     for (std::size_t x = 0; x < ne; ++x) {
         const Eigen::Vector3d pi = e[x];  // a copy: the force stores may alias e
         Eigen::Vector3d fi = Eigen::Vector3d::Zero();
-        const std::uint32_t k1 = list.first(x + 1);
-        for (std::uint32_t k = list.first(x); k < k1; ++k)
+        const std::uint32_t k1 = start[x + 1];
+        for (std::uint32_t k = start[x]; k < k1; ++k)
             onePair<OneSpecies>(lj, w, cut2, x, pi, nbr[k], e, species, isVolume, f, fi, virial, virialVolume, inRange);
         f[x] += fi;
     }
@@ -58,12 +58,13 @@ void loop(const PairKernel& kernel, const NeighbourList& list, const std::uint8_
 
 }  // namespace
 
-void ljForcePairs(const PairKernel& kernel, const NeighbourList& list, const std::uint8_t* species,
-                  const char* isVolume, Eigen::Vector3d* f, PairKernel::Sums& sums) {
+void ljForcePairs(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const Eigen::Vector3d* e,
+                  const std::uint8_t* species, const char* isVolume, Eigen::Vector3d* f, PairKernel::Sums& sums) {
+    if (pairs.start.size() < 2) return;
     if (kernel.tableSide() == 2)
-        loop<true>(kernel, list, species, isVolume, f, sums);
+        loop<true>(kernel, pairs, e, species, isVolume, f, sums);
     else
-        loop<false>(kernel, list, species, isVolume, f, sums);
+        loop<false>(kernel, pairs, e, species, isVolume, f, sums);
 }
 
 }  // namespace bop::core

@@ -9,9 +9,9 @@
 
 namespace bop::core {
 
-// Adds the pair forces to f (one per neighbour-list entry) and the virial and pair count to
-// sums. species and isVolume: per entry and per species number.
-void ljForcePairs(const PairKernel& kernel, const NeighbourList& list, const std::uint8_t* species,
-                  const char* isVolume, Eigen::Vector3d* f, PairKernel::Sums& sums);
+// Adds the forces of the pairs to f (one per neighbour-list entry) and their virial and count
+// to sums. e, species: per entry; isVolume: per species number.
+void ljForcePairs(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const Eigen::Vector3d* e,
+                  const std::uint8_t* species, const char* isVolume, Eigen::Vector3d* f, PairKernel::Sums& sums);
 
 }  // namespace bop::core

@@ -3,11 +3,13 @@
 // every pair closer than cutoff + skin is stored once (half list, Newton's third law), and the
 // list is reused until some particle has moved more than skin / 2 since it was built.
 //
-// The list works on entries: the particles themselves, sorted by cell for memory locality, and
-// on periodic axes their ghost images within cutoff + skin of the opposite face. A pair across
-// a periodic face is stored once, between the particle with the smaller index and the ghost of
-// the other, so the pair loop needs no minimum image and no shifts; forces on ghosts are folded
-// back into their owners. The same entries will carry the halo of an MPI subdomain.
+// The list works on entries: the particles, sorted by cell for memory locality; on periodic
+// axes of the box, their images within cutoff + skin of the opposite face; and optionally
+// halo ghosts, particles owned elsewhere (another rank's subdomain) whose positions the caller
+// supplies. A pair of a particle with an image of another is stored once (smaller particle
+// index with the image of the other); forces on images are folded back into their owners.
+// A pair of a particle with a halo ghost goes to a separate list: its force counts on the
+// particle only (the ghost's owner computes the other side), its energy and virial by half.
 //
 // Entry positions are unwrapped from the moment of the build: a particle that crosses a
 // periodic face keeps a continuous entry position, so every stored pair stays valid.
@@ -21,34 +23,55 @@ namespace bop::core {
 
 class NeighbourList {
 public:
+    struct Pairs {  // neighbours of entry e: nbr[start[e] .. start[e + 1]), entry indices
+        std::vector<std::uint32_t> start, nbr;
+        std::size_t size() const { return nbr.size(); }
+    };
+
     // range: cutoff + skin, simulation length units. Periodic axes need a side of at least
-    // 2 * range (std::invalid_argument otherwise).
-    void build(const Box& box, double range, const std::vector<Eigen::Vector3d>& pos);
+    // 2 * range (std::invalid_argument otherwise). halo: positions of the halo ghosts.
+    void build(const Box& box, double range, const std::vector<Eigen::Vector3d>& pos,
+               const std::vector<Eigen::Vector3d>& halo = {});
 
-    // Moves the entries with the particles. Returns false (entries untouched) when the particle
-    // count differs from the build or a particle moved farther than maxMove since the build:
-    // then build again.
-    bool update(const Box& box, const std::vector<Eigen::Vector3d>& pos, double maxMove);
+    // Displacements since the build. Returns false when the particle count differs from the
+    // build or a particle moved farther than maxMove (then build again).
+    bool measure(const Box& box, const std::vector<Eigen::Vector3d>& pos, double maxMove);
+    // Moves the entries by the last measured displacements; halo: the ghosts' positions now, in
+    // the order of the build (std::invalid_argument if the count differs).
+    void move(const std::vector<Eigen::Vector3d>& halo = {});
+    // measure() then move(): the serial case.
+    bool update(const Box& box, const std::vector<Eigen::Vector3d>& pos, double maxMove) {
+        if (!measure(box, pos, maxMove)) return false;
+        move();
+        return true;
+    }
 
+    std::size_t particleCount() const { return particles_; }
     std::size_t entryCount() const { return owner_.size(); }
-    std::size_t ghostCount() const { return owner_.size() - particles_; }
-    std::size_t pairCount() const { return nbr_.size(); }
+    std::size_t ghostCount() const { return owner_.size() - particles_; }  // images and halo
+    std::size_t pairCount() const { return pairs_.size() + haloPairs_.size(); }
     std::size_t builds() const { return builds_; }
     double range() const { return range_; }
 
-    const std::vector<std::uint32_t>& owner() const { return owner_; }      // particle of each entry
+    // Owner of each entry: a particle index below particleCount(), else particleCount() + the
+    // index of a halo ghost.
+    const std::vector<std::uint32_t>& owner() const { return owner_; }
     const std::vector<Eigen::Vector3d>& positions() const { return pos_; }  // current entry positions
-    // Neighbours of entry e: neighbours()[first(e) .. first(e + 1)), entry indices.
-    std::uint32_t first(std::size_t e) const { return start_[e]; }
-    const std::uint32_t* neighbours() const { return nbr_.data(); }
+    const Pairs& pairs() const { return pairs_; }          // Newton pairs: forces to both sides
+    const Pairs& haloPairs() const { return haloPairs_; }  // particle with halo ghost: one side
+
+    // Compatibility with the single-list interface (the Newton pairs).
+    std::uint32_t first(std::size_t e) const { return pairs_.start[e]; }
+    const std::uint32_t* neighbours() const { return pairs_.nbr.data(); }
 
 private:
     double range_ = 0;
-    std::size_t particles_ = 0, builds_ = 0;
-    std::vector<std::uint32_t> owner_, start_, nbr_;
-    std::vector<Eigen::Vector3d> pos_, ref_;      // entry positions now and at the build
+    std::size_t particles_ = 0, halo_ = 0, builds_ = 0;
+    std::vector<std::uint32_t> owner_;
+    Pairs pairs_, haloPairs_;
+    std::vector<Eigen::Vector3d> pos_, shift_;    // entry positions now; entry minus owner at the build
     std::vector<Eigen::Vector3d> built_;          // particle positions at the build
-    std::vector<Eigen::Vector3d> move_;           // per particle, displacement since the build
+    std::vector<Eigen::Vector3d> now_;            // particles (unwrapped since the build), then halo
 };
 
 }  // namespace bop::core

@@ -155,3 +155,60 @@ TEST_CASE("forces match brute force as particles drift across periodic faces and
         }
     }
 }
+
+TEST_CASE("two subdomains with halos give the forces and energy of the whole box", "[core][neighbours][halo]") {
+    // The decomposed run's core half: split a periodic box in x, give each half the other's
+    // particles within range (shifted across the periodic x faces) as a halo.
+    for (bool surface : {true, false}) {
+        auto m = model(surface, true, 9.0);
+        Particles all = particles(*m, 320, 5);
+        ForceField whole(*m);
+        ForceStats ref;
+        whole.compute(*m, ProbeState{}, all, ref);
+        const double L = m->box.size().x(), cut = 0.5 * (m->box.lo.x() + m->box.hi.x());
+        const double range = whole.neighbours().range();
+        double energy = 0, virial = 0, worst = 0, maxF = 1;
+        std::size_t owned = 0;
+        for (int side = 0; side < 2; ++side) {
+            auto sub = std::make_shared<Model>(*m);
+            sub->box.lo.x() = side == 0 ? m->box.lo.x() : cut;
+            sub->box.hi.x() = side == 0 ? cut : m->box.hi.x();
+            sub->box.periodic[0] = false;
+            Particles mine;
+            Halo halo;
+            std::vector<std::size_t> index;
+            for (std::size_t i = 0; i < all.size(); ++i) {
+                const bool inside = all.pos[i].x() >= sub->box.lo.x() && all.pos[i].x() < sub->box.hi.x();
+                if (inside) {
+                    mine.add(all.pos[i], all.species[i], all.id[i], all.q[i]);
+                    index.push_back(i);
+                    continue;
+                }
+                for (double shift : {-L, 0.0, L}) {
+                    const double x = all.pos[i].x() + shift;
+                    if (x < sub->box.lo.x() - range || x >= sub->box.hi.x() + range) continue;
+                    halo.pos.push_back(all.pos[i] + Eigen::Vector3d(shift, 0, 0));
+                    halo.normal.push_back(all.normal[i]);
+                    halo.species.push_back(all.species[i]);
+                }
+            }
+            ForceField part(*sub);
+            ForceStats s;
+            part.compute(*sub, ProbeState{}, mine, s, nullptr, true, &halo);
+            energy += s.pairEnergy;
+            virial += s.virial;
+            owned += mine.size();
+            for (std::size_t k = 0; k < mine.size(); ++k) {
+                maxF = std::max(maxF, all.force[index[k]].norm());
+                worst = std::max({worst, (mine.force[k] - all.force[index[k]]).norm(),
+                                  (mine.torque[k] - all.torque[index[k]]).norm()});
+            }
+            CHECK(part.neighbours().haloPairs().size() > 100);
+        }
+        INFO("surface species " << surface);
+        CHECK(owned == all.size());
+        CHECK(worst / maxF < 1e-12);
+        CHECK(energy == Approx(ref.pairEnergy).epsilon(1e-12));
+        CHECK(virial == Approx(ref.virial).epsilon(1e-12));
+    }
+}
