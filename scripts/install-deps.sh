@@ -11,6 +11,8 @@ packages=(
   # libraries (see README "Dependencies")
   libeigen3-dev libspdlog-dev libtomlplusplus-dev libcli11-dev libstb-dev
   libtinyobjloader-dev libnifti2-dev libniftiio-dev libznz-dev zlib1g-dev
+  # the decomposed run (dynamics_server/parallel/)
+  libopenmpi-dev openmpi-bin
   # tests
   catch2 python3 python3-numpy
 )

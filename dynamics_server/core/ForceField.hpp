@@ -24,6 +24,7 @@ struct ProbeState {
 struct Halo {
     std::vector<Eigen::Vector3d> pos, normal;
     std::vector<std::uint8_t> species;
+    std::vector<std::uint64_t> id;  // global ids (for their owners' bookkeeping; not read here)
     std::size_t size() const { return pos.size(); }
 };
 
@@ -60,6 +61,7 @@ public:
     static void computePairsBruteForce(const Model& model, Particles& particles, ForceStats& stats);
 
     const NeighbourList& neighbours() const { return list_; }
+    double listRange() const { return kernel_.cutoff() + skin_; }  // cutoff + skin, length units
 
 private:
     void pairForces(Particles& particles, const Halo* halo, ForceStats& stats, bool energies);

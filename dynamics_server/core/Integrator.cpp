@@ -22,10 +22,10 @@ DragFactors::DragFactors(const Model& m) : v(m.species.size(), 1.0), w(m.species
     }
 }
 
-void kickDrift(const Model& model, const DragFactors& decay, Particles& p) {
+void kickDrift(const Model& model, const DragFactors& decay, Particles& p, bool wrap) {
     const double dt = model.integration.dt, half = 0.5 * dt, invI = 1.0 / model.integration.inertia;
     const Eigen::Vector3d lo = model.box.lo, hi = model.box.hi, L = model.box.size();
-    const bool anyPeriodic = model.box.periodic[0] || model.box.periodic[1] || model.box.periodic[2];
+    const bool anyPeriodic = wrap && (model.box.periodic[0] || model.box.periodic[1] || model.box.periodic[2]);
     for (std::size_t i = 0; i < p.size(); ++i) {
         const int s = p.species[i];
         p.vel[i] = decay.v[std::size_t(s)] * p.vel[i] + half * p.force[i];

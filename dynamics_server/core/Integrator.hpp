@@ -17,8 +17,9 @@ struct DragFactors {
     explicit DragFactors(const Model& m);
 };
 
-// O, B and A; wraps positions into the box along periodic axes.
-void kickDrift(const Model& model, const DragFactors& drag, Particles& p);
+// O, B and A; wraps positions into the box along periodic axes unless wrap = false (a
+// decomposed run wraps when particles migrate, so halo positions stay continuous in between).
+void kickDrift(const Model& model, const DragFactors& drag, Particles& p, bool wrap = true);
 // B and O with the forces of the new positions; returns the kinetic energy afterwards (the
 // value of kineticEnergy(), in the same pass).
 double kick(const Model& model, const DragFactors& drag, Particles& p);

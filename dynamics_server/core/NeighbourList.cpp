@@ -30,7 +30,13 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
     Box extended = box;
     extended.periodic = {false, false, false};
     for (int a = 0; a < 3; ++a) {
-        if (!box.periodic[std::size_t(a)]) continue;
+        if (!box.periodic[std::size_t(a)]) {
+            if (!halo.empty()) {  // room for the ghosts beyond the faces
+                extended.lo[a] -= range;
+                extended.hi[a] += range;
+            }
+            continue;
+        }
         if (L[a] < 2.0 * range)
             throw std::invalid_argument("periodic box side " + std::to_string(L[a]) +
                                         " is shorter than twice the neighbour range " + std::to_string(range) +

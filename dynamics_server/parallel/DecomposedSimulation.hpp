@@ -1,0 +1,86 @@
+#pragma once
+// One rank's share of a decomposed run: the particles of its subdomain, a halo of the
+// neighbours' particles within cutoff + skin, and the same integrator and force field as a
+// single process (core/), with MPI only here.
+//
+// Each step: O-B-A without wrapping; every rank asks its neighbour list whether it still holds
+// (no particle moved more than half the skin); if any says no, all wrap positions into the
+// periodic box, migrate particles that left their subdomain (staged x, y, z, so diagonal moves
+// need no extra messages) and rebuild the halo; otherwise the halo's positions and normals are
+// refreshed along the same send lists. Then forces (pairs with halo ghosts are computed on both
+// sides, each side keeping its own particle's force: one message round per step instead of a
+// second one returning ghost forces), B-O, and reductions gathered in rank order.
+//
+// Halo: staged along the split axes, x then y then z; each stage also forwards the ghosts that
+// earlier stages brought, so edges and corners arrive without extra messages. Axes with one rank
+// need no messages: the core makes the periodic images itself.
+#include "Comm.hpp"
+#include "Decomposition.hpp"
+#include "core/ForceField.hpp"
+#include "core/Integrator.hpp"
+
+#include <memory>
+
+namespace bop::parallel {
+
+struct Totals {              // over all ranks, identical on every rank
+    double particles = 0, kinetic = 0, pairEnergy = 0, probeEnergy = 0, virial = 0, virialVolume = 0;
+    Eigen::Vector3d probeReaction = Eigen::Vector3d::Zero();
+    double total() const { return kinetic + pairEnergy + probeEnergy; }
+};
+
+class DecomposedSimulation {
+public:
+    // model: the whole scene's model; all: every particle (the same on every rank; each rank
+    // keeps those in its subdomain). Computes the first forces.
+    DecomposedSimulation(const CartComm& comm, std::shared_ptr<const core::Model> model, const core::Particles& all);
+
+    void step();
+    void run(long long steps) { for (long long s = 0; s < steps; ++s) step(); }
+    // Forces again for the current state, with energies.
+    void refreshForces();
+    void setEnergyEvery(long long n) { energyEvery_ = n > 0 ? n : 1; }
+
+    const core::Particles& particles() const { return p_; }  // this rank's
+    const core::Halo& halo() const { return halo_; }
+    const Decomposition& decomposition() const { return dec_; }
+    core::ProbeState& probe() { return probe_; }
+    long long stepCount() const { return step_; }
+    std::size_t haloBytesPerStep() const { return haloBytes_; }  // sent by this rank, last update
+    std::size_t migrations() const { return migrations_; }       // particles this rank sent away
+    std::size_t rebuilds() const { return rebuilds_; }           // halo and list rebuilds
+    Totals totals() const;
+    // Every particle, sorted by id, on every rank (for tests and snapshots).
+    core::Particles gather() const;
+
+private:
+    struct Stage {
+        int axis = 0;
+        std::vector<std::uint32_t> toLower, toUpper;  // sources: particle i, or size() + halo index
+        Eigen::Vector3d lowerShift = Eigen::Vector3d::Zero(), upperShift = Eigen::Vector3d::Zero();
+        std::size_t fromUpperAt = 0, fromUpperCount = 0, fromLowerAt = 0, fromLowerCount = 0;  // halo ranges
+    };
+    void wrapAndMigrate();
+    void buildHalo();
+    void updateHalo();
+    void forces(bool energies);
+    Eigen::Vector3d sourcePos(std::uint32_t s) const { return s < p_.size() ? p_.pos[s] : halo_.pos[s - p_.size()]; }
+
+    const CartComm& comm_;
+    std::shared_ptr<const core::Model> model_;  // the whole box
+    Decomposition dec_;
+    core::Model sub_;                            // the same model over this rank's subdomain
+    core::Particles p_;
+    core::Halo halo_;
+    std::vector<Stage> stages_;
+    core::DragFactors drag_;
+    core::ForceField field_;
+    core::ProbeState probe_;
+    core::ForceStats stats_;
+    core::PhaseTimes times_;
+    double kinetic_ = 0, range_ = 0;
+    long long step_ = 0, energyEvery_ = 1;
+    std::size_t haloBytes_ = 0, migrations_ = 0, rebuilds_ = 0;
+};
+
+}  // namespace bop::parallel
