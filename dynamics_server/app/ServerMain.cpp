@@ -3,10 +3,11 @@
 // construction timeline, prints progress, per-phase timings and a Table-1 style summary, and
 // writes extended XYZ snapshots.
 #include "BatchReport.hpp"
+#include "DecomposedBatch.hpp"
 #include "ExtendedXyz.hpp"
 #include "SceneConfig.hpp"
 #include "SimulationSetup.hpp"
-
+#include "parallel/Session.hpp"
 
 #include "bop/common/Error.hpp"
 #include "bop/common/ToolMain.hpp"
@@ -41,6 +42,8 @@ int run(int argc, char** argv) {
     if (!noListen) throw Error("bop-server", "the network front is not part of this build; run batch mode with --no-listen");
 
     spdlog::set_pattern("[bop-server] %v");
+    const int ranks = parallel::MpiSession::worldSize();
+    if (parallel::MpiSession::worldRank() != 0) spdlog::set_level(spdlog::level::off);
     app::Scene scene = app::loadScene(scenePath);
     if (outDir.empty()) outDir = "out/" + fs::path(scenePath).stem().string();
     if (cache.empty()) cache = outDir + "/gradient-map.bopgm";
@@ -56,6 +59,13 @@ int run(int argc, char** argv) {
     const auto t00 = std::chrono::steady_clock::now();
     std::unique_ptr<core::Simulation> simPtr = app::startSimulation(scene, cache, restart, [](const std::string& m) { spdlog::info("{}", m); });
     core::Simulation& sim = *simPtr;
+    if (ranks > 1) {
+        if (!scene.timeline.empty() && restart.empty())
+            throw Error(scenePath, "construction timelines run on one rank so far: build the bag with -np 1, then run "
+                                   "more ranks with --restart OUT/final.xyz");
+        return app::runDecomposedBatch(scene, sim.particles(), sim.stats().step,
+                                       {steps, snapshotEvery, reportEvery, outDir});
+    }
     sim.refreshForces();  // set-up: the first neighbour list and forces, outside the timed steps
     sim.resetTimes();
     spdlog::info("ready in {:.2f} s: {} particles at step {}", std::chrono::duration<double>(std::chrono::steady_clock::now() - t00).count(),
@@ -101,5 +111,9 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return bop::runTool("bop-server", [&] { return run(argc, argv); });
+    bop::parallel::MpiSession mpi(argc, argv);
+    const int code = bop::runTool("bop-server", [&] { return run(argc, argv); });
+    // An error on one rank of several: end them all rather than leave them waiting.
+    if (code != 0 && bop::parallel::MpiSession::worldSize() > 1) bop::parallel::MpiSession::abortAll(code);
+    return code;
 }

@@ -13,13 +13,6 @@ void check(int rc, const char* what) {
     throw std::runtime_error(std::string("MPI ") + what + ": " + std::string(text, std::size_t(length)));
 }
 
-MpiSession::MpiSession(int& argc, char**& argv) {
-    check(MPI_Init(&argc, &argv), "MPI_Init");
-    check(MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN), "MPI_Comm_set_errhandler");
-}
-
-MpiSession::~MpiSession() { MPI_Finalize(); }
-
 CartComm::CartComm(MPI_Comm base, const core::Box& box) {
     check(MPI_Comm_dup(base, &dup_), "MPI_Comm_dup");
     check(MPI_Comm_set_errhandler(dup_, MPI_ERRORS_RETURN), "MPI_Comm_set_errhandler");

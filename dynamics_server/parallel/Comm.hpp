@@ -3,6 +3,7 @@
 // checked wrappers for the few calls the decomposed run makes. Every MPI return code is
 // checked; a failure throws std::runtime_error naming the call and MPI's error string.
 #include "Decomposition.hpp"
+#include "Session.hpp"
 
 #include <mpi.h>
 
@@ -13,15 +14,6 @@ namespace bop::parallel {
 
 // Throws std::runtime_error("MPI <what>: <error string>") unless rc == MPI_SUCCESS.
 void check(int rc, const char* what);
-
-// MPI_Init / MPI_Finalize for a program's lifetime (errors are returned, not fatal).
-class MpiSession {
-public:
-    MpiSession(int& argc, char**& argv);
-    ~MpiSession();
-    MpiSession(const MpiSession&) = delete;
-    MpiSession& operator=(const MpiSession&) = delete;
-};
 
 class CartComm {
 public:

@@ -1,6 +1,7 @@
 #include "DecomposedSimulation.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -160,15 +161,14 @@ void DecomposedSimulation::buildHalo() {
 void DecomposedSimulation::updateHalo() {
     haloBytes_ = 0;
     for (const Stage& st : stages_) {
-        const auto pack = [&](const std::vector<std::uint32_t>& list, const Eigen::Vector3d& shift) {
-            std::vector<double> out;
-            out.reserve(list.size() * kUpdateFields);
+        const auto pack = [&](const std::vector<std::uint32_t>& list, const Eigen::Vector3d& shift, std::vector<double>& out) {
+            out.resize(list.size() * kUpdateFields);
+            double* o = out.data();
             for (std::uint32_t s : list) {
                 const Eigen::Vector3d x = sourcePos(s) + shift;
                 const Eigen::Vector3d& nrm = s < p_.size() ? p_.normal[s] : halo_.normal[s - p_.size()];
-                out.insert(out.end(), {x.x(), x.y(), x.z(), nrm.x(), nrm.y(), nrm.z()});
+                *o++ = x.x(); *o++ = x.y(); *o++ = x.z(); *o++ = nrm.x(); *o++ = nrm.y(); *o++ = nrm.z();
             }
-            return out;
         };
         const auto store = [&](const std::vector<double>& in, std::size_t at, std::size_t count) {
             if (in.size() != count * kUpdateFields) throw std::runtime_error("halo update: neighbour sent another ghost count");
@@ -177,13 +177,13 @@ void DecomposedSimulation::updateHalo() {
                 halo_.normal[at + k] = Eigen::Vector3d(in[6 * k + 3], in[6 * k + 4], in[6 * k + 5]);
             }
         };
-        std::vector<double> fromUpper, fromLower;
-        const std::vector<double> outLower = pack(st.toLower, st.lowerShift), outUpper = pack(st.toUpper, st.upperShift);
-        comm_.sendRecv(outLower, comm_.lower(st.axis), fromUpper, comm_.upper(st.axis), 300 + 4 * st.axis);
-        comm_.sendRecv(outUpper, comm_.upper(st.axis), fromLower, comm_.lower(st.axis), 302 + 4 * st.axis);
-        haloBytes_ += (outLower.size() + outUpper.size()) * sizeof(double);
-        store(fromUpper, st.fromUpperAt, st.fromUpperCount);
-        store(fromLower, st.fromLowerAt, st.fromLowerCount);
+        pack(st.toLower, st.lowerShift, out_[0]);
+        pack(st.toUpper, st.upperShift, out_[1]);
+        comm_.sendRecv(out_[0], comm_.lower(st.axis), in_[0], comm_.upper(st.axis), 300 + 4 * st.axis);
+        comm_.sendRecv(out_[1], comm_.upper(st.axis), in_[1], comm_.lower(st.axis), 302 + 4 * st.axis);
+        haloBytes_ += (out_[0].size() + out_[1].size()) * sizeof(double);
+        store(in_[0], st.fromUpperAt, st.fromUpperCount);
+        store(in_[1], st.fromLowerAt, st.fromLowerCount);
     }
 }
 
@@ -197,6 +197,7 @@ void DecomposedSimulation::refreshForces() {
 
 void DecomposedSimulation::step() {
     core::kickDrift(sub_, drag_, p_, false);
+    const auto t0 = std::chrono::steady_clock::now();
     if (!comm_.allTrue(field_.listHolds(sub_, p_))) {
         wrapAndMigrate();
         buildHalo();
@@ -205,6 +206,7 @@ void DecomposedSimulation::step() {
     } else {
         updateHalo();
     }
+    exchangeSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++step_;
     forces(step_ % energyEvery_ == 0);
     kinetic_ = core::kick(sub_, drag_, p_);

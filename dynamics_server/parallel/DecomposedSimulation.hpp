@@ -15,6 +15,7 @@
 // earlier stages brought, so edges and corners arrive without extra messages. Axes with one rank
 // need no messages: the core makes the periodic images itself.
 #include "Comm.hpp"
+#include "DecomposedRun.hpp"
 #include "Decomposition.hpp"
 #include "core/ForceField.hpp"
 #include "core/Integrator.hpp"
@@ -22,12 +23,6 @@
 #include <memory>
 
 namespace bop::parallel {
-
-struct Totals {              // over all ranks, identical on every rank
-    double particles = 0, kinetic = 0, pairEnergy = 0, probeEnergy = 0, virial = 0, virialVolume = 0;
-    Eigen::Vector3d probeReaction = Eigen::Vector3d::Zero();
-    double total() const { return kinetic + pairEnergy + probeEnergy; }
-};
 
 class DecomposedSimulation {
 public:
@@ -49,6 +44,7 @@ public:
     std::size_t haloBytesPerStep() const { return haloBytes_; }  // sent by this rank, last update
     std::size_t migrations() const { return migrations_; }       // particles this rank sent away
     std::size_t rebuilds() const { return rebuilds_; }           // halo and list rebuilds
+    double exchangeSeconds() const { return exchangeSeconds_; }  // in halo, migration and the rebuild vote
     Totals totals() const;
     // Every particle, sorted by id, on every rank (for tests and snapshots).
     core::Particles gather() const;
@@ -81,6 +77,8 @@ private:
     double kinetic_ = 0, range_ = 0;
     long long step_ = 0, energyEvery_ = 1;
     std::size_t haloBytes_ = 0, migrations_ = 0, rebuilds_ = 0;
+    double exchangeSeconds_ = 0;
+    std::vector<double> out_[2], in_[2];  // message buffers, kept to avoid fresh pages every step
 };
 
 }  // namespace bop::parallel

@@ -1,0 +1,83 @@
+#include "DecomposedBatch.hpp"
+
+#include "BatchReport.hpp"
+#include "ExtendedXyz.hpp"
+#include "SimulationSetup.hpp"
+#include "parallel/DecomposedRun.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+
+namespace fs = std::filesystem;
+
+namespace bop::app {
+
+int runDecomposedBatch(const Scene& scene, const core::Particles& particles, long long firstStep,
+                       const BatchOptions& o) {
+    const core::Model& model = *scene.model;
+    parallel::DecomposedRun run(scene.model, particles);
+    const bool root = run.rank() == 0;
+    const auto dims = run.dims();
+    spdlog::info("decomposed over {} ranks, grid {} x {} x {}; particles per rank max/mean {:.3f}", run.size(), dims[0],
+                 dims[1], dims[2], run.counters().imbalance);
+    run.setEnergyEvery(std::numeric_limits<long long>::max());
+    const std::vector<std::string> names = speciesNames(model);
+    const std::string trajectory = o.outDir + "/trajectory.xyz";
+    if (root && o.snapshotEvery > 0) fs::remove(trajectory);
+    auto write = [&](const std::string& path, const core::Particles& all, long long step) {
+        XyzFrameInfo info;
+        info.step = step;
+        info.time = double(step) * model.integration.dt;
+        info.boxLo = model.box.lo;
+        info.boxHi = model.box.hi;
+        info.periodic = model.box.periodic;
+        appendExtendedXyz(path, all, names, info);
+    };
+    const auto t0 = std::chrono::steady_clock::now();
+    for (long long s = 1; s <= o.steps; ++s) {
+        run.step();
+        if (o.snapshotEvery > 0 && s % o.snapshotEvery == 0) {
+            const core::Particles all = run.gather();  // collective
+            if (root) write(trajectory, all, firstStep + s);
+        }
+        if (s % o.reportEvery == 0 || s == o.steps) {
+            run.refreshForces();  // the same forces again, now with the energies
+            const parallel::Totals t = run.totals();
+            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            if (root)
+                std::cout << std::fixed << std::setprecision(1) << "step " << firstStep + s << " ("
+                          << 100.0 * double(s) / double(o.steps) << "%)  particles " << t.particles << "  E_kin "
+                          << std::setprecision(4) << t.kinetic << "  E_pair " << t.pairEnergy << "  "
+                          << std::setprecision(1) << double(s) / std::max(elapsed, 1e-9) << " steps/s" << std::endl;
+        }
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const parallel::Totals t = run.totals();
+    const parallel::RunCounters c = run.counters();
+    const core::Particles all = run.gather();  // collective
+    if (!root) return 0;
+    const std::string finalFile = o.outDir + "/final.xyz";
+    fs::remove(finalFile);
+    write(finalFile, all, firstStep + o.steps);
+    const auto [surface, volume] = countKinds(model, all);
+    const double rate = double(o.steps) / std::max(seconds, 1e-12);
+    std::cout << "\n            Surface  Volume   Total   steps/s   particle-steps/s\n"
+              << "this run  " << std::setw(9) << surface << std::setw(8) << volume << std::setw(8) << surface + volume
+              << std::setw(10) << std::setprecision(1) << rate << std::setw(19) << std::setprecision(0)
+              << rate * double(surface + volume) << "\n"
+              << run.size() << " ranks: halo " << std::setprecision(0) << c.haloBytesPerStep
+              << " bytes per step, particles per rank max/mean " << std::setprecision(3) << c.imbalance << ", "
+              << std::setprecision(0) << c.rebuilds << " rebuilds, " << c.migrations << " migrations; exchanges took "
+              << std::setprecision(1) << 100.0 * c.exchangeSecondsMax / std::max(seconds, 1e-12) << "% of the run on the busiest rank\n"
+              << "E_kin " << std::setprecision(5) << t.kinetic << ", E_pair " << t.pairEnergy << ", virial " << t.virial
+              << "\n";
+    spdlog::info("final state: {}{}", finalFile, o.snapshotEvery > 0 ? ", trajectory: " + trajectory : "");
+    return 0;
+}
+
+}  // namespace bop::app

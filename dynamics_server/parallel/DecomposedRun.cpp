@@ -1,0 +1,48 @@
+#include "DecomposedRun.hpp"
+
+#include "DecomposedSimulation.hpp"
+
+#include <algorithm>
+
+namespace bop::parallel {
+
+struct DecomposedRun::Impl {
+    CartComm comm;
+    DecomposedSimulation sim;
+    Impl(std::shared_ptr<const core::Model> model, const core::Particles& all)
+        : comm(MPI_COMM_WORLD, model->box), sim(comm, model, all) {}
+};
+
+DecomposedRun::DecomposedRun(std::shared_ptr<const core::Model> model, const core::Particles& all)
+    : impl_(std::make_unique<Impl>(std::move(model), all)) {}
+DecomposedRun::~DecomposedRun() = default;
+
+void DecomposedRun::step() { impl_->sim.step(); }
+void DecomposedRun::refreshForces() { impl_->sim.refreshForces(); }
+void DecomposedRun::setEnergyEvery(long long n) { impl_->sim.setEnergyEvery(n); }
+Totals DecomposedRun::totals() const { return impl_->sim.totals(); }
+core::Particles DecomposedRun::gather() const { return impl_->sim.gather(); }
+int DecomposedRun::rank() const { return impl_->comm.rank(); }
+int DecomposedRun::size() const { return impl_->comm.size(); }
+Coords DecomposedRun::dims() const { return impl_->comm.dims(); }
+
+RunCounters DecomposedRun::counters() const {
+    const auto& s = impl_->sim;
+    const std::vector<double> all = impl_->comm.allGather(
+        {double(s.haloBytesPerStep()), double(s.migrations()), double(s.rebuilds()), double(s.particles().size()),
+         s.exchangeSeconds()});
+    RunCounters c;
+    double most = 0, sum = 0;
+    for (std::size_t r = 0; r < all.size(); r += 5) {
+        c.exchangeSecondsMax = std::max(c.exchangeSecondsMax, all[r + 4]);
+        c.haloBytesPerStep += all[r];
+        c.migrations += all[r + 1];
+        c.rebuilds = all[r + 2];
+        most = std::max(most, all[r + 3]);
+        sum += all[r + 3];
+    }
+    c.imbalance = sum > 0 ? most * double(size()) / sum : 1.0;
+    return c;
+}
+
+}  // namespace bop::parallel

@@ -1,0 +1,52 @@
+#pragma once
+// A decomposed run over MPI_COMM_WORLD for tools outside parallel/ (no <mpi.h> here): every rank
+// constructs it with the whole scene's model and particles, steps it, and reads reductions
+// that are the same on every rank. Collective: every call must be made on every rank.
+#include "Decomposition.hpp"
+#include "core/Particles.hpp"
+
+#include <Eigen/Core>
+
+#include <memory>
+
+namespace bop::core {
+struct Model;
+}
+
+namespace bop::parallel {
+
+struct Totals {              // over all ranks, identical on every rank
+    double particles = 0, kinetic = 0, pairEnergy = 0, probeEnergy = 0, virial = 0, virialVolume = 0;
+    Eigen::Vector3d probeReaction = Eigen::Vector3d::Zero();
+    double total() const { return kinetic + pairEnergy + probeEnergy; }
+};
+
+struct RunCounters {         // summed over ranks, identical on every rank
+    double haloBytesPerStep = 0;  // bytes the ranks sent for the halo in the last step
+    double migrations = 0;        // particles that changed rank so far
+    double rebuilds = 0;          // halo and neighbour-list rebuilds so far (per rank)
+    double imbalance = 1;         // most particles on one rank over the mean
+    double exchangeSecondsMax = 0;  // the most time one rank spent exchanging (halo, migration, votes)
+};
+
+class DecomposedRun {
+public:
+    DecomposedRun(std::shared_ptr<const core::Model> model, const core::Particles& all);
+    ~DecomposedRun();
+
+    void step();
+    void refreshForces();
+    void setEnergyEvery(long long n);
+    Totals totals() const;
+    RunCounters counters() const;
+    core::Particles gather() const;  // every particle sorted by id
+    int rank() const;
+    int size() const;
+    Coords dims() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace bop::parallel

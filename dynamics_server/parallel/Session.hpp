@@ -1,0 +1,20 @@
+#pragma once
+// MPI for a program's lifetime, behind a header without <mpi.h> so that tools outside
+// parallel/ can start and stop it: MPI_Init in the constructor (errors returned, not fatal),
+// MPI_Finalize in the destructor.
+namespace bop::parallel {
+
+class MpiSession {
+public:
+    MpiSession(int& argc, char**& argv);
+    ~MpiSession();
+    MpiSession(const MpiSession&) = delete;
+    MpiSession& operator=(const MpiSession&) = delete;
+
+    static int worldSize();
+    static int worldRank();
+    // Ends every rank of the job (after an error on one rank, the others may wait forever).
+    [[noreturn]] static void abortAll(int code);
+};
+
+}  // namespace bop::parallel
