@@ -41,7 +41,9 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
     gradientMapForces(model, p);
     if (times) times->gradientMap += since(t0);
     t0 = Clock::now();
-    if (p.revision != revision_ || !list_.measure(model.box, p.pos, 0.5 * skin_)) {
+    const bool held = heldSinceCompute_;
+    heldSinceCompute_ = false;
+    if (p.revision != revision_ || !(held || list_.measure(model.box, p.pos, 0.5 * skin_))) {
         list_.build(model.box, kernel_.cutoff() + skin_, p.pos, haloPos);
         list_.measure(model.box, p.pos, 0.5 * skin_);
         revision_ = p.revision;
@@ -58,7 +60,8 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
 }
 
 bool ForceField::listHolds(const Model& model, const Particles& p) {
-    return p.revision == revision_ && list_.measure(model.box, p.pos, 0.5 * skin_);
+    heldSinceCompute_ = p.revision == revision_ && list_.measure(model.box, p.pos, 0.5 * skin_);
+    return heldSinceCompute_;
 }
 
 void ForceField::gradientMapForces(const Model& model, Particles& p) {

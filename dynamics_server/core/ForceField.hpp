@@ -54,6 +54,7 @@ public:
     // Whether the neighbour list still serves these particles (none added or removed, none moved
     // more than half the skin). A decomposed run asks every rank and rebuilds on all if one says
     // no: requestRebuild() makes the next compute() build the list (with the new halo).
+    // The next compute() trusts a "yes" (positions unchanged in between) and measures no again.
     bool listHolds(const Model& model, const Particles& particles);
     void requestRebuild() { revision_ = ~std::uint64_t(0); }
 
@@ -80,6 +81,7 @@ private:
     NeighbourList list_;
     std::uint64_t revision_ = ~std::uint64_t(0);  // particles.revision at the last build
     std::size_t speciesBuild_ = 0;                // list build that ss_ was gathered for
+    bool heldSinceCompute_ = false;               // listHolds() said yes since the last compute()
     std::unique_ptr<shape::GmField> field_;
     const GradientMap* fieldMap_ = nullptr;
     // Per neighbour-list entry (cell order, ghosts included): copies for the pair loop.

@@ -197,8 +197,9 @@ void DecomposedSimulation::refreshForces() {
 
 void DecomposedSimulation::step() {
     core::kickDrift(sub_, drag_, p_, false);
+    const bool holds = field_.listHolds(sub_, p_);
     const auto t0 = std::chrono::steady_clock::now();
-    if (!comm_.allTrue(field_.listHolds(sub_, p_))) {
+    if (!comm_.allTrue(holds)) {
         wrapAndMigrate();
         buildHalo();
         field_.requestRebuild();

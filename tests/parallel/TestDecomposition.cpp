@@ -170,7 +170,7 @@ TEST_CASE("Subdomains are periodic only along unsplit periodic axes", "[parallel
     }
 }
 
-TEST_CASE("owner() names the subdomain whose [lo, hi) holds the point", "[parallel][decomposition]") {
+TEST_CASE("owner() names the subdomain whose half-open bounds hold the point", "[parallel][decomposition]") {
     const auto box = makeBox({-3.0, 4.0, -10.0}, {36.0, 25.0, 18.0}, {false, true, false});
     const double minWidth = 2.5;
     for (const Coords dims : {Coords{1, 1, 1}, Coords{3, 1, 1}, Coords{2, 3, 1}, Coords{5, 2, 3}}) {
