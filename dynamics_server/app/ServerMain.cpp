@@ -1,7 +1,8 @@
 // bop-server SCENE.toml: the dynamics host. In batch mode (--steps K --no-listen) it builds or
 // loads the scene's gradient map, places or reads the particles, runs K steps with the
 // construction timeline, prints progress, per-phase timings and a Table-1 style summary, and
-// writes extended XYZ snapshots.
+// writes extended XYZ snapshots. Under mpirun with more than one rank the run is decomposed
+// over the ranks (DecomposedBatch.cpp, parallel/).
 #include "BatchReport.hpp"
 #include "DecomposedBatch.hpp"
 #include "ExtendedXyz.hpp"
