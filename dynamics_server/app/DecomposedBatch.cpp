@@ -23,8 +23,9 @@ int runDecomposedBatch(const Scene& scene, const core::Particles& particles, lon
     parallel::DecomposedRun run(scene.model, particles);
     const bool root = run.rank() == 0;
     const auto dims = run.dims();
-    spdlog::info("decomposed over {} ranks, grid {} x {} x {}; particles per rank max/mean {:.3f}", run.size(), dims[0],
-                 dims[1], dims[2], run.counters().imbalance);
+    const parallel::RunCounters c0 = run.counters();
+    spdlog::info("decomposed over {} ranks, grid {} x {} x {}; particles per rank max/mean {:.3f} with uniform cuts, "
+                 "{:.3f} balanced", run.size(), dims[0], dims[1], dims[2], c0.initialImbalance, c0.imbalance);
     run.setEnergyEvery(std::numeric_limits<long long>::max());
     const std::vector<std::string> names = speciesNames(model);
     const std::string trajectory = o.outDir + "/trajectory.xyz";
@@ -72,7 +73,8 @@ int runDecomposedBatch(const Scene& scene, const core::Particles& particles, lon
               << rate * double(surface + volume) << "\n"
               << run.size() << " ranks: halo " << std::setprecision(0) << c.haloBytesPerStep
               << " bytes per step, particles per rank max/mean " << std::setprecision(3) << c.imbalance << ", "
-              << std::setprecision(0) << c.rebuilds << " rebuilds, " << c.migrations << " migrations; exchanges took "
+              << std::setprecision(0) << c.rebuilds << " rebuilds, " << c.rebalances << " balancings, " << c.migrations
+              << " migrations; exchanges took "
               << std::setprecision(1) << 100.0 * c.exchangeSecondsMax / std::max(seconds, 1e-12) << "% of the run on the busiest rank\n"
               << "E_kin " << std::setprecision(5) << t.kinetic << ", E_pair " << t.pairEnergy << ", virial " << t.virial
               << "\n";

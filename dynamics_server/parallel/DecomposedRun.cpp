@@ -42,6 +42,8 @@ RunCounters DecomposedRun::counters() const {
         sum += all[r + 3];
     }
     c.imbalance = sum > 0 ? most * double(size()) / sum : 1.0;
+    c.initialImbalance = s.initialImbalance();
+    c.rebalances = double(s.rebalances());
     return c;
 }
 

@@ -62,10 +62,47 @@ DecomposedSimulation::DecomposedSimulation(const CartComm& comm, std::shared_ptr
         p_.vel[k] = all.vel[i];
         p_.omega[k] = all.omega[i];
     }
-    wrapAndMigrate();
+    initialImbalance_ = imbalanceNow();
+    rebalance();
+    forces(true);
+}
+
+double DecomposedSimulation::imbalanceNow() const {
+    return Decomposition::imbalance(comm_.allGather({double(p_.size())}));
+}
+
+void DecomposedSimulation::rebalance() {
+    constexpr int kBins = 256;
+    const core::Box& box = model_->box;
+    const Eigen::Vector3d L = box.size();
+    std::vector<double> local(3 * kBins, 0.0);
+    for (const auto& x : p_.pos)
+        for (int a = 0; a < 3; ++a) {
+            double u = x[a];
+            if (box.periodic[std::size_t(a)]) u -= L[a] * std::floor((u - box.lo[a]) / L[a]);
+            const int b = std::clamp(int((u - box.lo[a]) / L[a] * kBins), 0, kBins - 1);
+            local[std::size_t(a * kBins + b)] += 1;
+        }
+    const std::vector<double> all = comm_.allGather(local);  // whole counts: exact in any order
+    std::array<std::vector<double>, 3> histogram;
+    for (int a = 0; a < 3; ++a) {
+        histogram[std::size_t(a)].assign(kBins, 0.0);
+        for (std::size_t r = 0; r < std::size_t(comm_.size()); ++r)
+            for (int b = 0; b < kBins; ++b) histogram[std::size_t(a)][std::size_t(b)] += all[r * local.size() + std::size_t(a * kBins + b)];
+    }
+    dec_.balance(histogram);
+    sub_.box = dec_.subdomain(comm_.coords());
+    // Moved planes can put a particle several subdomains away: one hop per axis per pass.
+    const int passes = std::max({comm_.dims()[0], comm_.dims()[1], comm_.dims()[2]});
+    for (int pass = 0; pass < passes; ++pass) {
+        wrapAndMigrate();
+        bool here = true;
+        for (const auto& x : p_.pos) here = here && dec_.owner(x) == comm_.coords();
+        if (comm_.allTrue(here)) break;
+    }
     buildHalo();
     field_.requestRebuild();
-    forces(true);
+    ++rebalances_;
 }
 
 void DecomposedSimulation::wrapAndMigrate() {
@@ -201,8 +238,12 @@ void DecomposedSimulation::step() {
     const auto t0 = std::chrono::steady_clock::now();
     if (!comm_.allTrue(holds)) {
         wrapAndMigrate();
-        buildHalo();
-        field_.requestRebuild();
+        if (imbalanceNow() > 1.1) {
+            rebalance();
+        } else {
+            buildHalo();
+            field_.requestRebuild();
+        }
         ++rebuilds_;
     } else {
         updateHalo();

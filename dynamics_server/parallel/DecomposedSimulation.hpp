@@ -11,6 +11,9 @@
 // sides, each side keeping its own particle's force: one message round per step instead of a
 // second one returning ghost forces), B-O, and reductions gathered in rank order.
 //
+// Balance: the cut planes start uniform and move to the particle-count quantiles at start-up and
+// whenever a rebuild finds the most loaded rank more than 10% above the mean.
+//
 // Halo: staged along the split axes, x then y then z; each stage also forwards the ghosts that
 // earlier stages brought, so edges and corners arrive without extra messages. Axes with one rank
 // need no messages: the core makes the periodic images itself.
@@ -45,6 +48,9 @@ public:
     std::size_t migrations() const { return migrations_; }       // particles this rank sent away
     std::size_t rebuilds() const { return rebuilds_; }           // halo and list rebuilds
     double exchangeSeconds() const { return exchangeSeconds_; }  // in halo, migration and the rebuild vote
+    std::size_t rebalances() const { return rebalances_; }
+    double imbalanceNow() const;  // most particles on one rank over the mean (collective)
+    double initialImbalance() const { return initialImbalance_; }  // with uniform cuts, before balancing
     Totals totals() const;
     // Every particle, sorted by id, on every rank (for tests and snapshots).
     core::Particles gather() const;
@@ -57,6 +63,9 @@ private:
         std::size_t fromUpperAt = 0, fromUpperCount = 0, fromLowerAt = 0, fromLowerCount = 0;  // halo ranges
     };
     void wrapAndMigrate();
+    // Cut planes to the particle-count quantiles of every axis, then particles to their new
+    // ranks (as many hops as needed) and a new halo. Collective.
+    void rebalance();
     void buildHalo();
     void updateHalo();
     void forces(bool energies);
@@ -77,7 +86,8 @@ private:
     double kinetic_ = 0, range_ = 0;
     long long step_ = 0, energyEvery_ = 1;
     std::size_t haloBytes_ = 0, migrations_ = 0, rebuilds_ = 0;
-    double exchangeSeconds_ = 0;
+    double exchangeSeconds_ = 0, initialImbalance_ = 1;
+    std::size_t rebalances_ = 0;
     std::vector<double> out_[2], in_[2];  // message buffers, kept to avoid fresh pages every step
 };
 

@@ -154,3 +154,33 @@ TEST_CASE("an undamped LJ cluster follows the single-process trajectory for 200 
     CHECK(worst < 1e-9 * kR0);
     CHECK(run.totals().total() == Approx(eSingle).epsilon(1e-10));
 }
+
+TEST_CASE("a lopsided configuration is balanced and keeps the single-process forces", "[mpi][balance]") {
+    // Subdomains are at least one halo range wide (3.3 r0 here, the oriented cutoff plus skin),
+    // so the crowded part must hold three of them for a 3 x 1 x 1 grid to balance.
+    auto m = mixedModel(false, Eigen::Vector3d(24, 12, 10), 1.0);
+    auto crowded = std::make_shared<Model>(*m);  // every particle in the lower 45% of x
+    crowded->box.hi.x() = 0.45 * m->box.hi.x();
+    Particles all = scatter(*crowded, 600, 13, 0.0);
+    ForceField single(*m);
+    ForceStats ref;
+    single.compute(*m, ProbeState{}, all, ref);
+    CartComm comm(MPI_COMM_WORLD, m->box);
+    DecomposedSimulation run(comm, m, all);
+    const double before = run.initialImbalance(), after = run.imbalanceNow();
+    const Particles got = run.gather();
+    REQUIRE(got.size() == all.size());
+    double worst = 0, maxF = 1;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        maxF = std::max(maxF, all.force[i].norm());
+        worst = std::max(worst, (got.force[i] - all.force[i]).norm());
+    }
+    INFO(comm.size() << " ranks, grid " << comm.dims()[0] << "x" << comm.dims()[1] << "x" << comm.dims()[2]
+                     << ": particles per rank max/mean " << before << " with uniform cuts, " << after << " balanced");
+    CHECK(worst / maxF < 1e-12);
+    if (comm.dims()[0] > 1) {  // the crowding is along x
+        CHECK(before > 1.5);
+        CHECK(after < 1.25);
+    }
+    CHECK(after <= before + 1e-12);
+}
