@@ -21,6 +21,8 @@ int runDecomposedBatch(const Scene& scene, const core::Particles& particles, lon
                        const BatchOptions& o) {
     const core::Model& model = *scene.model;
     parallel::DecomposedRun run(scene.model, particles);
+    run.setProbe(scene.probe);
+    run.refreshForces();
     const bool root = run.rank() == 0;
     const auto dims = run.dims();
     const parallel::RunCounters c0 = run.counters();

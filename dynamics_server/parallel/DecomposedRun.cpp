@@ -20,6 +20,7 @@ DecomposedRun::~DecomposedRun() = default;
 void DecomposedRun::step() { impl_->sim.step(); }
 void DecomposedRun::refreshForces() { impl_->sim.refreshForces(); }
 void DecomposedRun::setEnergyEvery(long long n) { impl_->sim.setEnergyEvery(n); }
+void DecomposedRun::setProbe(const core::ProbeState& probe) { impl_->sim.probe() = probe; }
 Totals DecomposedRun::totals() const { return impl_->sim.totals(); }
 core::Particles DecomposedRun::gather() const { return impl_->sim.gather(); }
 int DecomposedRun::rank() const { return impl_->comm.rank(); }

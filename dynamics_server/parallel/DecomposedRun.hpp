@@ -3,15 +3,12 @@
 // constructs it with the whole scene's model and particles, steps it, and reads reductions
 // that are the same on every rank. Collective: every call must be made on every rank.
 #include "Decomposition.hpp"
+#include "core/ForceField.hpp"
 #include "core/Particles.hpp"
 
 #include <Eigen/Core>
 
 #include <memory>
-
-namespace bop::core {
-struct Model;
-}
 
 namespace bop::parallel {
 
@@ -39,6 +36,7 @@ public:
     void step();
     void refreshForces();
     void setEnergyEvery(long long n);
+    void setProbe(const core::ProbeState& probe);  // the same on every rank
     Totals totals() const;
     RunCounters counters() const;
     core::Particles gather() const;  // every particle sorted by id

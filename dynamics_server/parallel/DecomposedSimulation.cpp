@@ -65,6 +65,7 @@ DecomposedSimulation::DecomposedSimulation(const CartComm& comm, std::shared_ptr
     initialImbalance_ = imbalanceNow();
     rebalance();
     forces(true);
+    kinetic_ = core::kineticEnergy(sub_, p_);
 }
 
 double DecomposedSimulation::imbalanceNow() const {

@@ -184,3 +184,30 @@ TEST_CASE("a lopsided configuration is balanced and keeps the single-process for
     }
     CHECK(after <= before + 1e-12);
 }
+
+TEST_CASE("the probe's forces and reaction equal the single process's", "[mpi][probe]") {
+    auto m = mixedModel(true, Eigen::Vector3d(14, 11, 9), 1.0);
+    Particles all = scatter(*m, 500, 17, 0.0);
+    ProbeState probe;
+    probe.active = true;
+    probe.params = {2.0, 3.0};
+    probe.position = 0.5 * (m->box.lo + m->box.hi);  // inside the material, near the middle cut
+    ForceField single(*m);
+    ForceStats ref;
+    single.compute(*m, probe, all, ref);
+    CartComm comm(MPI_COMM_WORLD, m->box);
+    DecomposedSimulation run(comm, m, all);
+    run.probe() = probe;
+    run.refreshForces();
+    const Particles got = run.gather();
+    double worst = 0, maxF = 1;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        maxF = std::max(maxF, all.force[i].norm());
+        worst = std::max(worst, (got.force[i] - all.force[i]).norm());
+    }
+    const Eigen::Vector3d reaction = run.totals().probeReaction;
+    INFO(comm.size() << " ranks: reaction " << reaction.transpose() << " against " << ref.probeReaction.transpose());
+    CHECK(ref.probeReaction.norm() > 1e-3);  // the probe touches particles
+    CHECK(worst / maxF < 1e-12);
+    CHECK((reaction - ref.probeReaction).norm() < 1e-12 * std::max(1.0, ref.probeReaction.norm()));
+}
