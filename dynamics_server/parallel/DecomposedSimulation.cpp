@@ -72,6 +72,18 @@ double DecomposedSimulation::imbalanceNow() const {
     return Decomposition::imbalance(comm_.allGather({double(p_.size())}));
 }
 
+void DecomposedSimulation::migrateHome() {
+    // One hop per axis per pass; moved planes, or a particle faster than half the skin per step,
+    // can put a particle several subdomains away.
+    const int passes = std::max({comm_.dims()[0], comm_.dims()[1], comm_.dims()[2]});
+    for (int pass = 0; pass < passes; ++pass) {
+        wrapAndMigrate();
+        bool here = true;
+        for (const auto& x : p_.pos) here = here && dec_.owner(x) == comm_.coords();
+        if (comm_.allTrue(here)) return;
+    }
+}
+
 void DecomposedSimulation::rebalance() {
     constexpr int kBins = 256;
     const core::Box& box = model_->box;
@@ -93,14 +105,7 @@ void DecomposedSimulation::rebalance() {
     }
     dec_.balance(histogram);
     sub_.box = dec_.subdomain(comm_.coords());
-    // Moved planes can put a particle several subdomains away: one hop per axis per pass.
-    const int passes = std::max({comm_.dims()[0], comm_.dims()[1], comm_.dims()[2]});
-    for (int pass = 0; pass < passes; ++pass) {
-        wrapAndMigrate();
-        bool here = true;
-        for (const auto& x : p_.pos) here = here && dec_.owner(x) == comm_.coords();
-        if (comm_.allTrue(here)) break;
-    }
+    migrateHome();
     buildHalo();
     field_.requestRebuild();
     ++rebalances_;
@@ -238,7 +243,7 @@ void DecomposedSimulation::step() {
     const bool holds = field_.listHolds(sub_, p_);
     const auto t0 = std::chrono::steady_clock::now();
     if (!comm_.allTrue(holds)) {
-        wrapAndMigrate();
+        migrateHome();
         if (imbalanceNow() > 1.1) {
             rebalance();
         } else {

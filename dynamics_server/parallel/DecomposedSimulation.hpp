@@ -62,7 +62,8 @@ private:
         Eigen::Vector3d lowerShift = Eigen::Vector3d::Zero(), upperShift = Eigen::Vector3d::Zero();
         std::size_t fromUpperAt = 0, fromUpperCount = 0, fromLowerAt = 0, fromLowerCount = 0;  // halo ranges
     };
-    void wrapAndMigrate();
+    void wrapAndMigrate();  // one hop along each split axis
+    void migrateHome();     // hops until every particle is on the rank that owns its position
     // Cut planes to the particle-count quantiles of every axis, then particles to their new
     // ranks (as many hops as needed) and a new halo. Collective.
     void rebalance();
