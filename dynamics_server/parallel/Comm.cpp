@@ -66,6 +66,13 @@ std::vector<double> CartComm::allGatherV(const std::vector<double>& mine) const 
     return all;
 }
 
+void CartComm::broadcast(std::vector<double>& data) const {
+    unsigned long long n = data.size();
+    check(MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, cart_), "MPI_Bcast (count)");
+    data.resize(std::size_t(n));
+    if (n > 0) check(MPI_Bcast(data.data(), int(n), MPI_DOUBLE, 0, cart_), "MPI_Bcast");
+}
+
 bool CartComm::allTrue(bool mine) const {
     int in = mine ? 1 : 0, out = 0;
     check(MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LAND, cart_), "MPI_Allreduce");

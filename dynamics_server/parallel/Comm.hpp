@@ -40,6 +40,8 @@ public:
     // The same for buffers of any length per rank.
     std::vector<double> allGatherV(const std::vector<double>& mine) const;
     bool allTrue(bool mine) const;
+    // Rank 0's buffer on every rank (sizes first).
+    void broadcast(std::vector<double>& data) const;
 
 private:
     MPI_Comm dup_ = MPI_COMM_NULL, cart_ = MPI_COMM_NULL;

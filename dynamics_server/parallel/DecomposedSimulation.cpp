@@ -6,6 +6,7 @@
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 namespace bop::parallel {
 namespace {
@@ -238,7 +239,28 @@ void DecomposedSimulation::refreshForces() {
     forces(true);
 }
 
+void DecomposedSimulation::submit(const Command& command) {
+    if (comm_.rank() != 0) throw std::logic_error("commands are submitted on rank 0");
+    encode(command, commands_);
+}
+
+void DecomposedSimulation::apply(const Command& c) {
+    if (c.kind == Command::Kind::Probe) {
+        probe_ = c.probe;
+        return;
+    }
+    if (c.species < 1 || c.species > sub_.speciesCount())
+        throw std::invalid_argument("drag command: no species " + std::to_string(c.species));
+    if (!(c.dragV >= 0 && c.dragW >= 0)) throw std::invalid_argument("drag command: drags must be 0 or more");
+    sub_.species[std::size_t(c.species)].dragV = c.dragV;
+    sub_.species[std::size_t(c.species)].dragW = c.dragW;
+    drag_ = core::DragFactors(sub_);
+}
+
 void DecomposedSimulation::step() {
+    comm_.broadcast(commands_);  // rank 0's queue, the same on every rank
+    for (const Command& c : decode(commands_)) apply(c);
+    commands_.clear();
     core::kickDrift(sub_, drag_, p_, false);
     const bool holds = field_.listHolds(sub_, p_);
     const auto t0 = std::chrono::steady_clock::now();

@@ -3,7 +3,7 @@
 // neighbours' particles within cutoff + skin, and the same integrator and force field as a
 // single process (core/), with MPI only here.
 //
-// Each step: O-B-A without wrapping; every rank asks its neighbour list whether it still holds
+// Each step: commands queued on rank 0 are broadcast and applied on every rank; O-B-A without wrapping; every rank asks its neighbour list whether it still holds
 // (no particle moved more than half the skin); if any says no, all wrap positions into the
 // periodic box, migrate particles that left their subdomain (staged x, y, z, so diagonal moves
 // need no extra messages) and rebuild the halo; otherwise the halo's positions and normals are
@@ -18,6 +18,7 @@
 // earlier stages brought, so edges and corners arrive without extra messages. Axes with one rank
 // need no messages: the core makes the periodic images itself.
 #include "Comm.hpp"
+#include "Commands.hpp"
 #include "DecomposedRun.hpp"
 #include "Decomposition.hpp"
 #include "core/ForceField.hpp"
@@ -34,6 +35,9 @@ public:
     DecomposedSimulation(const CartComm& comm, std::shared_ptr<const core::Model> model, const core::Particles& all);
 
     void step();
+    // On rank 0: queue a command; every rank applies it at the start of the next step (rank 0
+    // broadcasts the queue then). std::logic_error on other ranks.
+    void submit(const Command& command);
     void run(long long steps) { for (long long s = 0; s < steps; ++s) step(); }
     // Forces again for the current state, with energies.
     void refreshForces();
@@ -70,6 +74,7 @@ private:
     void buildHalo();
     void updateHalo();
     void forces(bool energies);
+    void apply(const Command& command);
     Eigen::Vector3d sourcePos(std::uint32_t s) const { return s < p_.size() ? p_.pos[s] : halo_.pos[s - p_.size()]; }
 
     const CartComm& comm_;
@@ -90,6 +95,7 @@ private:
     double exchangeSeconds_ = 0, initialImbalance_ = 1;
     std::size_t rebalances_ = 0;
     std::vector<double> out_[2], in_[2];  // message buffers, kept to avoid fresh pages every step
+    std::vector<double> commands_;        // queued on rank 0, encoded
 };
 
 }  // namespace bop::parallel

@@ -11,6 +11,7 @@
 using namespace bop;
 using namespace bop::core;
 using parallel::CartComm;
+using parallel::Command;
 using parallel::DecomposedSimulation;
 
 namespace {
@@ -210,4 +211,72 @@ TEST_CASE("the probe's forces and reaction equal the single process's", "[mpi][p
     CHECK(ref.probeReaction.norm() > 1e-3);  // the probe touches particles
     CHECK(worst / maxF < 1e-12);
     CHECK((reaction - ref.probeReaction).norm() < 1e-12 * std::max(1.0, ref.probeReaction.norm()));
+}
+
+TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "[mpi][commands]") {
+    auto m = mixedModel(true, Eigen::Vector3d(14, 11, 9), 0.0);
+    const Particles all = scatter(*m, 400, 19, 0.2);
+    ProbeState probe;
+    probe.active = true;
+    probe.params = {2.0, 3.0};
+    const Eigen::Vector3d centre = 0.5 * (m->box.lo + m->box.hi);
+    // The single process: the probe appears at step 10 and moves at step 30; species 2 gets a
+    // drag at step 40.
+    Simulation single(m, all, Construction({}, {}, 3));
+    auto damped = std::make_shared<Model>(*m);
+    damped->species[2].dragV = 2.0;
+    damped->species[2].dragW = 1.0;
+    CartComm comm(MPI_COMM_WORLD, m->box);
+    DecomposedSimulation run(comm, m, all);
+    for (int s = 0; s < 80; ++s) {
+        ProbeState moved = probe;
+        moved.position = centre + Eigen::Vector3d(0.1 * (s - 30), 0, 0);
+        if (s == 10 || s == 30) {
+            probe.position = s == 10 ? centre : moved.position;
+            single.probe() = probe;
+            Command c;
+            c.probe = probe;
+            if (comm.rank() == 0) run.submit(c);
+        }
+        if (s == 40) {
+            single.setModel(damped);
+            Command c;
+            c.kind = Command::Kind::Drag;
+            c.species = 2;
+            c.dragV = 2.0;
+            c.dragW = 1.0;
+            if (comm.rank() == 0) run.submit(c);
+        }
+        single.step();
+        run.step();
+    }
+    run.refreshForces();
+    single.refreshForces();
+    const Particles got = run.gather();
+    double worst = 0;
+    for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, (got.pos[i] - single.particles().pos[i]).norm());
+    const double reaction = (run.totals().probeReaction - single.stats().forces.probeReaction).norm();
+    INFO(comm.size() << " ranks: largest position difference " << worst << ", reaction difference " << reaction);
+    CHECK(single.stats().forces.probeReaction.norm() > 1e-3);
+    CHECK(worst < 1e-9 * kR0);
+    CHECK(reaction < 1e-8);
+    if (comm.rank() != 0) CHECK_THROWS_AS(run.submit(Command{}), std::logic_error);
+}
+
+TEST_CASE("a malformed command array is refused with what is wrong", "[mpi][commands]") {
+    std::vector<double> a;
+    parallel::encode(Command{}, a);
+    a.pop_back();
+    CHECK_THROWS_WITH(parallel::decode(a), Catch::Contains("probe command needs 7 values"));
+    CHECK_THROWS_WITH(parallel::decode({9.0}), Catch::Contains("unknown command kind"));
+    Command drag;
+    drag.kind = Command::Kind::Drag;
+    drag.species = 3;
+    drag.dragV = 0.5;
+    std::vector<double> b;
+    parallel::encode(drag, b);
+    const auto back = parallel::decode(b);
+    REQUIRE(back.size() == 1);
+    CHECK(back[0].species == 3);
+    CHECK(back[0].dragV == 0.5);
 }

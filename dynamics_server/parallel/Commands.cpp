@@ -1,0 +1,59 @@
+#include "Commands.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace bop::parallel {
+namespace {
+
+constexpr std::size_t kProbeFields = 7;  // kind, active, x, y, z, k0, k1
+constexpr std::size_t kDragFields = 4;   // kind, species, beta_v, beta_tau
+
+}  // namespace
+
+void encode(const Command& c, std::vector<double>& out) {
+    if (c.kind == Command::Kind::Probe) {
+        const auto& p = c.probe;
+        out.insert(out.end(), {double(int(c.kind)), p.active ? 1.0 : 0.0, p.position.x(), p.position.y(), p.position.z(),
+                               p.params.k0, p.params.k1});
+    } else {
+        out.insert(out.end(), {double(int(c.kind)), double(c.species), c.dragV, c.dragW});
+    }
+}
+
+std::vector<Command> decode(const std::vector<double>& in) {
+    std::vector<Command> out;
+    for (std::size_t k = 0; k < in.size();) {
+        Command c;
+        const double kind = in[k];
+        const auto need = [&](std::size_t n, const char* what) {
+            if (k + n > in.size())
+                throw std::invalid_argument(std::string("command array: a ") + what + " command needs " + std::to_string(n) +
+                                            " values at position " + std::to_string(k) + ", " +
+                                            std::to_string(in.size() - k) + " left");
+        };
+        if (kind == double(int(Command::Kind::Probe))) {
+            need(kProbeFields, "probe");
+            c.kind = Command::Kind::Probe;
+            c.probe.active = in[k + 1] != 0;
+            c.probe.position = Eigen::Vector3d(in[k + 2], in[k + 3], in[k + 4]);
+            c.probe.params = {in[k + 5], in[k + 6]};
+            k += kProbeFields;
+        } else if (kind == double(int(Command::Kind::Drag))) {
+            need(kDragFields, "drag");
+            c.kind = Command::Kind::Drag;
+            c.species = int(in[k + 1]);
+            c.dragV = in[k + 2];
+            c.dragW = in[k + 3];
+            k += kDragFields;
+        } else {
+            throw std::invalid_argument("command array: unknown command kind " + std::to_string(kind) + " at position " +
+                                        std::to_string(k));
+        }
+        out.push_back(c);
+    }
+    return out;
+}
+
+}  // namespace bop::parallel
