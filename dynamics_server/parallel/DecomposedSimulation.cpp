@@ -126,8 +126,8 @@ void DecomposedSimulation::wrapAndMigrate() {
         for (std::size_t i = 0; i < p_.size(); ++i) {
             const int c = dec_.owner(p_.pos[i])[std::size_t(a)], mine = comm_.coords()[std::size_t(a)];
             if (c == mine) continue;
-            // One subdomain per rebuild at most (moves are below half the skin); across a periodic
-            // seam the owner's coordinate wraps, so there the nearer way round decides.
+            // One hop towards the owner (migrateHome() repeats while any particle is away); across
+            // a periodic seam the owner's coordinate wraps, so there the nearer way round decides.
             const int n = comm_.dims()[std::size_t(a)];
             const int down = ((mine - c) % n + n) % n, up = ((c - mine) % n + n) % n;
             const bool lower = box.periodic[std::size_t(a)] ? down <= up : c < mine;
