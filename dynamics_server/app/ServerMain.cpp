@@ -27,7 +27,8 @@ using namespace bop;
 namespace {
 
 int run(int argc, char** argv) {
-    CLI::App app{"bop-server: the BoP dynamics host. Batch mode: bop-server SCENE.toml --steps K --no-listen"};
+    CLI::App app{"bop-server: the BoP dynamics host. Batch mode: bop-server SCENE.toml --steps K --no-listen; "
+                 "under mpirun -np N the box is split into one subdomain per rank (docs/parallel.md)"};
     std::string scenePath, outDir, restart, cache;
     long long steps = -1, snapshotEvery = -1, reportEvery = -1;
     bool noListen = false;
