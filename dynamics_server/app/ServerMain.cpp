@@ -53,6 +53,8 @@ int run(int argc, char** argv) {
     if (steps < 0) steps = scene.run.steps;
     if (snapshotEvery < 0) snapshotEvery = scene.run.snapshotEverySteps;
     if (reportEvery < 0) reportEvery = scene.run.reportEverySteps > 0 ? scene.run.reportEverySteps : std::max(1LL, steps / 10);
+    if (reportEvery == 0) throw Error("--report-every", "expected a period of at least 1 step");
+    if (snapshotEvery < 0) throw Error("--snapshot-every", "expected 0 (final state only) or a period in steps");
 
     core::Model& model = *scene.model;
     if (model.ljParams.mode == core::LjCutoff::Truncated)

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -114,6 +115,9 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
             // which the branch predictor follows.
             nearestFirst(pairs_.nbr, pairs_.start[x], x);
             nearestFirst(haloPairs_.nbr, haloPairs_.start[x], x);
+            if (pairs_.nbr.size() >= std::numeric_limits<std::uint32_t>::max() ||
+                haloPairs_.nbr.size() >= std::numeric_limits<std::uint32_t>::max())
+                throw std::length_error("neighbour list: more than 2^32 pairs in one process; use more ranks");
             pairs_.start[x + 1] = std::uint32_t(pairs_.nbr.size());
             haloPairs_.start[x + 1] = std::uint32_t(haloPairs_.nbr.size());
         }

@@ -1,7 +1,9 @@
 #include "Comm.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
+#include <string>
 
 namespace bop::parallel {
 
@@ -39,6 +41,8 @@ CartComm::~CartComm() {
 }
 
 void CartComm::sendRecv(const std::vector<double>& out, int to, std::vector<double>& in, int from, int tag) const {
+    if (out.size() > std::size_t(std::numeric_limits<int>::max()))
+        throw std::runtime_error("MPI_Sendrecv: " + std::to_string(out.size()) + " values exceed one message's int count");
     unsigned long long nOut = out.size(), nIn = 0;
     check(MPI_Sendrecv(&nOut, 1, MPI_UNSIGNED_LONG_LONG, to, tag, &nIn, 1, MPI_UNSIGNED_LONG_LONG, from, tag, cart_,
                        MPI_STATUS_IGNORE), "MPI_Sendrecv (count)");
@@ -55,10 +59,16 @@ std::vector<double> CartComm::allGather(const std::vector<double>& mine) const {
 }
 
 std::vector<double> CartComm::allGatherV(const std::vector<double>& mine) const {
+    if (mine.size() > std::size_t(std::numeric_limits<int>::max()))
+        throw std::runtime_error("MPI_Allgatherv: " + std::to_string(mine.size()) + " values exceed one message's int count");
     int count = int(mine.size());
     const std::size_t ranks = std::size_t(size_);
     std::vector<int> counts(ranks, 0), offsets(ranks, 0);
     check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, cart_), "MPI_Allgather (counts)");
+    long long total = 0;
+    for (int c : counts) total += c;
+    if (total > std::numeric_limits<int>::max())
+        throw std::runtime_error("MPI_Allgatherv: " + std::to_string(total) + " values exceed one message's int count");
     for (int r = 1; r < size_; ++r) offsets[std::size_t(r)] = offsets[std::size_t(r) - 1] + counts[std::size_t(r) - 1];
     std::vector<double> all(std::size_t(offsets.back() + counts.back()));
     check(MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, cart_),

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -117,8 +118,10 @@ void DecomposedSimulation::wrapAndMigrate() {
     const Eigen::Vector3d L = box.size();
     for (auto& x : p_.pos)
         for (int a = 0; a < 3; ++a)
-            if (box.periodic[std::size_t(a)] && (x[a] < box.lo[a] || x[a] >= box.hi[a]))
+            if (box.periodic[std::size_t(a)] && (x[a] < box.lo[a] || x[a] >= box.hi[a])) {
                 x[a] -= L[a] * std::floor((x[a] - box.lo[a]) / L[a]);
+                if (x[a] >= box.hi[a]) x[a] = box.lo[a];  // -1e-17 + L rounds to L: that is lo
+            }
     for (int a = 0; a < 3; ++a) {
         if (comm_.dims()[std::size_t(a)] == 1) continue;
         std::vector<double> toLower, toUpper, fromUpper, fromLower;
@@ -159,7 +162,9 @@ void DecomposedSimulation::buildHalo() {
         if (c == 0) st.lowerShift[a] = box.size()[a];       // lower neighbour lies across the periodic seam
         if (c == n - 1) st.upperShift[a] = -box.size()[a];  // so does the upper one
         const std::size_t sources = p_.size() + halo_.size();
-        for (std::uint32_t s = 0; s < sources; ++s) {
+        if (sources >= std::numeric_limits<std::uint32_t>::max())
+            throw std::runtime_error("halo: more than 2^32 particles and ghosts on one rank; use more ranks");
+        for (std::uint32_t s = 0; s < std::uint32_t(sources); ++s) {
             const double x = sourcePos(s)[a];
             if (x < mine.lo[a] + range_) st.toLower.push_back(s);
             if (x >= mine.hi[a] - range_) st.toUpper.push_back(s);
@@ -189,7 +194,8 @@ void DecomposedSimulation::buildHalo() {
         const std::vector<double> outLower = pack(st.toLower, st.lowerShift), outUpper = pack(st.toUpper, st.upperShift);
         comm_.sendRecv(outLower, comm_.lower(a), fromUpper, comm_.upper(a), 200 + 4 * a);
         comm_.sendRecv(outUpper, comm_.upper(a), fromLower, comm_.lower(a), 202 + 4 * a);
-        haloBytes_ += (outLower.size() + outUpper.size()) * sizeof(double);
+        haloBytes_ += ((comm_.lower(a) == MPI_PROC_NULL ? 0 : outLower.size()) +
+                       (comm_.upper(a) == MPI_PROC_NULL ? 0 : outUpper.size())) * sizeof(double);
         st.fromUpperAt = halo_.size();
         st.fromUpperCount = fromUpper.size() / kGhostFields;
         append(fromUpper);

@@ -280,3 +280,25 @@ TEST_CASE("a malformed command array is refused with what is wrong", "[mpi][comm
     CHECK(back[0].species == 3);
     CHECK(back[0].dragV == 0.5);
 }
+
+TEST_CASE("a particle a hair below a periodic face is wrapped onto the face, not past the box", "[mpi][wrap]") {
+    // -1e-17 + L rounds to L: the wrapped coordinate must become lo, where the owner lookup puts it.
+    auto m = mixedModel(true, Eigen::Vector3d(14, 11, 9), 1.0);
+    Particles all = scatter(*m, 400, 23, 0.0);
+    all.pos[0].x() = m->box.lo.x() - 1e-17;
+    ForceField single(*m);
+    ForceStats ref;
+    single.compute(*m, ProbeState{}, all, ref);
+    CartComm comm(MPI_COMM_WORLD, m->box);
+    DecomposedSimulation run(comm, m, all);
+    const Particles got = run.gather();
+    double worst = 0, maxF = 1;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        maxF = std::max(maxF, all.force[i].norm());
+        worst = std::max(worst, (got.force[i] - all.force[i]).norm());
+    }
+    INFO(comm.size() << " ranks: particle 0 at x = " << got.pos[0].x() << ", force difference " << worst);
+    CHECK(got.pos[0].x() >= m->box.lo.x());
+    CHECK(got.pos[0].x() < m->box.hi.x());
+    CHECK(worst / maxF < 1e-12);
+}
