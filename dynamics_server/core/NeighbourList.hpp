@@ -60,10 +60,6 @@ public:
     const Pairs& pairs() const { return pairs_; }          // Newton pairs: forces to both sides
     const Pairs& haloPairs() const { return haloPairs_; }  // particle with halo ghost: one side
 
-    // Compatibility with the single-list interface (the Newton pairs).
-    std::uint32_t first(std::size_t e) const { return pairs_.start[e]; }
-    const std::uint32_t* neighbours() const { return pairs_.nbr.data(); }
-
 private:
     double range_ = 0;
     std::size_t particles_ = 0, halo_ = 0, builds_ = 0;

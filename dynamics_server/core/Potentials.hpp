@@ -53,34 +53,6 @@ public:
     // r2: squared distance (> 0), length^2. Outputs fOverR = f(r)/r (energy / length^2; the
     // force on j is fOverR * (p_j - p_i)) and the pair energy. Returns false, with both outputs
     // zero, when r2 >= cutoff2().
-    // f(r)/r for r2 < cutoff2() (the caller has checked), without branches: the LJ-only pair
-    // loop's fast path. Below the switch t clamps to 0 (S = 1); without a switch invWidth_ is 0.
-    double forceOverR(double r2) const {
-        const double inv2 = 1.0 / r2;   // the division and the root run side by side
-        const double r = std::sqrt(r2);
-        const double rinv = r * inv2;
-        const double f = (4.5 * inv2 - 1.5) * inv2 - fShift_;
-        const double u = (r - rOn_) * invWidth_;
-        const double t = u > 0.0 ? u : 0.0;
-        return f * (1.0 + t * t * (2.0 * t - 3.0)) * rinv;
-    }
-    // The force alone (no energy): the pair loop's fast path on steps that report no energy.
-    bool evalForce(double r2, double& fOverR) const {
-        if (r2 >= rc2_) {
-            fOverR = 0.0;
-            return false;
-        }
-        const double inv2 = 1.0 / r2;
-        const double f = 4.5 * inv2 * inv2 - 1.5 * inv2;
-        if (r2 <= rOn2_) {
-            fOverR = fShift_ == 0.0 ? f * std::sqrt(inv2) : (f - fShift_) * std::sqrt(inv2);
-        } else {
-            const double r = std::sqrt(r2);
-            const double t = (r - rOn_) * invWidth_;
-            fOverR = f * (1.0 + t * t * (2.0 * t - 3.0)) / r;
-        }
-        return true;
-    }
     bool eval(double r2, double& fOverR, double& energy) const {
         if (r2 >= rc2_) {
             fOverR = 0.0;
@@ -101,6 +73,24 @@ public:
             energy = switchedEnergy(r, inv, inv2);
         }
         return true;
+    }
+
+    // f(r)/r for r2 < cutoff2() (the caller has checked), without branches: the LJ-only pair
+    // loop's fast path. Below the switch t clamps to 0 (S = 1); without a switch invWidth_ is 0.
+    double forceOverR(double r2) const {
+        const double inv2 = 1.0 / r2;   // the division and the root run side by side
+        const double r = std::sqrt(r2);
+        const double rinv = r * inv2;
+        const double f = (4.5 * inv2 - 1.5) * inv2 - fShift_;
+        const double u = (r - rOn_) * invWidth_;
+        const double t = u > 0.0 ? u : 0.0;
+        return f * (1.0 + t * t * (2.0 * t - 3.0)) * rinv;
+    }
+    // The force alone, as eval() without the energy: steps that report no energy.
+    bool evalForce(double r2, double& fOverR) const {
+        const bool inRange = r2 < rc2_;
+        fOverR = inRange ? forceOverR(r2) : 0.0;
+        return inRange;
     }
 
     // Scalar force (positive = repulsive) and energy at distance r (> 0, length), with the

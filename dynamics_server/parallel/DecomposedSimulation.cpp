@@ -50,12 +50,9 @@ void unpackParticles(const std::vector<double>& in, core::Particles& p) {
 
 DecomposedSimulation::DecomposedSimulation(const CartComm& comm, std::shared_ptr<const core::Model> model,
                                            const core::Particles& all)
-    : comm_(comm), model_(std::move(model)),
-      dec_(model_->box, comm.dims(), core::ForceField(*model_).listRange()), sub_(*model_), drag_(*model_),
-      field_(*model_) {
-    range_ = field_.listRange();
+    : comm_(comm), model_(std::move(model)), field_(*model_), dec_(model_->box, comm.dims(), field_.listRange()),
+      sub_(*model_), drag_(*model_), range_(field_.listRange()) {
     sub_.box = dec_.subdomain(comm_.coords());
-    field_ = core::ForceField(sub_);
     for (std::size_t i = 0; i < all.size(); ++i) {
         if (dec_.owner(all.pos[i]) != comm_.coords()) continue;
         const std::size_t k = p_.add(all.pos[i], all.species[i], all.id[i], all.q[i]);

@@ -79,13 +79,13 @@ private:
 
     const CartComm& comm_;
     std::shared_ptr<const core::Model> model_;  // the whole box
+    core::ForceField field_;                     // built from the model alone; the box comes per call
     Decomposition dec_;
     core::Model sub_;                            // the same model over this rank's subdomain
     core::Particles p_;
     core::Halo halo_;
     std::vector<Stage> stages_;
     core::DragFactors drag_;
-    core::ForceField field_;
     core::ProbeState probe_;
     core::ForceStats stats_;
     core::PhaseTimes times_;

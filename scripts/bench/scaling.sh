@@ -18,52 +18,16 @@ csv=out/bench/scaling.csv
 echo "particles,ranks,steps,bop_particle_steps_per_s,lammps_atom_steps_per_s,ratio,bop_efficiency,lammps_efficiency,halo_bytes_per_step" >"$csv"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 mpi=(mpirun --oversubscribe --bind-to core)
-build/dynamics_server/bop-lj-table "$out/table.txt" --mode switched --switch-r0 1.2 --cutoff-r0 1.6 >/dev/null
-rate_of_bop() { awk '/^this run/ {print $7}' "$1"; }
-rate_of_lammps() { awk '/^Loop time of/ {t=$4; s=$9; n=$12} END {if (t > 0) printf "%.0f", n*s/t}' "$1"; }
-best() { awk -v a="$1" -v b="${2:-0}" 'BEGIN {print (b > a ? b : a)}'; }
+source scripts/bench/bulk-workload.sh
+write_lj_table switched "$out/table.txt"
 
 printf "%9s %5s %6s %14s %14s %6s %8s %8s %12s\n" particles ranks steps "BoP p-steps/s" "LAMMPS a-s/s" ratio "BoP eff" "LMP eff" "halo B/step"
 for n in "${sizes[@]}"; do
   cells=$(awk -v n="$n" 'BEGIN {c = int((n / 4) ^ (1 / 3) + 0.5); print (c < 6 ? 6 : c)}')
   particles=$((4 * cells * cells * cells))
   steps=$(awk -v n="$particles" 'BEGIN {s = int(6e7 / n); if (s > 300) s = 300; if (s < 20) s = 20; print s}')
-  side=$(awk -v c="$cells" 'BEGIN {printf "%.17g", c * sqrt(2)}')
   scene=$out/bulk-$particles.toml
-  cat >"$scene" <<TOML
-[box]
-size_r0 = [$side, $side, $side]
-spacing_r0 = 1.0
-jitter_r0 = 0.1
-periodic = true
-[[species]]
-name = "bulk"
-kind = "volume"
-drag_v = 0.0
-[dynamics]
-time_step = 0.005
-lj_cutoff = "switched"
-lj_switch_r0 = [1.2, 1.6]
-TOML
-  cat >"$out/in-$particles.lmp" <<LMP
-units lj
-atom_style atomic
-boundary p p p
-lattice fcc 0.27216552697590868
-region box block 0 $cells 0 $cells 0 $cells
-create_box 1 box
-create_atoms 1 box
-displace_atoms all random 0.08660254037844387 0.08660254037844387 0.08660254037844387 4242 units box
-mass 1 1.0
-pair_style table linear 20000
-pair_coeff 1 1 $out/table.txt LJ 2.7712812921102037
-neighbor 0.5196152422706632 bin
-neigh_modify every 1 delay 0 check yes
-timestep 0.005
-fix 1 all nve
-thermo $steps
-run $steps
-LMP
+  write_bulk_inputs switched "$cells" "$steps" "$out/table.txt" "$scene" "$out/in-$particles.lmp"
   bop1="" lmp1=""
   for ranks in ${BOP_BENCH_RANKS:-1 2}; do
     bop=0 lmp_rate=0

@@ -25,63 +25,26 @@ csv=out/bench/step.csv
 echo "workload,particles,steps,bop_particle_steps_per_s,lammps_atom_steps_per_s,ratio,bop_ns_per_particle_step,bop_peak_bytes_per_particle" >"$csv"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 
-rate_of_bop() { awk '/^this run/ {print $7}' "$1"; }
-rate_of_lammps() { awk '/^Loop time of/ {t=$4; s=$9; n=$12} END {if (t > 0) printf "%.0f", n*s/t}' "$1"; }
+source scripts/bench/bulk-workload.sh
 
 printf "%-10s %9s %6s %14s %14s %7s %10s %10s\n" workload particles steps "BoP p-steps/s" "LAMMPS a-s/s" ratio "ns/p-step" "bytes/p"
 for mode in ${BOP_BENCH_MODES:-switched paper}; do
-  build/dynamics_server/bop-lj-table "$out/table-$mode.txt" --mode "$mode" \
-    $([[ $mode == switched ]] && echo "--switch-r0 1.2 --cutoff-r0 1.6" || echo "--cutoff-r0 2.99") >/dev/null
-  cutoff=$([[ $mode == switched ]] && echo 2.7712812921102037 || echo 5.178831647964295)
+  write_lj_table "$mode" "$out/table-$mode.txt"
   for n in "${sizes[@]}"; do
     # fcc cells per edge; a periodic box needs 3 cutoffs per edge (3 r0 cutoff: 7 cells of sqrt(2) r0)
     cells=$(awk -v n="$n" -v m="$mode" 'BEGIN {c = int((n / 4) ^ (1 / 3) + 0.5); lo = (m == "paper" ? 7 : 3); print (c < lo ? lo : c)}')
     particles=$((4 * cells * cells * cells))
     steps=$(awk -v n="$particles" -v m="$mode" 'BEGIN {s = int(3e7 / n); if (s > 300) s = 300; if (s < 10) s = 10; print s}')
     scene=$out/bulk-$mode-$particles.toml
-    side=$(awk -v c="$cells" 'BEGIN {printf "%.12f", c * sqrt(2)}')
-    cat >"$scene" <<TOML
-[box]
-size_r0 = [$side, $side, $side]
-spacing_r0 = 1.0
-jitter_r0 = 0.1
-periodic = true
-[[species]]
-name = "bulk"
-kind = "volume"
-drag_v = 0.0
-[dynamics]
-time_step = 0.005
-lj_cutoff = "$mode"
-$([[ $mode == switched ]] && echo 'lj_switch_r0 = [1.2, 1.6]' || echo 'lj_cutoff_r0 = 2.99')
-TOML
-    cat >"$out/in-$mode-$particles.lmp" <<LMP
-units lj
-atom_style atomic
-boundary p p p
-lattice fcc 0.27216552697590868
-region box block 0 $cells 0 $cells 0 $cells
-create_box 1 box
-create_atoms 1 box
-displace_atoms all random 0.08660254037844387 0.08660254037844387 0.08660254037844387 4242 units box
-mass 1 1.0
-pair_style table linear 20000
-pair_coeff 1 1 $out/table-$mode.txt LJ $cutoff
-neighbor 0.5196152422706632 bin
-neigh_modify every 1 delay 0 check yes
-timestep 0.005
-fix 1 all nve
-thermo $steps
-run $steps
-LMP
+    write_bulk_inputs "$mode" "$cells" "$steps" "$out/table-$mode.txt" "$scene" "$out/in-$mode-$particles.lmp"
     bop=0 lmp_rate=0
     for ((rep = 1; rep <= ${BOP_BENCH_REPEATS:-3}; rep++)); do
       /usr/bin/time -f "%M" -o "$out/bop-$mode-$particles.mem" \
         build/dynamics_server/bop-server "$scene" --no-listen --steps "$steps" -o "$out/run-$mode-$particles" \
         --report-every "$steps" >"$out/bop-$mode-$particles.log" 2>&1
-      bop=$(awk -v a="$bop" -v b="$(rate_of_bop "$out/bop-$mode-$particles.log")" 'BEGIN {print (b > a ? b : a)}')
+      bop=$(best "$bop" "$(rate_of_bop "$out/bop-$mode-$particles.log")")
       lmp -in "$out/in-$mode-$particles.lmp" -log none -screen "$out/lammps-$mode-$particles.log" >/dev/null 2>&1 || true
-      lmp_rate=$(awk -v a="$lmp_rate" -v b="$(rate_of_lammps "$out/lammps-$mode-$particles.log")" 'BEGIN {print (b > a ? b : a)}')
+      lmp_rate=$(best "$lmp_rate" "$(rate_of_lammps "$out/lammps-$mode-$particles.log")")
     done
     [[ $lmp_rate != 0 ]] || lmp_rate=""
     mem=$(awk -v k="$(cat "$out/bop-$mode-$particles.mem")" -v n="$particles" 'BEGIN {printf "%.0f", k * 1024 / n}')

@@ -93,9 +93,10 @@ TEST_CASE("the neighbour list holds every pair within range exactly once", "[cor
         REQUIRE(list.update(box, pts, 0.1));
         std::set<std::pair<std::uint32_t, std::uint32_t>> found;
         std::size_t duplicates = 0;
+        const NeighbourList::Pairs& pairs = list.pairs();
         for (std::size_t e = 0; e < list.entryCount(); ++e)
-            for (std::uint32_t k = list.first(e); k < list.first(e + 1); ++k) {
-                const std::uint32_t i = list.owner()[e], j = list.owner()[list.neighbours()[k]];
+            for (std::uint32_t k = pairs.start[e]; k < pairs.start[e + 1]; ++k) {
+                const std::uint32_t i = list.owner()[e], j = list.owner()[pairs.nbr[k]];
                 duplicates += !found.insert({std::min(i, j), std::max(i, j)}).second;
             }
         std::set<std::pair<std::uint32_t, std::uint32_t>> expected;
