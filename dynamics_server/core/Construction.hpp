@@ -38,11 +38,18 @@ class Construction {
 public:
     Construction(ConstructionParams params, std::vector<ConstructionEvent> timeline, int speciesCount);
 
-    // Commands (scripted by the timeline, or sent by a viewer between steps).
-    std::uint64_t seed(const Model& model, Particles& p, int species, const Eigen::Vector3d& position, long long step);
+    // Commands (scripted by the timeline, or sent by a viewer between steps). seed() adds the
+    // particle and returns its id; every process of a decomposed run calls it (in the same
+    // order), and only the one that owns the position passes add = true.
+    std::uint64_t seed(const Model& model, Particles& p, int species, const Eigen::Vector3d& position, long long step,
+                       bool add = true);
     Eigen::Vector3d defaultSeedPosition(const Model& model, int species) const;  // simulation units
     void setBirth(int species, bool on);
     bool birthOn(int species) const { return birth_[std::size_t(species)]; }
+    bool building() const;                                   // some species' birth is on
+    bool checkDue(long long step) const;                     // a birth/death check runs at this step
+    std::vector<ConstructionEvent> eventsAt(long long step) const;  // the timeline's, in order
+    int speciesCount() const { return int(birth_.size()) - 1; }
 
     // At the start of a step: the timeline's events for this step, then (every everySteps
     // steps, while some species' birth is on) deaths followed by births of every species whose
@@ -51,6 +58,7 @@ public:
 
     const ConstructionParams& params() const { return params_; }
     ConstructionCounts totals() const { return totals_; }
+    void addToTotals(const ConstructionCounts& c) { totals_.births += c.births; totals_.deaths += c.deaths; }
 
 private:
     std::size_t deaths(const Model& model, Particles& p, long long step);
@@ -60,6 +68,7 @@ private:
     std::vector<ConstructionEvent> timeline_;
     std::vector<char> birth_;
     ConstructionCounts totals_;
+    std::uint64_t seeds_ = 0;  // seeds so far (their ids count them)
 };
 
 // SplitMix64 of a combination of integers: the construction's only source of randomness.

@@ -15,11 +15,8 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 float ForceField::curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species) const {
     if (!model.map || !model.isSurface(species)) return 1.0f;
     const GradientMap& map = *model.map;
-    const Dims& d = map.dims();
     const double h = kR0 / map.r0Voxels;
-    const Eigen::Vector3i v = (x / h).array().floor().cast<int>().max(0).min(
-        Eigen::Array3i(d.nx - 1, d.ny - 1, d.nz - 1)).matrix();
-    return map.nearestSurface(d.index(v.x(), v.y(), v.z())).cpWeight;
+    return map.nearestSurface(map.voxelAt((x / h).array().floor().cast<int>().matrix())).cpWeight;
 }
 
 ForceField::ForceField(const Model& model)

@@ -9,6 +9,8 @@ namespace {
 
 constexpr std::size_t kProbeFields = 7;  // kind, active, x, y, z, k0, k1
 constexpr std::size_t kDragFields = 4;   // kind, species, beta_v, beta_tau
+constexpr std::size_t kSeedFields = 5;   // kind, species, x, y, z
+constexpr std::size_t kBirthFields = 3;  // kind, species, on
 
 }  // namespace
 
@@ -17,8 +19,12 @@ void encode(const Command& c, std::vector<double>& out) {
         const auto& p = c.probe;
         out.insert(out.end(), {double(int(c.kind)), p.active ? 1.0 : 0.0, p.position.x(), p.position.y(), p.position.z(),
                                p.params.k0, p.params.k1});
-    } else {
+    } else if (c.kind == Command::Kind::Drag) {
         out.insert(out.end(), {double(int(c.kind)), double(c.species), c.dragV, c.dragW});
+    } else if (c.kind == Command::Kind::Seed) {
+        out.insert(out.end(), {double(int(c.kind)), double(c.species), c.position.x(), c.position.y(), c.position.z()});
+    } else {
+        out.insert(out.end(), {double(int(c.kind)), double(c.species), c.on ? 1.0 : 0.0});
     }
 }
 
@@ -47,6 +53,18 @@ std::vector<Command> decode(const std::vector<double>& in) {
             c.dragV = in[k + 2];
             c.dragW = in[k + 3];
             k += kDragFields;
+        } else if (kind == double(int(Command::Kind::Seed))) {
+            need(kSeedFields, "seed");
+            c.kind = Command::Kind::Seed;
+            c.species = int(in[k + 1]);
+            c.position = Eigen::Vector3d(in[k + 2], in[k + 3], in[k + 4]);
+            k += kSeedFields;
+        } else if (kind == double(int(Command::Kind::Birth))) {
+            need(kBirthFields, "birth");
+            c.kind = Command::Kind::Birth;
+            c.species = int(in[k + 1]);
+            c.on = in[k + 2] != 0;
+            k += kBirthFields;
         } else {
             throw std::invalid_argument("command array: unknown command kind " + std::to_string(kind) + " at position " +
                                         std::to_string(k));

@@ -12,11 +12,15 @@ struct Command {
     enum class Kind : int {
         Probe = 1,  // probe on/off, position (simulation length units), k0, k1
         Drag = 2,   // drag of one species: beta_v (mass / time), beta_tau (inertia / time)
+        Seed = 3,   // a particle of one species at a position (simulation length units)
+        Birth = 4,  // births of one species on or off
     };
     Kind kind = Kind::Probe;
     core::ProbeState probe;       // Probe
-    int species = 1;              // Drag
+    int species = 1;              // Drag, Seed, Birth
     double dragV = 0, dragW = 0;  // Drag
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();  // Seed, simulation length units
+    bool on = false;              // Birth
 };
 
 // Flat form: per command [kind, then its fields]; decode() throws std::invalid_argument naming

@@ -1,5 +1,7 @@
 #include "DecomposedSimulation.hpp"
 
+#include "Packing.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,15 +18,10 @@ constexpr int kMigrateFields = 15;  // pos 3, vel 3, q 4, omega 3, species, id
 constexpr int kGhostFields = 8;     // pos 3, normal 3, species, id
 constexpr int kUpdateFields = 6;    // pos 3, normal 3
 
-double idBits(std::uint64_t id) {
-    double d;
-    std::memcpy(&d, &id, sizeof d);
-    return d;
-}
-std::uint64_t idOf(double d) {
-    std::uint64_t id;
-    std::memcpy(&id, &d, sizeof id);
-    return id;
+// The widest halo a run needs: the pair terms' list range, or the birth front of construction.
+double haloReach(const core::Model& model, const core::ForceField& field, const DecomposedOptions& o) {
+    const double front = o.construction ? o.construction->params().frontR0 : core::ConstructionParams{}.frontR0;
+    return std::max(field.listRange(), model.map || o.map ? front * core::kR0 : 0.0);
 }
 
 void packParticle(const core::Particles& p, std::size_t i, std::vector<double>& out) {
@@ -49,12 +46,24 @@ void unpackParticles(const std::vector<double>& in, core::Particles& p) {
 }  // namespace
 
 DecomposedSimulation::DecomposedSimulation(const CartComm& comm, std::shared_ptr<const core::Model> model,
-                                           const core::Particles& all)
-    : comm_(comm), model_(std::move(model)), field_(*model_), dec_(model_->box, comm.dims(), field_.listRange()),
-      sub_(*model_), drag_(*model_), range_(field_.listRange()) {
+                                           const core::Particles& all, DecomposedOptions options)
+    : comm_(comm), model_(std::move(model)), field_(*model_),
+      dec_(model_->box, comm.dims(), haloReach(*model_, field_, options)), sub_(*model_), drag_(*model_),
+      range_(field_.listRange()), step_(options.firstStep),
+      construction_(options.construction ? *options.construction
+                                         : core::Construction({}, {}, model_->speciesCount())),
+      mapSource_(std::move(options.map)) {
+    if (!mapSource_ && model_->map) {
+        GradientMap header = *model_->map;
+        header.occ = {}, header.nearest = {}, header.surface = {};
+        mapSource_ = MapSource{std::move(header), [map = model_->map](const shape::VoxelWindow& w) {
+                                   return shape::cropGradientMap(*map, w);
+                               }};
+    }
+    sub_.map = nullptr;
     sub_.box = dec_.subdomain(comm_.coords());
     for (std::size_t i = 0; i < all.size(); ++i) {
-        if (dec_.owner(all.pos[i]) != comm_.coords()) continue;
+        if (!mine(all.pos[i])) continue;
         const std::size_t k = p_.add(all.pos[i], all.species[i], all.id[i], all.q[i]);
         p_.q[k] = all.q[i];
         p_.normal[k] = all.normal[i];
@@ -65,6 +74,27 @@ DecomposedSimulation::DecomposedSimulation(const CartComm& comm, std::shared_ptr
     rebalance();
     forces(true);
     kinetic_ = core::kineticEnergy(sub_, p_);
+}
+
+void DecomposedSimulation::cropMap() {
+    if (!mapSource_) return;
+    const GradientMap& whole = mapSource_->header;
+    const double h = core::kR0 / whole.r0Voxels;
+    // Owned particles stray up to about half the skin out of the subdomain between rebuilds,
+    // ghosts (whose curvature weights the pair terms read) up to the list range beyond it;
+    // the trilinear rule reads one voxel further.
+    const double margin = 1.5 * range_ + 2 * h;
+    const shape::VoxelWindow w = shape::windowAround(whole.dims(), h, sub_.box.lo, sub_.box.hi, margin);
+    if (sub_.map && w.lo == window_.lo && w.hi == window_.hi) return;
+    window_ = w;
+    // The new window is made while the old one lives, so the force field, which notices a new
+    // map by its address, cannot mistake one for the other.
+    auto next = std::make_shared<const GradientMap>(mapSource_->crop(w));
+    sub_.map = std::move(next);
+}
+
+std::size_t DecomposedSimulation::mapBytes() const {
+    return sub_.map ? shape::gradientMapBytes(*sub_.map) : 0;
 }
 
 double DecomposedSimulation::imbalanceNow() const {
@@ -104,8 +134,9 @@ void DecomposedSimulation::rebalance() {
     }
     dec_.balance(histogram);
     sub_.box = dec_.subdomain(comm_.coords());
+    cropMap();
     migrateHome();
-    buildHalo();
+    buildHalo(range_);
     field_.requestRebuild();
     ++rebalances_;
 }
@@ -144,7 +175,7 @@ void DecomposedSimulation::wrapAndMigrate() {
     }
 }
 
-void DecomposedSimulation::buildHalo() {
+void DecomposedSimulation::buildHalo(double range) {
     halo_ = core::Halo{};
     stages_.clear();
     haloBytes_ = 0;
@@ -163,8 +194,8 @@ void DecomposedSimulation::buildHalo() {
             throw std::runtime_error("halo: more than 2^32 particles and ghosts on one rank; use more ranks");
         for (std::uint32_t s = 0; s < std::uint32_t(sources); ++s) {
             const double x = sourcePos(s)[a];
-            if (x < mine.lo[a] + range_) st.toLower.push_back(s);
-            if (x >= mine.hi[a] - range_) st.toUpper.push_back(s);
+            if (x < mine.lo[a] + range) st.toLower.push_back(s);
+            if (x >= mine.hi[a] - range) st.toUpper.push_back(s);
         }
         const auto pack = [&](const std::vector<std::uint32_t>& list, const Eigen::Vector3d& shift) {
             std::vector<double> out;
@@ -253,7 +284,11 @@ void DecomposedSimulation::apply(const Command& c) {
         return;
     }
     if (c.species < 1 || c.species > sub_.speciesCount())
-        throw std::invalid_argument("drag command: no species " + std::to_string(c.species));
+        throw std::invalid_argument("command: no species " + std::to_string(c.species));
+    if (c.kind == Command::Kind::Birth) {
+        construction_.setBirth(c.species, c.on);
+        return;
+    }
     if (!(c.dragV >= 0 && c.dragW >= 0)) throw std::invalid_argument("drag command: drags must be 0 or more");
     sub_.species[std::size_t(c.species)].dragV = c.dragV;
     sub_.species[std::size_t(c.species)].dragW = c.dragW;
@@ -262,8 +297,24 @@ void DecomposedSimulation::apply(const Command& c) {
 
 void DecomposedSimulation::step() {
     comm_.broadcast(commands_);  // rank 0's queue, the same on every rank
-    for (const Command& c : decode(commands_)) apply(c);
+    // Construction first, as a single process does it: the timeline's events, then seeds
+    // commanded, then a birth/death check when one is due.
+    std::vector<core::ConstructionEvent> events = construction_.eventsAt(step_);
+    for (const Command& c : decode(commands_)) {
+        if (c.kind != Command::Kind::Seed) {
+            apply(c);
+            continue;
+        }
+        if (c.species < 1 || c.species > sub_.speciesCount())
+            throw std::invalid_argument("seed command: no species " + std::to_string(c.species));
+        core::ConstructionEvent e;
+        e.step = step_;
+        e.species = c.species;
+        e.positionVoxels = c.position / (mapSource_ ? core::kR0 / mapSource_->header.r0Voxels : 1.0);
+        events.push_back(e);
+    }
     commands_.clear();
+    construct(std::move(events));
     core::kickDrift(sub_, drag_, p_, false);
     const bool holds = field_.listHolds(sub_, p_);
     const auto t0 = std::chrono::steady_clock::now();
@@ -272,7 +323,7 @@ void DecomposedSimulation::step() {
         if (imbalanceNow() > 1.1) {
             rebalance();
         } else {
-            buildHalo();
+            buildHalo(range_);
             field_.requestRebuild();
         }
         ++rebuilds_;

@@ -14,6 +14,15 @@
 // Balance: the cut planes start uniform and move to the particle-count quantiles at start-up and
 // whenever a rebuild finds the most loaded rank more than 10% above the mean.
 //
+// Construction (births and deaths, paper §3.6): every rank checks the map voxels of its own
+// subdomain against its particles and a halo widened to the birth front; the candidates and
+// death marks are gathered so that every rank makes the same global choice (caps, conflicts)
+// as a single process would, and the owner of each position adds the particle
+// (DecomposedConstruction.cpp). Ids stay unique by construction (core/ConstructionSteps.hpp).
+//
+// Gradient map: each rank holds the window of its subdomain plus a margin
+// (shape/GradientMapCrop.hpp), taken again from the MapSource when balancing moves it.
+//
 // Halo: staged along the split axes, x then y then z; each stage also forwards the ghosts that
 // earlier stages brought, so edges and corners arrive without extra messages. Axes with one rank
 // need no messages: the core makes the periodic images itself.
@@ -21,18 +30,36 @@
 #include "Commands.hpp"
 #include "DecomposedRun.hpp"
 #include "Decomposition.hpp"
+#include "core/Construction.hpp"
 #include "core/ForceField.hpp"
 #include "core/Integrator.hpp"
+#include "shape/GradientMapCrop.hpp"
 
+#include <functional>
 #include <memory>
+#include <optional>
 
 namespace bop::parallel {
+
+// Where a rank gets its window of the gradient map: the whole map's grid and r0 (arrays
+// empty) and a function returning any window of it (read from the cache file by bop-server).
+struct MapSource {
+    GradientMap header;
+    std::function<GradientMap(const shape::VoxelWindow&)> crop;
+};
+
+struct DecomposedOptions {
+    std::optional<core::Construction> construction;  // timeline and parameters; none: no timeline
+    long long firstStep = 0;                          // step number of the initial state
+    std::optional<MapSource> map;                     // none: windows of model->map (kept whole)
+};
 
 class DecomposedSimulation {
 public:
     // model: the whole scene's model; all: every particle (the same on every rank; each rank
     // keeps those in its subdomain). Computes the first forces.
-    DecomposedSimulation(const CartComm& comm, std::shared_ptr<const core::Model> model, const core::Particles& all);
+    DecomposedSimulation(const CartComm& comm, std::shared_ptr<const core::Model> model, const core::Particles& all,
+                         DecomposedOptions options = {});
 
     void step();
     // On rank 0: queue a command; every rank applies it at the start of the next step (rank 0
@@ -45,9 +72,13 @@ public:
 
     const core::Particles& particles() const { return p_; }  // this rank's
     const core::Halo& halo() const { return halo_; }
+    const core::Model& subModel() const { return sub_; }  // the model over this subdomain, its map window
     const Decomposition& decomposition() const { return dec_; }
     core::ProbeState& probe() { return probe_; }
-    long long stepCount() const { return step_; }
+    long long stepCount() const { return step_; }  // step number (firstStep + steps done)
+    const core::Construction& construction() const { return construction_; }
+    core::ConstructionCounts built() const { return built_; }  // births and deaths of the last step, all ranks
+    std::size_t mapBytes() const;  // this rank's window of the gradient map
     std::size_t haloBytesPerStep() const { return haloBytes_; }  // sent by this rank, last update
     std::size_t migrations() const { return migrations_; }       // particles this rank sent away
     std::size_t rebuilds() const { return rebuilds_; }           // halo and list rebuilds
@@ -71,7 +102,11 @@ private:
     // Cut planes to the particle-count quantiles of every axis, then particles to their new
     // ranks (as many hops as needed) and a new halo. Collective.
     void rebalance();
-    void buildHalo();
+    void buildHalo(double range);
+    void construct(std::vector<core::ConstructionEvent> events);  // DecomposedConstruction.cpp
+    Eigen::Vector3d defaultSeed(int species) const;              // collective
+    void cropMap();                                              // the window of sub_.box, if it moved
+    bool mine(const Eigen::Vector3d& x) const { return dec_.owner(x) == comm_.coords(); }
     void updateHalo();
     void forces(bool energies);
     void apply(const Command& command);
@@ -96,6 +131,10 @@ private:
     std::size_t rebalances_ = 0;
     std::vector<double> out_[2], in_[2];  // message buffers, kept to avoid fresh pages every step
     std::vector<double> commands_;        // queued on rank 0, encoded
+    core::Construction construction_;
+    core::ConstructionCounts built_;
+    std::optional<MapSource> mapSource_;
+    shape::VoxelWindow window_;
 };
 
 }  // namespace bop::parallel

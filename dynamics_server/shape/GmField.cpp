@@ -40,11 +40,15 @@ Eigen::Vector3d GmField::ruleAtVoxel(std::size_t v, ParticleKind kind, int speci
 GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& position,
                          const Eigen::Vector3d& normal) const {
     const Dims& dm = map_.dims();
-    const Eigen::Vector3d pVox = position / h_;
+    const Dims& whole = map_.wholeDims();
+    const Eigen::Vector3d pWhole = position / h_;
+    // Keep the evaluation point on the grid; a particle beyond the whole map's grid is pulled
+    // back by a spring. A crop's margin keeps its particles inside it (shape/GradientMapCrop.hpp).
+    const Eigen::Vector3d wholeHi(whole.nx - 0.5, whole.ny - 0.5, whole.nz - 0.5);
+    const Eigen::Vector3d back = pWhole.cwiseMax(Eigen::Vector3d::Constant(0.5)).cwiseMin(wholeHi) - pWhole;
+    const Eigen::Vector3d pVox = pWhole - map_.origin.cast<double>();  // this map's voxel coordinates
     const Eigen::Vector3d hi(dm.nx - 0.5, dm.ny - 0.5, dm.nz - 0.5);
-    // Keep the evaluation point on the grid; a particle beyond it is pulled back by a spring.
     const Eigen::Vector3d q = pVox.cwiseMax(Eigen::Vector3d::Constant(0.5)).cwiseMin(hi);
-    const Eigen::Vector3d back = q - pVox;
 
     Eigen::Vector3d f = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero();
     const bool nearest = interp_ == Interpolation::Nearest || (interp_ == Interpolation::Mixed && kind == ParticleKind::Surface);

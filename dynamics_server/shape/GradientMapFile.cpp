@@ -1,4 +1,5 @@
 #include "GradientMapFile.hpp"
+#include "GradientMapFileFormat.hpp"
 
 #include "bop/common/Error.hpp"
 #include "bop/common/Npy.hpp"
@@ -9,11 +10,8 @@
 #include <iterator>
 
 namespace bop::shape {
+using namespace gmfile;
 namespace {
-
-constexpr char kMagic[8] = {'B', 'O', 'P', 'G', 'M', 'A', 'P', '\0'};
-constexpr std::uint32_t kVersion = 1;
-constexpr std::size_t kMaxVoxels = std::size_t(1) << 32;  // nearest indices are u32
 
 struct Writer {
     std::vector<unsigned char> buf;
@@ -50,20 +48,7 @@ struct Reader {
     }
 };
 
-struct SurfaceRecord {  // 36 bytes on disk
-    std::uint32_t voxel;
-    std::uint8_t species, pad[3];
-    float normal[3], meanCurvature, gaussCurvature, kappa, cpWeight;
-};
-static_assert(sizeof(SurfaceRecord) == 36);
-
 }  // namespace
-
-static std::uint64_t hashBytes(const unsigned char* p, std::size_t n) {
-    std::uint64_t h = 1469598103934665603ULL;  // FNV-1a, 64 bit
-    for (std::size_t i = 0; i < n; ++i) { h ^= p[i]; h *= 1099511628211ULL; }
-    return h;
-}
 
 std::uint64_t hashText(const std::string& text) {
     return hashBytes(reinterpret_cast<const unsigned char*>(text.data()), text.size());
@@ -113,7 +98,7 @@ std::optional<std::vector<GradientMap>> readGradientMaps(const std::string& path
     std::memcpy(&stored, buf.data() + buf.size() - 8, 8);
     if (stored != hashBytes(buf.data(), buf.size() - 8)) throw Error(path, "gradient-map file is corrupt (checksum mismatch); rebuild it with bop-shape");
     const auto frames = r.get<std::uint32_t>();
-    if (frames == 0 || frames > 4096) throw Error(path, "implausible frame count " + std::to_string(frames));
+    if (frames == 0 || frames > kMaxFrames) throw Error(path, "implausible frame count " + std::to_string(frames));
     std::vector<GradientMap> out(frames);
     for (GradientMap& m : out) {
         Dims d{r.get<std::int32_t>(), r.get<std::int32_t>(), r.get<std::int32_t>()};

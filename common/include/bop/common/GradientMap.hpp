@@ -18,7 +18,7 @@ inline int volumeSpeciesOfBag(int bag) { return 2 * bag; }
 inline bool isSurfaceSpecies(int species) { return species % 2 == 1; }
 
 struct SurfaceVoxel {
-    std::uint32_t voxel = 0;       // linear voxel index (Dims::index)
+    std::uint32_t voxel = 0;       // linear voxel index in the whole map (wholeDims().index)
     std::uint8_t species = 0;      // surface species of this voxel (odd)
     Eigen::Vector3f normal{0, 0, 1};  // outward unit normal of the smoothed surface
     float meanCurvature = 0;       // H, 1/voxel (> 0 on convex parts)
@@ -33,14 +33,32 @@ struct GradientMap {
     int bagCount = 1;                   // nested bags, outer to inner
     std::vector<std::uint8_t> occ;      // species that should occupy each voxel (0 = outside)
     std::vector<std::uint32_t> nearest; // per voxel: index into `surface` of the nearest surface voxel
-    std::vector<SurfaceVoxel> surface;  // every surface voxel, in voxel-index order
+    std::vector<SurfaceVoxel> surface;  // every surface voxel the voxels name, in voxel-index order
+    // A window of a larger map (one rank's subdomain plus a margin, shape/GradientMapCrop.hpp):
+    // voxel (0,0,0) of this map is voxel `origin` of the whole map, of size `whole`. A whole
+    // map has origin 0 and `whole` empty. grid.originMm stays the whole map's.
+    Eigen::Vector3i origin = Eigen::Vector3i::Zero();
+    Dims whole;
 
     const Dims& dims() const { return grid.dims; }
+    const Dims& wholeDims() const { return whole.count() ? whole : grid.dims; }
     const SurfaceVoxel& nearestSurface(std::size_t v) const { return surface[nearest[v]]; }
+    // Coordinates and linear index of voxel v in the whole map.
+    Eigen::Vector3i wholeCoords(std::size_t v) const { return dims().coords(v) + origin; }
+    std::uint64_t wholeIndex(std::size_t v) const {
+        const Eigen::Vector3i c = wholeCoords(v);
+        return wholeDims().index(c.x(), c.y(), c.z());
+    }
+    // This map's voxel at whole-map coordinates c, clamped into this map.
+    std::size_t voxelAt(const Eigen::Vector3i& c) const {
+        const Dims& d = dims();
+        const Eigen::Vector3i l = (c - origin).cwiseMax(0).cwiseMin(Eigen::Vector3i(d.nx - 1, d.ny - 1, d.nz - 1));
+        return d.index(l.x(), l.y(), l.z());
+    }
 
     // d(v): vector from the centre of v to the centre of its nearest surface voxel, voxels.
     Eigen::Vector3i delta(std::size_t v) const {
-        return dims().coords(nearestSurface(v).voxel) - dims().coords(v);
+        return wholeDims().coords(nearestSurface(v).voxel) - wholeCoords(v);
     }
     // Species of the nearest surface (paper §3.4 "species of the nearest surface").
     int nearestSpecies(std::size_t v) const { return nearestSurface(v).species; }

@@ -1,0 +1,68 @@
+#pragma once
+// The pieces of a construction check (paper §3.6, physics.md §7), split so that a decomposed run
+// can do each piece on its own ranks and choose globally in between: a single process calls
+// them on all its particles, a rank calls them on its own particles plus the copies of its
+// neighbours' (its halo) and gathers what they return. Every choice is ordered by hashes of
+// (seed, step, species, voxel or id), so both give the same births and deaths.
+#include "Construction.hpp"
+
+#include <functional>
+
+namespace bop::core {
+
+// What one check sees: seen.pos/species/id of particles [0, owned) are the caller's own, the
+// rest copies of particles others own. `box` bounds the caller's region (periodic axes wrap).
+struct ConstructionView {
+    const Model& model;
+    const Box& box;
+    const Particles& seen;
+    std::size_t owned;
+};
+
+// Ids: a birth is (1 << 63) | (step + 1) << 32 | whole-map voxel index, one candidate per voxel
+// and step; a seed is (step + 1) << 32 | n, n counting the run's seeds. Particles a scene or a
+// file brings keep theirs.
+std::uint64_t birthId(long long step, std::uint64_t voxel);
+std::uint64_t seedId(long long step, std::uint64_t seedNumber);
+
+struct DeathMark {
+    std::uint64_t key = 0;  // hash order in which the cap takes them
+    std::uint64_t id = 0;   // the particle that would die
+    int species = 0;
+};
+// Own particles that have a partner closer than deathR0 and lose to it.
+std::vector<DeathMark> markDeaths(const ConstructionParams& params, const ConstructionView& view, long long step);
+// The ids that die (sorted): marks of the whole model in key order, at most the cap of each
+// species; count[s] is the number of particles of species s in the whole model.
+std::vector<std::uint64_t> chooseDeaths(const ConstructionParams& params, std::vector<DeathMark> marks,
+                                        const std::vector<std::size_t>& count);
+
+struct BirthCandidate {
+    Eigen::Vector3d pos = Eigen::Vector3d::Zero();  // simulation length units
+    std::uint64_t key = 0;                           // priority: the smaller key wins
+    std::uint64_t voxel = 0;                         // whole-map voxel index
+};
+// Unblocked front voxels of `species` in the map whose candidate position `mine` accepts.
+std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, const ConstructionView& view,
+                                            int species, long long step,
+                                            const std::function<bool(const Eigen::Vector3d&)>& mine);
+// Winners among the candidates of the whole model (any order): no conflicting candidate
+// (closer than sameR0) has a smaller key; at most the cap for `have` particles of the species;
+// in key order. `box`: the whole model's box.
+std::vector<BirthCandidate> chooseBirths(const ConstructionParams& params, const Box& box,
+                                         std::vector<BirthCandidate> candidates, std::size_t have);
+// Adds a born particle (oriented by the map's normal for a surface species); the map must hold
+// the candidate's voxel.
+void addBirth(const Model& model, Particles& p, int species, const BirthCandidate& c, long long step);
+
+// The default seed of a species among the map voxels whose centre `mine` accepts: a surface
+// voxel chosen by the hash, or the deepest volume voxel. (key, position) of the best one, the
+// smaller key being better; nullopt if none.
+struct SeedChoice {
+    std::pair<long long, std::uint64_t> key;  // (-depth^2 or 0, hash)
+    Eigen::Vector3d pos;                      // voxel centre, simulation length units
+};
+std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Model& model, int species,
+                                      const std::function<bool(const Eigen::Vector3d&)>& mine);
+
+}  // namespace bop::core

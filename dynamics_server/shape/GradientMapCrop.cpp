@@ -1,0 +1,64 @@
+#include "GradientMapCrop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace bop::shape {
+
+VoxelWindow windowAround(const Dims& whole, double h, const Eigen::Vector3d& regionLo,
+                         const Eigen::Vector3d& regionHi, double margin) {
+    const Eigen::Vector3i n(whole.nx, whole.ny, whole.nz);
+    VoxelWindow w;
+    for (int a = 0; a < 3; ++a) {
+        // Clamp in floating point before converting: an open subdomain face may be far away.
+        const double lo = std::clamp(std::floor((regionLo[a] - margin) / h), 0.0, double(n[a] - 1));
+        const double hi = std::clamp(std::ceil((regionHi[a] + margin) / h), lo + 1, double(n[a]));
+        w.lo[a] = int(lo);
+        w.hi[a] = int(hi);
+    }
+    return w;
+}
+
+GradientMap cropGradientMap(const GradientMap& whole, const VoxelWindow& window) {
+    if (whole.whole.count()) throw std::invalid_argument("cropGradientMap: the map is already a crop");
+    const Dims& d = whole.dims();
+    const Dims cd = window.dims();
+    if ((window.lo.array() < 0).any() || window.hi.x() > d.nx || window.hi.y() > d.ny || window.hi.z() > d.nz ||
+        cd.nx < 1 || cd.ny < 1 || cd.nz < 1)
+        throw std::invalid_argument("cropGradientMap: window outside the map or empty");
+    GradientMap out;
+    out.grid = whole.grid;
+    out.grid.dims = cd;
+    out.r0Voxels = whole.r0Voxels;
+    out.bagCount = whole.bagCount;
+    out.origin = window.lo;
+    out.whole = d;
+    out.occ.resize(cd.count());
+    out.nearest.resize(cd.count());
+    // Surface records the window names, kept in whole-map order so the crop reads like a whole map.
+    std::vector<std::uint32_t> named;
+    for (int k = 0; k < cd.nz; ++k)
+        for (int j = 0; j < cd.ny; ++j)
+            for (int i = 0; i < cd.nx; ++i) {
+                const std::size_t src = d.index(i + window.lo.x(), j + window.lo.y(), k + window.lo.z());
+                const std::size_t dst = cd.index(i, j, k);
+                out.occ[dst] = whole.occ[src];
+                out.nearest[dst] = whole.nearest[src];
+                named.push_back(whole.nearest[src]);
+            }
+    std::sort(named.begin(), named.end());
+    named.erase(std::unique(named.begin(), named.end()), named.end());
+    out.surface.reserve(named.size());
+    for (std::uint32_t s : named) out.surface.push_back(whole.surface[s]);
+    for (auto& n : out.nearest)
+        n = std::uint32_t(std::lower_bound(named.begin(), named.end(), n) - named.begin());
+    return out;
+}
+
+std::size_t gradientMapBytes(const GradientMap& map) {
+    return map.occ.size() * sizeof(map.occ[0]) + map.nearest.size() * sizeof(map.nearest[0]) +
+           map.surface.size() * sizeof(SurfaceVoxel);
+}
+
+}  // namespace bop::shape
