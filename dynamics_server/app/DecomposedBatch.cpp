@@ -3,6 +3,7 @@
 #include "BatchReport.hpp"
 #include "ExtendedXyz.hpp"
 #include "SimulationSetup.hpp"
+#include "shape/GradientMapFile.hpp"
 #include "parallel/DecomposedRun.hpp"
 
 #include <spdlog/spdlog.h>
@@ -17,10 +18,11 @@ namespace fs = std::filesystem;
 
 namespace bop::app {
 
-int runDecomposedBatch(const Scene& scene, const core::Particles& particles, long long firstStep,
-                       const BatchOptions& o) {
+int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOptions& o) {
     const core::Model& model = *scene.model;
-    parallel::DecomposedRun run(scene.model, particles);
+    const long long firstStep = start.firstStep;
+    parallel::DecomposedRun run(scene.model, start.particles, std::move(start.options));
+    start.particles = {};
     run.setProbe(scene.probe);
     run.refreshForces();
     const bool root = run.rank() == 0;
@@ -28,6 +30,7 @@ int runDecomposedBatch(const Scene& scene, const core::Particles& particles, lon
     const parallel::RunCounters c0 = run.counters();
     spdlog::info("decomposed over {} ranks, grid {} x {} x {}; particles per rank max/mean {:.3f} with uniform cuts, "
                  "{:.3f} balanced", run.size(), dims[0], dims[1], dims[2], c0.initialImbalance, c0.imbalance);
+    if (c0.mapBytesMax > 0) spdlog::info("gradient map: at most {:.1f} MB per rank (its subdomain's window)", c0.mapBytesMax / 1e6);
     run.setEnergyEvery(std::numeric_limits<long long>::max());
     const std::vector<std::string> names = speciesNames(model);
     const std::string trajectory = o.outDir + "/trajectory.xyz";
@@ -51,12 +54,15 @@ int runDecomposedBatch(const Scene& scene, const core::Particles& particles, lon
         if (s % o.reportEvery == 0 || s == o.steps) {
             run.refreshForces();  // the same forces again, now with the energies
             const parallel::Totals t = run.totals();
+            const parallel::RunCounters c = run.counters();
             const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             if (root)
                 std::cout << std::fixed << std::setprecision(1) << "step " << firstStep + s << " ("
                           << 100.0 * double(s) / double(o.steps) << "%)  particles " << t.particles << "  E_kin "
                           << std::setprecision(4) << t.kinetic << "  E_pair " << t.pairEnergy << "  "
                           << std::setprecision(1) << double(s) / std::max(elapsed, 1e-9) << " steps/s" << std::endl;
+            if (root && (c.births > 0 || c.deaths > 0))
+                std::cout << "  construction so far: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths\n";
         }
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -80,6 +86,19 @@ int runDecomposedBatch(const Scene& scene, const core::Particles& particles, lon
               << std::setprecision(1) << 100.0 * c.exchangeSecondsMax / std::max(seconds, 1e-12) << "% of the run on the busiest rank\n"
               << "E_kin " << std::setprecision(5) << t.kinetic << ", E_pair " << t.pairEnergy << ", virial " << t.virial
               << "\n";
+    if (c.mapBytesMax > 0)
+        std::cout << "gradient map: at most " << std::setprecision(1) << c.mapBytesMax / 1e6 << " MB per rank\n";
+    if (c.births > 0 || c.deaths > 0)
+        std::cout << "construction: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths\n";
+    if (scene.shape && !o.cache.empty())
+        if (auto maps = shape::readGradientMaps(o.cache, shape::hashText(scene.shape->canonical))) {
+            core::Model whole = model;
+            whole.map = std::make_shared<GradientMap>(std::move(maps->front()));
+            const Fidelity f = measureFidelity(whole, all);
+            std::cout << std::setprecision(2) << "shape fidelity: " << 100 * f.surfaceInOwnVoxels << "% of surface particles in their surface voxels, "
+                      << 100 * f.volumeInOwnVoxels << "% of volume particles in their volume voxels, median normal angle "
+                      << f.medianNormalAngleDeg << " deg\n";
+        }
     spdlog::info("final state: {}{}", finalFile, o.snapshotEvery > 0 ? ", trajectory: " + trajectory : "");
     return 0;
 }

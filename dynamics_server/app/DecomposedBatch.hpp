@@ -3,6 +3,7 @@
 // over a Cartesian grid of subdomains (parallel/), stepped, and reported from rank 0 with the
 // same summary line as a single-process run plus the decomposition's own figures.
 #include "SceneConfig.hpp"
+#include "SimulationSetup.hpp"
 
 #include <string>
 
@@ -11,10 +12,10 @@ namespace bop::app {
 struct BatchOptions {
     long long steps = 0, snapshotEvery = 0, reportEvery = 1;
     std::string outDir;  // final.xyz and trajectory.xyz go here (written by rank 0)
+    std::string cache;   // the gradient-map cache (rank 0 reads it whole at the end for the fidelity figures)
 };
 
-// Collective: every rank calls it with the same scene and particles. Returns the exit code.
-int runDecomposedBatch(const Scene& scene, const core::Particles& particles, long long firstStep,
-                       const BatchOptions& options);
+// Collective: every rank calls it with the same scene and start. Returns the exit code.
+int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOptions& options);
 
 }  // namespace bop::app

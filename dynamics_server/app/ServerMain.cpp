@@ -61,15 +61,14 @@ int run(int argc, char** argv) {
         spdlog::warn("paper mode: LJ truncated at {} r0; bulk material collapses with this cutoff (docs/dynamics.md)",
                      model.ljParams.rCutR0);
     const auto t00 = std::chrono::steady_clock::now();
-    std::unique_ptr<core::Simulation> simPtr = app::startSimulation(scene, cache, restart, [](const std::string& m) { spdlog::info("{}", m); });
-    core::Simulation& sim = *simPtr;
+    const auto progress = [](const std::string& m) { spdlog::info("{}", m); };
     if (ranks > 1) {
-        if (!scene.timeline.empty() && restart.empty())
-            throw Error(scenePath, "construction timelines run on one rank so far: build the bag with -np 1, then run "
-                                   "more ranks with --restart OUT/final.xyz");
-        return app::runDecomposedBatch(scene, sim.particles(), sim.stats().step,
-                                       {steps, snapshotEvery, reportEvery, outDir});
+        app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
+                                                          parallel::MpiSession::barrier, progress);
+        return app::runDecomposedBatch(scene, std::move(start), {steps, snapshotEvery, reportEvery, outDir, cache});
     }
+    std::unique_ptr<core::Simulation> simPtr = app::startSimulation(scene, cache, restart, progress);
+    core::Simulation& sim = *simPtr;
     sim.refreshForces();  // set-up: the first neighbour list and forces, outside the timed steps
     sim.resetTimes();
     spdlog::info("ready in {:.2f} s: {} particles at step {}", std::chrono::duration<double>(std::chrono::steady_clock::now() - t00).count(),

@@ -1,7 +1,9 @@
 #include "SimulationSetup.hpp"
 
 #include "ExtendedXyz.hpp"
-
+#include "shape/GradientMapFile.hpp"
+#include "shape/GradientMapFileView.hpp"
+#include "bop/common/Error.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,27 +16,60 @@ std::vector<std::string> speciesNames(const core::Model& model) {
     return names;
 }
 
+namespace {
+
+// The box around a map of `dims` voxels, and the probe's start in simulation units.
+void placeInMap(Scene& scene, const GradientMap& map) {
+    const Dims& d = map.wholeDims();
+    const double h = core::kR0 / map.r0Voxels;
+    scene.model->box.lo.setZero();
+    scene.model->box.hi = Eigen::Vector3d(d.nx, d.ny, d.nz) * h;
+    if (scene.probePositionVoxels) scene.probe.position = *scene.probePositionVoxels * h;
+}
+
+core::Particles initialParticles(const Scene& scene, const std::string& restart, long long& firstStep) {
+    firstStep = 0;
+    if (!restart.empty()) {
+        XyzFrame f = readExtendedXyz(restart, speciesNames(*scene.model));
+        firstStep = f.info.step;
+        return std::move(f.particles);
+    }
+    return scene.bulk ? bulkLattice(scene) : core::Particles{};
+}
+
+}  // namespace
+
+DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const std::string& restart, bool root,
+                                const std::function<void()>& waitForAll, const shape::ProgressFn& progress) {
+    DecomposedStart s;
+    if (scene.shape) {
+        if (cache.empty()) throw Error("--cache", "a run on several ranks reads the gradient map from its cache file");
+        const std::uint64_t key = shape::hashText(scene.shape->canonical);
+        if (root && !shape::GradientMapFileView::open(cache, key))
+            shape::loadOrBuildShape(*scene.shape, cache, true, progress);  // builds and writes; the map is let go
+        waitForAll();
+        auto view = shape::GradientMapFileView::open(cache, key);
+        if (!view) throw Error(cache, "gradient-map cache not found by this rank: put --cache on a filesystem every rank sees");
+        auto shared = std::make_shared<const shape::GradientMapFileView>(std::move(*view));
+        placeInMap(scene, shared->header(0));
+        s.options.map = parallel::MapSource{shared->header(0), [shared](const shape::VoxelWindow& w) { return shared->crop(0, w); }};
+    }
+    s.particles = initialParticles(scene, restart, s.firstStep);
+    s.options.firstStep = s.firstStep;
+    s.options.construction = core::Construction(scene.construction, scene.timeline, scene.model->speciesCount());
+    return s;
+}
+
 std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart,
                                                   const shape::ProgressFn& progress) {
     core::Model& model = *scene.model;
     if (scene.shape) {
         shape::ShapeBuild maps = shape::loadOrBuildShape(*scene.shape, cache, false, progress);
         model.map = std::make_shared<GradientMap>(std::move(maps.frames.front()));
-        const Dims& d = model.map->dims();
-        const double h = core::kR0 / model.map->r0Voxels;
-        model.box.lo.setZero();
-        model.box.hi = Eigen::Vector3d(d.nx, d.ny, d.nz) * h;
-        if (scene.probePositionVoxels) scene.probe.position = *scene.probePositionVoxels * h;
+        placeInMap(scene, *model.map);
     }
-    core::Particles particles;
     long long firstStep = 0;
-    if (!restart.empty()) {
-        XyzFrame f = readExtendedXyz(restart, speciesNames(model));
-        particles = std::move(f.particles);
-        firstStep = f.info.step;
-    } else if (scene.bulk) {
-        particles = bulkLattice(scene);
-    }
+    core::Particles particles = initialParticles(scene, restart, firstStep);
     auto sim = std::make_unique<core::Simulation>(
         scene.model, std::move(particles), core::Construction(scene.construction, scene.timeline, model.speciesCount()),
         firstStep);

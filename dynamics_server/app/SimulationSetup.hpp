@@ -5,6 +5,7 @@
 #include "SceneConfig.hpp"
 
 #include "core/Simulation.hpp"
+#include "parallel/DecomposedOptions.hpp"
 #include "shape/ShapeBuilder.hpp"
 
 #include <memory>
@@ -16,6 +17,18 @@ namespace bop::app {
 // progress: messages while the map is built.
 std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart,
                                                   const shape::ProgressFn& progress = {});
+
+// The same start for a decomposed run (every rank calls it), without holding the whole map:
+// rank 0 checks the cache and builds it if missing or stale while the others wait
+// (waitForAll), then every rank reads only the map windows it needs from the cache file, which
+// must therefore lie on a filesystem every rank sees.
+struct DecomposedStart {
+    core::Particles particles;
+    long long firstStep = 0;
+    parallel::DecomposedOptions options;
+};
+DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const std::string& restart, bool root,
+                                const std::function<void()>& waitForAll, const shape::ProgressFn& progress = {});
 
 // Species names by number (index 0 unused), as snapshots write them.
 std::vector<std::string> speciesNames(const core::Model& model);

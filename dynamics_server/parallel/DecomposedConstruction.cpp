@@ -122,9 +122,14 @@ void DecomposedSimulation::construct(std::vector<core::ConstructionEvent> events
     }
     if (!changed) return;
     construction_.addToTotals(built_);
-    // The particles changed: new halo, new list, forces for the newborn (as a single process does).
-    buildHalo(range_);
-    field_.requestRebuild();
+    // The particles changed: new halo (and cut planes, as a growing bag needs them), new list,
+    // forces for the newborn (as a single process does).
+    if (imbalanceNow() > 1.1) {
+        rebalance();
+    } else {
+        buildHalo(range_);
+        field_.requestRebuild();
+    }
     forces(true);
 }
 

@@ -9,12 +9,13 @@ namespace bop::parallel {
 struct DecomposedRun::Impl {
     CartComm comm;
     DecomposedSimulation sim;
-    Impl(std::shared_ptr<const core::Model> model, const core::Particles& all)
-        : comm(MPI_COMM_WORLD, model->box), sim(comm, model, all) {}
+    Impl(std::shared_ptr<const core::Model> model, const core::Particles& all, DecomposedOptions options)
+        : comm(MPI_COMM_WORLD, model->box), sim(comm, model, all, std::move(options)) {}
 };
 
-DecomposedRun::DecomposedRun(std::shared_ptr<const core::Model> model, const core::Particles& all)
-    : impl_(std::make_unique<Impl>(std::move(model), all)) {}
+DecomposedRun::DecomposedRun(std::shared_ptr<const core::Model> model, const core::Particles& all,
+                             DecomposedOptions options)
+    : impl_(std::make_unique<Impl>(std::move(model), all, std::move(options))) {}
 DecomposedRun::~DecomposedRun() = default;
 
 void DecomposedRun::step() { impl_->sim.step(); }
@@ -31,11 +32,12 @@ RunCounters DecomposedRun::counters() const {
     const auto& s = impl_->sim;
     const std::vector<double> all = impl_->comm.allGather(
         {double(s.haloBytesPerStep()), double(s.migrations()), double(s.rebuilds()), double(s.particles().size()),
-         s.exchangeSeconds()});
+         s.exchangeSeconds(), double(s.mapBytes())});
     RunCounters c;
     double most = 0, sum = 0;
-    for (std::size_t r = 0; r < all.size(); r += 5) {
+    for (std::size_t r = 0; r < all.size(); r += 6) {
         c.exchangeSecondsMax = std::max(c.exchangeSecondsMax, all[r + 4]);
+        c.mapBytesMax = std::max(c.mapBytesMax, all[r + 5]);
         c.haloBytesPerStep += all[r];
         c.migrations += all[r + 1];
         c.rebuilds = all[r + 2];
@@ -45,6 +47,8 @@ RunCounters DecomposedRun::counters() const {
     c.imbalance = sum > 0 ? most * double(size()) / sum : 1.0;
     c.initialImbalance = s.initialImbalance();
     c.rebalances = double(s.rebalances());
+    c.births = double(s.construction().totals().births);
+    c.deaths = double(s.construction().totals().deaths);
     return c;
 }
 

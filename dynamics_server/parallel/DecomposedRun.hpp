@@ -2,6 +2,7 @@
 // A decomposed run over MPI_COMM_WORLD for tools outside parallel/ (no <mpi.h> here): every rank
 // constructs it with the whole scene's model and particles, steps it, and reads reductions
 // that are the same on every rank. Collective: every call must be made on every rank.
+#include "DecomposedOptions.hpp"
 #include "Decomposition.hpp"
 #include "core/ForceField.hpp"
 #include "core/Particles.hpp"
@@ -26,11 +27,13 @@ struct RunCounters {         // summed over ranks, identical on every rank
     double exchangeSecondsMax = 0;  // the most time one rank spent exchanging (halo, migration, votes)
     double initialImbalance = 1;    // imbalance with uniform cuts, before the first balancing
     double rebalances = 0;          // times the cut planes moved (start-up included)
+    double mapBytesMax = 0;         // the largest window of the gradient map one rank holds, bytes
+    double births = 0, deaths = 0;  // construction so far
 };
 
 class DecomposedRun {
 public:
-    DecomposedRun(std::shared_ptr<const core::Model> model, const core::Particles& all);
+    DecomposedRun(std::shared_ptr<const core::Model> model, const core::Particles& all, DecomposedOptions options = {});
     ~DecomposedRun();
 
     void step();

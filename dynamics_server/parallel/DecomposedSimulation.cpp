@@ -62,6 +62,8 @@ DecomposedSimulation::DecomposedSimulation(const CartComm& comm, std::shared_ptr
     }
     sub_.map = nullptr;
     sub_.box = dec_.subdomain(comm_.coords());
+    cropMap();
+    field_ = core::ForceField(sub_);  // with the map window: the pair terms' curvature weights need to know of a map
     for (std::size_t i = 0; i < all.size(); ++i) {
         if (!mine(all.pos[i])) continue;
         const std::size_t k = p_.add(all.pos[i], all.species[i], all.id[i], all.q[i]);

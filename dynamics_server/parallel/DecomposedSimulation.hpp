@@ -28,31 +28,16 @@
 // need no messages: the core makes the periodic images itself.
 #include "Comm.hpp"
 #include "Commands.hpp"
+#include "DecomposedOptions.hpp"
 #include "DecomposedRun.hpp"
 #include "Decomposition.hpp"
-#include "core/Construction.hpp"
 #include "core/ForceField.hpp"
 #include "core/Integrator.hpp"
-#include "shape/GradientMapCrop.hpp"
 
-#include <functional>
 #include <memory>
 #include <optional>
 
 namespace bop::parallel {
-
-// Where a rank gets its window of the gradient map: the whole map's grid and r0 (arrays
-// empty) and a function returning any window of it (read from the cache file by bop-server).
-struct MapSource {
-    GradientMap header;
-    std::function<GradientMap(const shape::VoxelWindow&)> crop;
-};
-
-struct DecomposedOptions {
-    std::optional<core::Construction> construction;  // timeline and parameters; none: no timeline
-    long long firstStep = 0;                          // step number of the initial state
-    std::optional<MapSource> map;                     // none: windows of model->map (kept whole)
-};
 
 class DecomposedSimulation {
 public:

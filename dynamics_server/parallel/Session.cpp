@@ -25,6 +25,14 @@ int MpiSession::worldRank() {
     return r;
 }
 
+void MpiSession::barrier() { check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier"); }
+
+bool MpiSession::allTrue(bool mine) {
+    int in = mine ? 1 : 0, out = 0;
+    check(MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD), "MPI_Allreduce");
+    return out != 0;
+}
+
 void MpiSession::abortAll(int code) {
     MPI_Abort(MPI_COMM_WORLD, code);
     std::exit(code);  // MPI_Abort does not return; this keeps [[noreturn]] honest if it did

@@ -13,6 +13,10 @@ public:
 
     static int worldSize();
     static int worldRank();
+    // Waits for every rank (set-up steps that one rank does for all, such as the map cache).
+    static void barrier();
+    // Whether every rank passes true (set-up errors that must stop all ranks alike).
+    static bool allTrue(bool mine);
     // Ends every rank of the job (after an error on one rank, the others may wait forever).
     [[noreturn]] static void abortAll(int code);
 };

@@ -179,3 +179,30 @@ TEST_CASE("deaths across ranks take the single process's victims and keep ids un
     CHECK(ids.size() == got.size());
     CHECK(ids == std::set<std::uint64_t>(serial.particles().id.begin(), serial.particles().id.end()));
 }
+
+TEST_CASE("a run that reads its map windows from the cache file builds the same bag", "[mpi][construction]") {
+    const long long steps = 500;
+    TorusBuild b = torus(steps);
+    const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
+    test::TempDir dir("decomposed-cache");
+    // Each rank keeps its own scene, as bop-server's ranks do; rank 0 writes the cache.
+    app::Scene scene = app::loadScene(test::sourceDir() + "/config/scenes/torus.toml");
+    scene.timeline = b.scene.timeline;
+    std::string cache = dir.file("map.bopgm");
+    std::vector<double> path(cache.begin(), cache.end());
+    comm.broadcast(path);  // one file for all ranks (TempDir names differ per process)
+    cache.assign(path.begin(), path.end());
+    app::DecomposedStart start = app::startDecomposed(scene, cache, "", comm.rank() == 0, [&] { comm.allTrue(true); });
+    CHECK(!scene.model->map);  // no rank holds the whole map
+    DecomposedSimulation run(comm, scene.model, start.particles, std::move(start.options));
+    run.run(steps);
+    const core::Particles got = run.gather();
+    const std::set<std::uint64_t> ids(got.id.begin(), got.id.end());
+    CHECK(ids == std::set<std::uint64_t>(b.serial->particles().id.begin(), b.serial->particles().id.end()));
+    double worst = 0;
+    std::map<std::uint64_t, Eigen::Vector3d> want;
+    for (std::size_t i = 0; i < b.serial->particles().size(); ++i) want[b.serial->particles().id[i]] = b.serial->particles().pos[i];
+    for (std::size_t i = 0; i < got.size(); ++i)
+        if (want.count(got.id[i])) worst = std::max(worst, (want[got.id[i]] - got.pos[i]).norm());
+    CHECK(worst < 1e-8);
+}
