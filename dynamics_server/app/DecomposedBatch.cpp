@@ -30,7 +30,7 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     const parallel::RunCounters c0 = run.counters();
     spdlog::info("decomposed over {} ranks, grid {} x {} x {}; particles per rank max/mean {:.3f} with uniform cuts, "
                  "{:.3f} balanced", run.size(), dims[0], dims[1], dims[2], c0.initialImbalance, c0.imbalance);
-    if (c0.mapBytesMax > 0) spdlog::info("gradient map: at most {:.1f} MB per rank (its subdomain's window)", c0.mapBytesMax / 1e6);
+    if (c0.mapBytesMax > 0) spdlog::info("gradient map: at most {:.3f} MB per rank (its subdomain's window)", c0.mapBytesMax / 1e6);
     run.setEnergyEvery(std::numeric_limits<long long>::max());
     const std::vector<std::string> names = speciesNames(model);
     const std::string trajectory = o.outDir + "/trajectory.xyz";
@@ -87,7 +87,7 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
               << "E_kin " << std::setprecision(5) << t.kinetic << ", E_pair " << t.pairEnergy << ", virial " << t.virial
               << "\n";
     if (c.mapBytesMax > 0)
-        std::cout << "gradient map: at most " << std::setprecision(1) << c.mapBytesMax / 1e6 << " MB per rank\n";
+        std::cout << "gradient map: at most " << std::setprecision(3) << c.mapBytesMax / 1e6 << " MB per rank\n";
     if (c.births > 0 || c.deaths > 0)
         std::cout << "construction: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths\n";
     if (scene.shape && !o.cache.empty())

@@ -8,6 +8,7 @@
 #include "ExtendedXyz.hpp"
 #include "SceneConfig.hpp"
 #include "SimulationSetup.hpp"
+#include "shape/GradientMapCrop.hpp"
 #include "parallel/Session.hpp"
 
 #include "bop/common/Error.hpp"
@@ -19,6 +20,7 @@
 #include <chrono>
 #include <limits>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
 
 namespace fs = std::filesystem;
@@ -102,6 +104,8 @@ int run(int argc, char** argv) {
     snapshot(finalFile);
     report.summary(sim, steps, seconds);
     if (model.map) {
+        std::cout << "gradient map: " << std::fixed << std::setprecision(3) << shape::gradientMapBytes(*model.map) / 1e6
+                  << " MB (the whole map, one process)\n" << std::defaultfloat;
         const app::Fidelity f = app::measureFidelity(model, sim.particles());
         std::cout << "shape fidelity: " << 100 * f.surfaceInOwnVoxels << "% of surface particles in their surface voxels, "
                   << 100 * f.volumeInOwnVoxels << "% of volume particles in their volume voxels, median normal angle "
