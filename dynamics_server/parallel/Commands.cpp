@@ -11,6 +11,7 @@ constexpr std::size_t kProbeFields = 7;  // kind, active, x, y, z, k0, k1
 constexpr std::size_t kDragFields = 4;   // kind, species, beta_v, beta_tau
 constexpr std::size_t kSeedFields = 5;   // kind, species, x, y, z
 constexpr std::size_t kBirthFields = 3;  // kind, species, on
+constexpr std::size_t kWeightFields = 5; // kind, table, species, other, value
 
 }  // namespace
 
@@ -23,8 +24,10 @@ void encode(const Command& c, std::vector<double>& out) {
         out.insert(out.end(), {double(int(c.kind)), double(c.species), c.dragV, c.dragW});
     } else if (c.kind == Command::Kind::Seed) {
         out.insert(out.end(), {double(int(c.kind)), double(c.species), c.position.x(), c.position.y(), c.position.z()});
-    } else {
+    } else if (c.kind == Command::Kind::Birth) {
         out.insert(out.end(), {double(int(c.kind)), double(c.species), c.on ? 1.0 : 0.0});
+    } else {
+        out.insert(out.end(), {double(int(c.kind)), double(int(c.table)), double(c.species), double(c.other), c.value});
     }
 }
 
@@ -65,6 +68,18 @@ std::vector<Command> decode(const std::vector<double>& in) {
             c.species = int(in[k + 1]);
             c.on = in[k + 2] != 0;
             k += kBirthFields;
+        } else if (kind == double(int(Command::Kind::Weight))) {
+            need(kWeightFields, "weight");
+            c.kind = Command::Kind::Weight;
+            const double table = in[k + 1];
+            if (table != 0 && table != 1 && table != 2)
+                throw std::invalid_argument("command array: weight table " + std::to_string(table) + " at position " +
+                                            std::to_string(k + 1) + ", expected 0 (LJ), 1 (co-normal) or 2 (co-planar)");
+            c.table = Command::Table(int(table));
+            c.species = int(in[k + 2]);
+            c.other = int(in[k + 3]);
+            c.value = in[k + 4];
+            k += kWeightFields;
         } else {
             throw std::invalid_argument("command array: unknown command kind " + std::to_string(kind) + " at position " +
                                         std::to_string(k));

@@ -84,8 +84,25 @@ void DecomposedSimulation::refreshForces() {
     forces(true);
 }
 
+void DecomposedSimulation::setWeight(core::Model& m, const Command& c) {
+    if (c.other < 1 || c.other > m.speciesCount())
+        throw std::invalid_argument("weight command: no species " + std::to_string(c.other));
+    if (c.species < 1 || c.species > m.speciesCount())
+        throw std::invalid_argument("weight command: no species " + std::to_string(c.species));
+    if (!std::isfinite(c.value) || c.value < 0) throw std::invalid_argument("weight command: weights must be 0 or more");
+    core::WeightMatrix& w = c.table == Command::Table::Lj ? m.lj : c.table == Command::Table::CoNormal ? m.coNormal : m.coPlanar;
+    w(c.species, c.other) = c.value;
+}
+
 void DecomposedSimulation::submit(const Command& command) {
     if (comm_.rank() != 0) throw std::logic_error("commands are submitted on rank 0");
+    if (command.kind == Command::Kind::Weight) {  // refused here, before any rank sees it
+        core::Model trial = sub_;
+        setWeight(trial, command);
+        if (core::ForceField(trial).listRange() != range_)
+            throw std::invalid_argument("weight command: it would change the interaction range (oriented terms on or "
+                                        "off); give the scene a nonzero weight of that kind to start with");
+    }
     encode(command, commands_);
 }
 
@@ -98,6 +115,12 @@ void DecomposedSimulation::apply(const Command& c) {
         throw std::invalid_argument("command: no species " + std::to_string(c.species));
     if (c.kind == Command::Kind::Birth) {
         construction_.setBirth(c.species, c.on);
+        return;
+    }
+    if (c.kind == Command::Kind::Weight) {
+        setWeight(sub_, c);
+        field_ = core::ForceField(sub_);  // its pair kernel keeps the weights; the new one builds its list afresh
+        forcesStale_ = true;
         return;
     }
     if (!(c.dragV >= 0 && c.dragW >= 0)) throw std::invalid_argument("drag command: drags must be 0 or more");
@@ -125,6 +148,8 @@ void DecomposedSimulation::step() {
         events.push_back(e);
     }
     commands_.clear();
+    if (forcesStale_) forces(true);  // the step starts from forces of today's weights, as a single process's does
+    forcesStale_ = false;
     construct(std::move(events));
     core::kickDrift(sub_, drag_, p_, false);
     const bool holds = field_.listHolds(sub_, p_);

@@ -95,6 +95,7 @@ private:
     void updateHalo();
     void forces(bool energies);
     void apply(const Command& command);
+    static void setWeight(core::Model& m, const Command& c);  // std::invalid_argument if out of range
     Eigen::Vector3d sourcePos(std::uint32_t s) const { return s < p_.size() ? p_.pos[s] : halo_.pos[s - p_.size()]; }
 
     const CartComm& comm_;
@@ -118,6 +119,7 @@ private:
     std::vector<double> commands_;        // queued on rank 0, encoded
     core::Construction construction_;
     core::ConstructionCounts built_;
+    bool forcesStale_ = false;  // a command changed the weights since the last forces
     std::optional<MapSource> mapSource_;
     shape::VoxelWindow window_;
 };

@@ -219,11 +219,13 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
     probe.params = {2.0, 3.0};
     const Eigen::Vector3d centre = 0.5 * (m->box.lo + m->box.hi);
     // The single process: the probe appears at step 10 and moves at step 30; species 2 gets a
-    // drag at step 40.
+    // drag at step 40; species 2 feels species 3 more strongly from step 50.
     Simulation single(m, all, Construction({}, {}, 3));
     auto damped = std::make_shared<Model>(*m);
     damped->species[2].dragV = 2.0;
     damped->species[2].dragW = 1.0;
+    auto reweighted = std::make_shared<Model>(*damped);
+    reweighted->lj(2, 3) = 0.9;
     CartComm comm(MPI_COMM_WORLD, m->box);
     DecomposedSimulation run(comm, m, all);
     for (int s = 0; s < 80; ++s) {
@@ -245,6 +247,16 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
             c.dragW = 1.0;
             if (comm.rank() == 0) run.submit(c);
         }
+        if (s == 50) {
+            single.setModel(reweighted);
+            Command c;
+            c.kind = Command::Kind::Weight;
+            c.table = Command::Table::Lj;
+            c.species = 2;
+            c.other = 3;
+            c.value = 0.9;
+            if (comm.rank() == 0) run.submit(c);
+        }
         single.step();
         run.step();
     }
@@ -259,6 +271,16 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
     CHECK(worst < 1e-9 * kR0);
     CHECK(reaction < 1e-8);
     if (comm.rank() != 0) CHECK_THROWS_AS(run.submit(Command{}), std::logic_error);
+    if (comm.rank() == 0) {  // refused on rank 0 before any rank applies it
+        Command bad;
+        bad.kind = Command::Kind::Weight;
+        bad.species = 2;
+        bad.other = 7;
+        CHECK_THROWS_WITH(run.submit(bad), Catch::Contains("no species 7"));
+        bad.other = 3;
+        bad.value = -1;
+        CHECK_THROWS_WITH(run.submit(bad), Catch::Contains("0 or more"));
+    }
 }
 
 TEST_CASE("a malformed command array is refused with what is wrong", "[mpi][commands]") {
