@@ -13,6 +13,8 @@ packages=(
   libtinyobjloader-dev libnifti2-dev libniftiio-dev libznz-dev zlib1g-dev
   # the decomposed run (dynamics_server/parallel/)
   libopenmpi-dev openmpi-bin
+  # the wire protocol and network front (protocol/)
+  flatbuffers-compiler flatbuffers-compiler-dev libflatbuffers-dev libzmq3-dev cppzmq-dev
   # tests
   catch2 python3 python3-numpy
 )

@@ -1,0 +1,62 @@
+#pragma once
+// Internal to the codecs: collects the first broken rule of a message as a Validation.
+#include "codec/Validate.hpp"
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <cstddef>
+#include <string>
+
+namespace bop::protocol::detail {
+
+class Checker {
+public:
+    explicit Checker(const char* messageName) : name_(messageName) {}
+
+    bool ok() const { return result_.ok(); }
+    const Validation& result() const { return result_; }
+
+    // Records the failure if it is the first; returns false so callers can `return c.fail(...)`.
+    bool fail(DecodeError e, const char* field, const std::string& what) {
+        if (result_.ok()) {
+            result_.error = e;
+            result_.message = std::string(name_) + "." + field + ": " + what;
+        }
+        return false;
+    }
+    bool require(bool cond, DecodeError e, const char* field, const std::string& what) {
+        return cond || fail(e, field, what);
+    }
+    bool finite(double v, const char* field) {
+        return std::isfinite(v) || fail(DecodeError::NotFinite, field, "not a finite number");
+    }
+    bool finite(const Eigen::Vector3d& v, const char* field) {
+        return v.allFinite() || fail(DecodeError::NotFinite, field, "not a finite vector");
+    }
+    bool finiteArray(const float* p, std::size_t n, const char* field) {
+        for (std::size_t i = 0; i < n; ++i)
+            if (!std::isfinite(p[i]))
+                return fail(DecodeError::NotFinite, field, "element " + std::to_string(i) + " not finite");
+        return true;
+    }
+    bool maxBytes(const std::string& s, std::size_t cap, const char* field) {
+        return s.size() <= cap ||
+               fail(DecodeError::BadLength, field, std::to_string(s.size()) + " bytes, at most " + std::to_string(cap));
+    }
+    // A species number in [lowest, highest]: lowest 1 for a particle's species, 0 where 0 means none.
+    bool species(int s, int lowest, int highest, const char* field) {
+        return (s >= lowest && s <= highest) || fail(DecodeError::OutOfRange, field,
+                                                     "species " + std::to_string(s) + " outside " +
+                                                         std::to_string(lowest) + ".." + std::to_string(highest));
+    }
+
+private:
+    const char* name_;
+    Validation result_;
+};
+
+// Quantisation bounds of a frame: finite, lo < hi on every axis, within kMaxBoundMagnitude.
+bool checkQuantBounds(Checker& c, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
+
+}  // namespace bop::protocol::detail

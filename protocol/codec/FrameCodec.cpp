@@ -1,0 +1,202 @@
+// State frames and their chunks, float32 or 16-bit quantised (Quantise.hpp).
+#include "codec/Checker.hpp"
+#include "codec/Codec.hpp"
+#include "codec/Quantise.hpp"
+#include "codec/WireSupport.hpp"
+
+#include "frame_generated.h"
+
+#include <algorithm>
+#include <cstring>
+
+// Float, uint16 and uint64 arrays are copied out of the buffer with memcpy, which assumes the
+// host has FlatBuffers' byte order (little-endian).
+static_assert(FLATBUFFERS_LITTLEENDIAN, "the frame codec copies little-endian arrays as they are");
+
+namespace bop::protocol {
+
+namespace {
+
+// Bytes a chunk needs besides its particle arrays: identifier, vtable, header fields, the
+// FrameStats table, array lengths and alignment padding (about 450 bytes; twice that kept free).
+constexpr std::size_t kChunkOverheadBytes = 1024;
+
+// Elements of an optional wire vector; 0 when absent.
+template <class V>
+std::size_t sizeOf(const V* v) {
+    return v ? v->size() : 0;
+}
+
+template <class T>
+void copyOut(const flatbuffers::Vector<T>* v, std::vector<T>& out) {
+    out.resize(sizeOf(v));
+    if (!out.empty()) std::memcpy(out.data(), v->Data(), out.size() * sizeof(T));
+}
+
+// Particles [begin, end) of m as chunk `index` of `count`.
+Buffer encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std::uint32_t index, std::uint32_t count,
+                   std::uint32_t firstIndex) {
+    const std::size_t k = end - begin;
+    const bool quantised = m.encoding == FrameEncoding::Quantised16;
+    const bool withNormals = !m.normals.empty(), withIds = !m.ids.empty();
+    flatbuffers::FlatBufferBuilder fbb(kChunkOverheadBytes + k * bytesPerParticle(m.encoding, withNormals, withIds));
+    flatbuffers::Offset<flatbuffers::Vector<float>> positions, normals;
+    flatbuffers::Offset<flatbuffers::Vector<std::uint16_t>> qpositions, qnormals;
+    flatbuffers::Offset<flatbuffers::Vector<std::uint64_t>> ids;
+    if (quantised) {
+        std::uint16_t* q = nullptr;
+        qpositions = fbb.CreateUninitializedVector(3 * k, &q);
+        quantisePositions(m.positions.data() + 3 * begin, k, m.quantLo, m.quantHi, q);
+        if (withNormals) {
+            qnormals = fbb.CreateUninitializedVector(2 * k, &q);
+            octEncodeNormals(m.normals.data() + 3 * begin, k, q);
+        }
+    } else {
+        positions = fbb.CreateVector(m.positions.data() + 3 * begin, 3 * k);
+        if (withNormals) normals = fbb.CreateVector(m.normals.data() + 3 * begin, 3 * k);
+    }
+    if (withIds) ids = fbb.CreateVector(m.ids.data() + begin, k);
+    const auto species = fbb.CreateVector(m.species.data() + begin, k);
+    const FrameStats& s = m.stats;
+    const auto stats = wire::CreateFrameStats(fbb, s.kinetic, s.potential, s.pressure, s.stepRateHz, s.particleCount);
+    const wire::Vec3 probePos = detail::toWire(m.probePosition), probeForce = detail::toWire(m.probeForce);
+    const wire::Vec3 lo = detail::toWire(m.quantLo), hi = detail::toWire(m.quantHi);
+
+    wire::StateFrameBuilder b(fbb);
+    b.add_frame_seq(m.frameSeq);
+    b.add_chunk_index(index);
+    b.add_chunk_count(count);
+    b.add_step(m.step);
+    b.add_sim_time(m.simTime);
+    b.add_server_time_ns(m.serverTimeNs);
+    b.add_probe_position(&probePos);
+    b.add_probe_force(&probeForce);
+    b.add_probe_active(m.probeActive);
+    b.add_stats(stats);
+    b.add_frame_particle_count(m.frameParticleCount);
+    b.add_first_index(firstIndex);
+    b.add_species(species);
+    if (withIds) b.add_ids(ids);
+    b.add_encoding(wire::FrameEncoding(m.encoding));
+    if (quantised) {
+        b.add_quant_lo(&lo);
+        b.add_quant_hi(&hi);
+        b.add_qpositions(qpositions);
+        if (withNormals) b.add_qnormals(qnormals);
+    } else {
+        b.add_positions(positions);
+        if (withNormals) b.add_normals(normals);
+    }
+    wire::FinishStateFrameBuffer(fbb, b.Finish());
+    return detail::toBuffer(fbb);
+}
+
+// Array lengths of a verified chunk against its particle count (the arrays of the encoding not
+// in use must be empty), and the quantisation bounds, which must be sane before dequantising.
+Validation checkWireLengths(const wire::StateFrame& w) {
+    detail::Checker c("StateFrame");
+    const std::size_t n = sizeOf(w.species());
+    const auto got = [](std::size_t size) { return std::to_string(size) + " values"; };
+    if (w.encoding() == wire::FrameEncoding::Quantised16) {
+        c.require(sizeOf(w.qpositions()) == 3 * n, DecodeError::BadLength, "qpositions",
+                  got(sizeOf(w.qpositions())) + ", expected 3 x " + std::to_string(n)) &&
+            c.require(sizeOf(w.qnormals()) == 0 || sizeOf(w.qnormals()) == 2 * n, DecodeError::BadLength, "qnormals",
+                      got(sizeOf(w.qnormals())) + ", expected 0 or 2 x " + std::to_string(n)) &&
+            c.require(sizeOf(w.positions()) == 0 && sizeOf(w.normals()) == 0, DecodeError::BadLength,
+                      "positions/normals", "float arrays in a quantised chunk") &&
+            c.require(w.quant_lo() && w.quant_hi(), DecodeError::MissingField, "quant_lo/quant_hi", "absent") &&
+            detail::checkQuantBounds(c, detail::toEigen(*w.quant_lo()), detail::toEigen(*w.quant_hi()));
+    } else if (w.encoding() == wire::FrameEncoding::Float32) {
+        c.require(sizeOf(w.qpositions()) == 0 && sizeOf(w.qnormals()) == 0, DecodeError::BadLength,
+                  "qpositions/qnormals", "quantised arrays in a float32 chunk");
+    } else {
+        c.fail(DecodeError::Unsupported, "encoding", "unknown encoding " + std::to_string(int(w.encoding())));
+    }
+    // Float lengths and ids are checked on the plain struct by validate().
+    return c.result();
+}
+
+}  // namespace
+
+Buffer encodeStateFrame(const StateFrame& m) {
+    detail::requireValid(validate(m));
+    return encodeChunk(m, 0, m.count(), m.chunkIndex, m.chunkCount, m.firstIndex);
+}
+
+std::vector<Buffer> encodeStateFrameChunks(const StateFrame& m, std::size_t maxChunkBytes) {
+    if (m.chunkIndex != 0 || m.chunkCount != 1 || m.firstIndex != 0 || m.frameParticleCount != m.count())
+        throw EncodeError(
+            "cannot encode StateFrame chunks: the frame must be whole (chunk 0 of 1, first index 0, "
+            "frame_particle_count = its particle count)");
+    detail::requireValid(validate(m));
+    const std::size_t bpp = bytesPerParticle(m.encoding, !m.normals.empty(), !m.ids.empty());
+    maxChunkBytes = std::min(maxChunkBytes, kAbsoluteMaxBytes);
+    if (maxChunkBytes < kChunkOverheadBytes + bpp)
+        throw EncodeError("cannot encode StateFrame chunks of at most " + std::to_string(maxChunkBytes) +
+                          " bytes: a chunk needs " + std::to_string(kChunkOverheadBytes + bpp));
+    const std::size_t perChunk = (maxChunkBytes - kChunkOverheadBytes) / bpp;
+    const std::size_t n = m.count();
+    const std::size_t chunks = std::max<std::size_t>(1, (n + perChunk - 1) / perChunk);
+    if (chunks > FrameLimits{}.maxChunkCount)
+        throw EncodeError("cannot encode StateFrame in " + std::to_string(chunks) + " chunks: receivers accept " +
+                          std::to_string(FrameLimits{}.maxChunkCount) + " by default");
+    std::vector<Buffer> out;
+    out.reserve(chunks);
+    for (std::size_t c = 0; c < chunks; ++c) {
+        const std::size_t begin = c * perChunk, end = std::min(n, begin + perChunk);
+        out.push_back(encodeChunk(m, begin, end, std::uint32_t(c), std::uint32_t(chunks), std::uint32_t(begin)));
+    }
+    return out;
+}
+
+Decoded<StateFrame> decodeStateFrame(const std::uint8_t* buf, std::size_t len, const FrameLimits& limits) {
+    // One root table and FrameStats; the cap is the receiver's (FrameLimits).
+    const detail::MessageSpec spec{"StateFrame",
+                                   wire::StateFrameIdentifier(),
+                                   std::min(limits.maxChunkBytes, kAbsoluteMaxBytes),
+                                   4,
+                                   4,
+                                   &wire::VerifyStateFrameBuffer};
+    const detail::VerifiedBuffer vb(buf, len, spec);
+    if (!vb.ok()) return detail::failed<StateFrame>(vb.error(), vb.message());
+    const wire::StateFrame& w = *wire::GetStateFrame(vb.data());
+    if (const Validation lengths = checkWireLengths(w); !lengths.ok())
+        return detail::failed<StateFrame>(lengths.error, lengths.message);
+
+    StateFrame m;
+    m.frameSeq = w.frame_seq();
+    m.chunkIndex = w.chunk_index();
+    m.chunkCount = w.chunk_count();
+    m.step = w.step();
+    m.simTime = w.sim_time();
+    m.serverTimeNs = w.server_time_ns();
+    if (w.probe_position()) m.probePosition = detail::toEigen(*w.probe_position());
+    if (w.probe_force()) m.probeForce = detail::toEigen(*w.probe_force());
+    m.probeActive = w.probe_active();
+    if (const wire::FrameStats* s = w.stats())
+        m.stats = {s->kinetic_energy(), s->potential_energy(), s->pressure(), s->step_rate_hz(), s->particle_count()};
+    m.frameParticleCount = w.frame_particle_count();
+    m.firstIndex = w.first_index();
+    m.encoding = FrameEncoding(w.encoding());
+    copyOut(w.species(), m.species);
+    copyOut(w.ids(), m.ids);
+    const std::size_t n = m.species.size();
+    if (m.encoding == FrameEncoding::Quantised16) {
+        m.quantLo = detail::toEigen(*w.quant_lo());
+        m.quantHi = detail::toEigen(*w.quant_hi());
+        std::vector<std::uint16_t> q;
+        copyOut(w.qpositions(), q);
+        m.positions.resize(3 * n);
+        dequantisePositions(q.data(), n, m.quantLo, m.quantHi, m.positions.data());
+        copyOut(w.qnormals(), q);
+        m.normals.resize(q.empty() ? 0 : 3 * n);
+        if (!q.empty()) octDecodeNormals(q.data(), n, m.normals.data());
+    } else {
+        copyOut(w.positions(), m.positions);
+        copyOut(w.normals(), m.normals);
+    }
+    const Validation v = validate(m, limits);
+    return detail::accept(std::move(m), v);
+}
+
+}  // namespace bop::protocol

@@ -1,0 +1,120 @@
+// Hello (client to server) and SceneInfo (the server's answer).
+#include "codec/Codec.hpp"
+#include "codec/WireSupport.hpp"
+
+#include "hello_generated.h"
+#include "scene_generated.h"
+
+namespace bop::protocol {
+
+namespace {
+
+// Hello is one table; SceneInfo holds up to 255 Species tables and an Endpoints table.
+const detail::MessageSpec kHelloSpec{"Hello", wire::HelloIdentifier(), kMaxHelloBytes, 4, 4, &wire::VerifyHelloBuffer};
+const detail::MessageSpec kSceneSpec{"SceneInfo",     wire::SceneInfoIdentifier(), kMaxSceneInfoBytes, 8,
+                                     kMaxSpecies + 8, &wire::VerifySceneInfoBuffer};
+
+}  // namespace
+
+Buffer encodeHello(const Hello& m) {
+    detail::requireValid(validate(m));
+    flatbuffers::FlatBufferBuilder fbb(256);
+    const auto name = fbb.CreateString(m.clientName);
+    wire::HelloBuilder b(fbb);
+    b.add_protocol_version(m.protocolVersion);
+    b.add_role(wire::Role(m.role));
+    b.add_frame_rate_hz(m.frameRateHz);
+    b.add_read_only(m.readOnly);
+    b.add_client_name(name);
+    wire::FinishHelloBuffer(fbb, b.Finish());
+    return detail::toBuffer(fbb);
+}
+
+Decoded<Hello> decodeHello(const std::uint8_t* buf, std::size_t len) {
+    const detail::VerifiedBuffer vb(buf, len, kHelloSpec);
+    if (!vb.ok()) return detail::failed<Hello>(vb.error(), vb.message());
+    const wire::Hello& w = *wire::GetHello(vb.data());
+    Hello m;
+    m.protocolVersion = w.protocol_version();
+    m.role = Role(w.role());
+    m.frameRateHz = w.frame_rate_hz();
+    m.readOnly = w.read_only();
+    m.clientName = detail::str(w.client_name());
+    const Validation v = validate(m);
+    return detail::accept(std::move(m), v);
+}
+
+Buffer encodeSceneInfo(const SceneInfo& m) {
+    detail::requireValid(validate(m));
+    flatbuffers::FlatBufferBuilder fbb(1024);
+    std::vector<flatbuffers::Offset<wire::Species>> species;
+    for (const SpeciesInfo& s : m.species) {
+        const wire::Rgba8 colour(s.rgba[0], s.rgba[1], s.rgba[2], s.rgba[3]);
+        const auto name = fbb.CreateString(s.name);  // by size: a name may hold any byte
+        species.push_back(wire::CreateSpecies(fbb, name, wire::SpeciesKind(s.kind), &colour));
+    }
+    const auto speciesVec = fbb.CreateVector(species);
+    const auto frameEndpoint = fbb.CreateString(m.endpoints.frameEndpoint);
+    const auto endpoints =
+        wire::CreateEndpoints(fbb, frameEndpoint, m.endpoints.udpFramePort, m.endpoints.udpProbePort);
+    const auto units = fbb.CreateString(m.units);
+    const wire::Vec3 lo = detail::toWire(m.boxLo), hi = detail::toWire(m.boxHi);
+    const wire::Vec3 origin = detail::toWire(m.gridOriginMm);
+    const wire::Int3 dims(m.gridDims[0], m.gridDims[1], m.gridDims[2]);
+    wire::SceneInfoBuilder b(fbb);
+    b.add_protocol_version(m.protocolVersion);
+    b.add_species(speciesVec);
+    b.add_box_lo(&lo);
+    b.add_box_hi(&hi);
+    b.add_grid_origin_mm(&origin);
+    b.add_grid_dims(&dims);
+    b.add_voxel_size_mm(m.voxelSizeMm);
+    b.add_r0(m.r0);  // left out when it equals the schema default, sqrt 3, and read back as such
+    b.add_r0_voxels(m.r0Voxels);
+    b.add_dt(m.dt);
+    b.add_endpoints(endpoints);
+    b.add_particle_count(m.particleCount);
+    b.add_units(units);
+    wire::FinishSceneInfoBuffer(fbb, b.Finish());
+    return detail::toBuffer(fbb);
+}
+
+Decoded<SceneInfo> decodeSceneInfo(const std::uint8_t* buf, std::size_t len) {
+    const detail::VerifiedBuffer vb(buf, len, kSceneSpec);
+    if (!vb.ok()) return detail::failed<SceneInfo>(vb.error(), vb.message());
+    const wire::SceneInfo& w = *wire::GetSceneInfo(vb.data());
+    if (!w.box_lo() || !w.box_hi())
+        return detail::failed<SceneInfo>(DecodeError::MissingField, "SceneInfo.box_lo/box_hi: absent");
+    SceneInfo m;
+    m.protocolVersion = w.protocol_version();
+    if (const auto* species = w.species()) {
+        if (species->size() > std::size_t(kMaxSpecies))
+            return detail::failed<SceneInfo>(DecodeError::BadLength, "SceneInfo.species: more than 255 entries");
+        for (const wire::Species* s : *species) {
+            SpeciesInfo info;
+            info.name = detail::str(s->name());
+            info.kind = SpeciesKind(s->kind());
+            if (const wire::Rgba8* c = s->colour()) info.rgba = {c->r(), c->g(), c->b(), c->a()};
+            m.species.push_back(std::move(info));
+        }
+    }
+    m.boxLo = detail::toEigen(*w.box_lo());
+    m.boxHi = detail::toEigen(*w.box_hi());
+    m.gridOriginMm = w.grid_origin_mm() ? detail::toEigen(*w.grid_origin_mm()) : Eigen::Vector3d::Zero();
+    if (const wire::Int3* d = w.grid_dims()) m.gridDims = {d->x(), d->y(), d->z()};
+    m.voxelSizeMm = w.voxel_size_mm();
+    m.r0 = w.r0();
+    m.r0Voxels = w.r0_voxels();
+    m.dt = w.dt();
+    if (const wire::Endpoints* e = w.endpoints()) {
+        m.endpoints.frameEndpoint = detail::str(e->frame_endpoint());
+        m.endpoints.udpFramePort = e->udp_frame_port();
+        m.endpoints.udpProbePort = e->udp_probe_port();
+    }
+    m.particleCount = w.particle_count();
+    m.units = detail::str(w.units());
+    const Validation v = validate(m);
+    return detail::accept(std::move(m), v);
+}
+
+}  // namespace bop::protocol

@@ -1,0 +1,168 @@
+// Semantic rules of each message; see Validate.hpp. Limits that are not in DecodeResult.hpp
+// are stated where they are used.
+#include "codec/Validate.hpp"
+
+#include "codec/Checker.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <variant>
+
+namespace bop::protocol {
+
+namespace {
+
+using detail::Checker;
+
+constexpr float kMaxFrameRateHz = 10000;       // wanted frame rate, wall Hz
+constexpr std::int32_t kMaxGridDim = 1 << 16;  // voxels per axis of a gradient map
+
+std::string count(std::size_t n) {
+    return std::to_string(n);
+}
+
+bool checkBox(Checker& c, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const char* field) {
+    return c.finite(lo, field) && c.finite(hi, field) &&
+           c.require((lo.array() < hi.array()).all(), DecodeError::OutOfRange, field,
+                     "lower corner not below upper corner on every axis");
+}
+
+bool checkName(Checker& c, const std::string& s, const char* field) {
+    return c.require(!s.empty(), DecodeError::MissingField, field, "empty") && c.maxBytes(s, kMaxNameBytes, field);
+}
+
+void checkBody(Checker& c, const SeedParticle& b) {
+    c.species(b.species, 1, kMaxSpecies, "SeedParticle.species") && c.finite(b.position, "SeedParticle.position");
+}
+void checkBody(Checker& c, const SetBirth& b) {
+    c.species(b.species, 1, kMaxSpecies, "SetBirth.species");
+}
+void checkBody(Checker& c, const SetParameter& b) {
+    checkName(c, b.name, "SetParameter.name") && c.species(b.speciesA, 0, kMaxSpecies, "SetParameter.species_a") &&
+        c.species(b.speciesB, 0, kMaxSpecies, "SetParameter.species_b") && c.finite(b.value, "SetParameter.value");
+}
+void checkBody(Checker& c, const RunControl& b) {
+    c.require(std::uint8_t(b.action) <= std::uint8_t(RunAction::SingleStep), DecodeError::Unsupported,
+              "RunControl.action", "unknown action " + std::to_string(int(b.action))) &&
+        c.require(b.action != RunAction::SingleStep || b.steps >= 1, DecodeError::OutOfRange, "RunControl.steps",
+                  "a single step needs steps >= 1");
+}
+void checkBody(Checker&, const SwitchMapFrame&) {}  // any frame number; the server knows how many it has
+void checkBody(Checker& c, const Checkpoint& b) {
+    c.maxBytes(b.path, kMaxPathBytes, "Checkpoint.path");
+}
+void checkBody(Checker& c, const Record& b) {
+    c.maxBytes(b.path, kMaxPathBytes, "Record.path");
+}
+
+}  // namespace
+
+bool detail::checkQuantBounds(Checker& c, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    return checkBox(c, lo, hi, "quant_lo/quant_hi") &&
+           c.require(lo.cwiseAbs().maxCoeff() <= kMaxBoundMagnitude && hi.cwiseAbs().maxCoeff() <= kMaxBoundMagnitude,
+                     DecodeError::OutOfRange, "quant_lo/quant_hi", "beyond the float32 range");
+}
+
+Validation validate(const Hello& m) {
+    Checker c("Hello");
+    c.require(m.protocolVersion >= 1, DecodeError::MissingField, "protocol_version", "absent (0)") &&
+        c.require(std::uint8_t(m.role) <= std::uint8_t(Role::Control), DecodeError::Unsupported, "role",
+                  "unknown role " + std::to_string(int(m.role))) &&
+        c.finite(m.frameRateHz, "frame_rate_hz") &&
+        c.require(m.frameRateHz >= 0 && m.frameRateHz <= kMaxFrameRateHz, DecodeError::OutOfRange, "frame_rate_hz",
+                  "outside 0.." + std::to_string(int(kMaxFrameRateHz)) + " Hz") &&
+        c.maxBytes(m.clientName, kMaxNameBytes, "client_name");
+    return c.result();
+}
+
+Validation validate(const SceneInfo& m) {
+    Checker c("SceneInfo");
+    if (!c.require(m.protocolVersion >= 1, DecodeError::MissingField, "protocol_version", "absent (0)") ||
+        !c.require(m.species.size() <= std::size_t(kMaxSpecies), DecodeError::BadLength, "species",
+                   count(m.species.size()) + " entries, at most 255"))
+        return c.result();
+    for (const SpeciesInfo& s : m.species) {
+        if (!checkName(c, s.name, "species.name") ||
+            !c.require(std::uint8_t(s.kind) <= std::uint8_t(SpeciesKind::Volume), DecodeError::Unsupported,
+                       "species.kind", "unknown kind " + std::to_string(int(s.kind))))
+            return c.result();
+    }
+    const auto& d = m.gridDims;
+    const bool noMap = d[0] == 0 && d[1] == 0 && d[2] == 0;
+    const bool dimsOk = std::all_of(d.begin(), d.end(), [](std::int32_t n) { return n > 0 && n <= kMaxGridDim; });
+    checkBox(c, m.boxLo, m.boxHi, "box") && c.finite(m.gridOriginMm, "grid_origin_mm") &&
+        c.require(noMap || dimsOk, DecodeError::OutOfRange, "grid_dims", "all 0, or all in 1..65536") &&
+        c.finite(m.voxelSizeMm, "voxel_size_mm") &&
+        c.require(noMap || m.voxelSizeMm > 0, DecodeError::OutOfRange, "voxel_size_mm", "not > 0") &&
+        c.finite(m.r0, "r0") && c.require(m.r0 > 0, DecodeError::OutOfRange, "r0", "not > 0") &&
+        c.finite(m.r0Voxels, "r0_voxels") &&
+        c.require(m.r0Voxels >= 0, DecodeError::OutOfRange, "r0_voxels", "negative") && c.finite(m.dt, "dt") &&
+        c.require(m.dt > 0, DecodeError::OutOfRange, "dt", "not > 0") &&
+        c.maxBytes(m.endpoints.frameEndpoint, kMaxEndpointBytes, "endpoints.frame_endpoint") &&
+        c.maxBytes(m.units, kMaxTextBytes, "units");
+    return c.result();
+}
+
+Validation validate(const Probe& m) {
+    Checker c("Probe");
+    c.finite(m.position, "position") && c.finite(m.k0, "k0") &&
+        c.require(m.k0 > 0, DecodeError::OutOfRange, "k0", "not > 0") && c.finite(m.k1, "k1");
+    return c.result();
+}
+
+Validation validate(const Feedback& m) {
+    Checker c("Feedback");
+    c.finite(m.force, "force");
+    return c.result();
+}
+
+Validation validate(const Command& m) {
+    Checker c("Command");
+    std::visit([&c](const auto& body) { checkBody(c, body); }, m.body);
+    return c.result();
+}
+
+Validation validate(const CommandReply& m) {
+    Checker c("CommandReply");
+    c.require(std::uint8_t(m.status) <= std::uint8_t(ReplyStatus::Failed), DecodeError::Unsupported, "status",
+              "unknown status " + std::to_string(int(m.status))) &&
+        c.maxBytes(m.message, kMaxTextBytes, "message");
+    return c.result();
+}
+
+Validation validate(const StateFrame& m, const FrameLimits& limits) {
+    Checker c("StateFrame");
+    const std::size_t n = m.count();
+    const int maxSpecies = limits.speciesCount > 0 ? std::min(limits.speciesCount, kMaxSpecies) : kMaxSpecies;
+    const bool lengthsOk =
+        c.require(m.chunkCount >= 1 && m.chunkCount <= limits.maxChunkCount, DecodeError::OutOfRange, "chunk_count",
+                  std::to_string(m.chunkCount) + ", expected 1.." + std::to_string(limits.maxChunkCount)) &&
+        c.require(m.chunkIndex < m.chunkCount, DecodeError::OutOfRange, "chunk_index",
+                  std::to_string(m.chunkIndex) + " not below chunk_count " + std::to_string(m.chunkCount)) &&
+        c.require(std::uint64_t(m.firstIndex) + n <= m.frameParticleCount, DecodeError::OutOfRange, "first_index",
+                  "particles " + std::to_string(m.firstIndex) + ".." + count(m.firstIndex + n) +
+                      " beyond frame_particle_count " + std::to_string(m.frameParticleCount)) &&
+        c.require(m.positions.size() == 3 * n, DecodeError::BadLength, "positions",
+                  count(m.positions.size()) + " values, expected 3 x " + count(n)) &&
+        c.require(m.normals.empty() || m.normals.size() == 3 * n, DecodeError::BadLength, "normals",
+                  count(m.normals.size()) + " values, expected 0 or 3 x " + count(n)) &&
+        c.require(m.ids.empty() || m.ids.size() == n, DecodeError::BadLength, "ids",
+                  count(m.ids.size()) + " values, expected 0 or " + count(n));
+    if (!lengthsOk) return c.result();
+    const bool quantised = m.encoding == FrameEncoding::Quantised16;
+    const bool headerOk =
+        c.require(quantised || m.encoding == FrameEncoding::Float32, DecodeError::Unsupported, "encoding",
+                  "unknown encoding " + std::to_string(int(m.encoding))) &&
+        (!quantised || checkQuantBounds(c, m.quantLo, m.quantHi)) && c.finite(m.simTime, "sim_time") &&
+        c.finite(m.probePosition, "probe_position") && c.finite(m.probeForce, "probe_force") &&
+        c.finite(m.stats.kinetic, "stats.kinetic_energy") && c.finite(m.stats.potential, "stats.potential_energy") &&
+        c.finite(m.stats.pressure, "stats.pressure") && c.finite(m.stats.stepRateHz, "stats.step_rate_hz");
+    if (!headerOk) return c.result();
+    for (std::size_t i = 0; i < n; ++i)
+        if (!c.species(m.species[i], 1, maxSpecies, "species")) return c.result();
+    c.finiteArray(m.positions.data(), m.positions.size(), "positions") &&
+        c.finiteArray(m.normals.data(), m.normals.size(), "normals");
+    return c.result();
+}
+
+}  // namespace bop::protocol

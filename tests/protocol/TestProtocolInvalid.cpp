@@ -1,0 +1,234 @@
+// Buffers that pass the FlatBuffers verifier but break a rule of the protocol (built here with
+// the generated code, since the encoders refuse such values), and encoders refusing bad values.
+#include "ProtocolSamples.hpp"
+
+#include "command_generated.h"
+#include "frame_generated.h"
+#include "hello_generated.h"
+#include "probe_generated.h"
+#include "scene_generated.h"
+
+#include <catch2/catch.hpp>
+
+#include <limits>
+#include <string>
+
+using namespace bop::protocol;
+using namespace bop::protocol::samples;
+
+namespace {
+
+// A frame chunk with arrays as given; empty arrays are left out.
+struct RawFrame {
+    std::uint32_t chunkIndex = 0, chunkCount = 1, frameCount = 4, first = 0;
+    std::uint8_t encoding = 0;
+    bool bounds = false;
+    double hiX = 1;  // quant_hi.x, length
+    std::vector<float> positions = std::vector<float>(12, 0.5f), normals;
+    std::vector<std::uint8_t> species = std::vector<std::uint8_t>(4, 1);  // species 1
+    std::vector<std::uint64_t> ids;
+    std::vector<std::uint16_t> qpositions, qnormals;
+};
+
+Buffer build(const RawFrame& r) {
+    flatbuffers::FlatBufferBuilder fbb;
+    const auto vec = [&fbb](const auto& v) { return v.empty() ? 0 : fbb.CreateVector(v).o; };
+    const auto positions = vec(r.positions), normals = vec(r.normals), species = vec(r.species), ids = vec(r.ids),
+               qpositions = vec(r.qpositions), qnormals = vec(r.qnormals);
+    const bop::wire::Vec3 lo(0, 0, 0), hi(r.hiX, 1, 1);
+    bop::wire::StateFrameBuilder b(fbb);
+    b.add_chunk_index(r.chunkIndex);
+    b.add_chunk_count(r.chunkCount);
+    b.add_frame_particle_count(r.frameCount);
+    b.add_first_index(r.first);
+    b.add_encoding(bop::wire::FrameEncoding(r.encoding));
+    if (r.bounds) {
+        b.add_quant_lo(&lo);
+        b.add_quant_hi(&hi);
+    }
+    b.fbb_.AddOffset(bop::wire::StateFrame::VT_POSITIONS, flatbuffers::Offset<void>(positions));
+    b.fbb_.AddOffset(bop::wire::StateFrame::VT_NORMALS, flatbuffers::Offset<void>(normals));
+    b.fbb_.AddOffset(bop::wire::StateFrame::VT_SPECIES, flatbuffers::Offset<void>(species));
+    b.fbb_.AddOffset(bop::wire::StateFrame::VT_IDS, flatbuffers::Offset<void>(ids));
+    b.fbb_.AddOffset(bop::wire::StateFrame::VT_QPOSITIONS, flatbuffers::Offset<void>(qpositions));
+    b.fbb_.AddOffset(bop::wire::StateFrame::VT_QNORMALS, flatbuffers::Offset<void>(qnormals));
+    bop::wire::FinishStateFrameBuffer(fbb, b.Finish());
+    return Buffer(fbb.GetBufferPointer(), fbb.GetBufferPointer() + fbb.GetSize());
+}
+
+DecodeError frameError(const RawFrame& r, int speciesCount = 0) {
+    const Buffer b = build(r);
+    FrameLimits limits;
+    limits.speciesCount = speciesCount;
+    return decodeStateFrame(b.data(), b.size(), limits).error;
+}
+
+Buffer finish(flatbuffers::FlatBufferBuilder& fbb) {
+    return Buffer(fbb.GetBufferPointer(), fbb.GetBufferPointer() + fbb.GetSize());
+}
+
+}  // namespace
+
+TEST_CASE("frame chunks with inconsistent arrays are refused", "[protocol]") {
+    REQUIRE(frameError(RawFrame{}) == DecodeError::None);  // the base case is valid
+
+    RawFrame r;
+    r.positions.pop_back();
+    CHECK(frameError(r) == DecodeError::BadLength);
+    r = {};
+    r.normals.assign(15, 0.0f);
+    CHECK(frameError(r) == DecodeError::BadLength);
+    r.normals.assign(12, 0.0f);
+    CHECK(frameError(r) == DecodeError::None);
+    r.ids = {1, 2, 3};
+    CHECK(frameError(r) == DecodeError::BadLength);
+    r = {};
+    r.qpositions.assign(12, 7);
+    CHECK(frameError(r) == DecodeError::BadLength);  // quantised arrays in a float32 chunk
+
+    RawFrame q;
+    q.encoding = 1;
+    q.bounds = true;
+    q.positions.clear();
+    q.qpositions.assign(12, 7);
+    CHECK(frameError(q) == DecodeError::None);
+    q.qnormals.assign(9, 0);
+    CHECK(frameError(q) == DecodeError::BadLength);
+    q.qnormals.assign(8, 0);
+    CHECK(frameError(q) == DecodeError::None);
+    q.qpositions.pop_back();
+    CHECK(frameError(q) == DecodeError::BadLength);
+    q.qpositions.push_back(0);
+    q.bounds = false;
+    CHECK(frameError(q) == DecodeError::MissingField);
+    q.bounds = true;
+    q.hiX = 0;  // lo.x = hi.x
+    CHECK(frameError(q) == DecodeError::OutOfRange);
+    q.hiX = 1e300;  // decoded positions would overflow float32
+    CHECK(frameError(q) == DecodeError::OutOfRange);
+    q.hiX = std::numeric_limits<double>::quiet_NaN();
+    CHECK(frameError(q) == DecodeError::NotFinite);
+    q.hiX = 1;
+    q.encoding = 9;
+    CHECK(frameError(q) == DecodeError::Unsupported);
+}
+
+TEST_CASE("frame chunks out of range are refused", "[protocol]") {
+    RawFrame r;
+    r.chunkIndex = 1;
+    CHECK(frameError(r) == DecodeError::OutOfRange);
+    r.chunkCount = 2;
+    CHECK(frameError(r) == DecodeError::None);
+    r.chunkCount = 0;
+    r.chunkIndex = 0;
+    CHECK(frameError(r) == DecodeError::OutOfRange);
+    r = {};
+    r.first = 1;  // particles 1..4 of a 4-particle frame
+    CHECK(frameError(r) == DecodeError::OutOfRange);
+    r.frameCount = 5;
+    CHECK(frameError(r) == DecodeError::None);
+    r = {};
+    r.species[2] = 0;
+    CHECK(frameError(r) == DecodeError::OutOfRange);
+    r.species[2] = 4;
+    CHECK(frameError(r, 3) == DecodeError::OutOfRange);  // the scene has 3 species
+    CHECK(frameError(r, 4) == DecodeError::None);
+    r.positions[5] = std::numeric_limits<float>::quiet_NaN();
+    CHECK(frameError(r) == DecodeError::NotFinite);
+    r.positions[5] = std::numeric_limits<float>::infinity();
+    CHECK(frameError(r) == DecodeError::NotFinite);
+}
+
+TEST_CASE("small messages breaking a rule are refused with a reason", "[protocol]") {
+    using namespace bop::wire;
+    flatbuffers::FlatBufferBuilder fbb;
+    const Vec3 at(1, 2, 3);
+
+    FinishProbeBuffer(fbb, CreateProbe(fbb, 1, 2, &at, true, 0.0, 1.0));  // k0 = 0
+    Buffer b = finish(fbb);
+    Decoded<bop::protocol::Probe> p = decodeProbe(b.data(), b.size());
+    CHECK(p.error == DecodeError::OutOfRange);
+    CHECK(p.message == "Probe.k0: not > 0");
+    fbb.Clear();
+    FinishProbeBuffer(fbb, CreateProbe(fbb, 1, 2, nullptr, true));  // no position
+    b = finish(fbb);
+    CHECK(decodeProbe(b.data(), b.size()).error == DecodeError::MissingField);
+    fbb.Clear();
+    const Vec3 nan(0, std::numeric_limits<double>::quiet_NaN(), 0);
+    FinishProbeBuffer(fbb, CreateProbe(fbb, 1, 2, &nan, true));
+    b = finish(fbb);
+    CHECK(decodeProbe(b.data(), b.size()).error == DecodeError::NotFinite);
+
+    fbb.Clear();
+    FinishHelloBuffer(fbb, CreateHello(fbb, 0));  // no protocol version
+    b = finish(fbb);
+    CHECK(decodeHello(b.data(), b.size()).error == DecodeError::MissingField);
+    fbb.Clear();
+    FinishHelloBuffer(fbb, CreateHello(fbb, 1, bop::wire::Role(9)));
+    b = finish(fbb);
+    CHECK(decodeHello(b.data(), b.size()).error == DecodeError::Unsupported);
+
+    fbb.Clear();
+    FinishCommandBuffer(fbb, CreateCommand(fbb, 5, bop::wire::CommandBody::NONE));
+    b = finish(fbb);
+    CHECK(decodeCommand(b.data(), b.size()).error == DecodeError::MissingField);
+    fbb.Clear();
+    const auto later = CreateSwitchMapFrame(fbb, 1).Union();  // a body type from a later version
+    FinishCommandBuffer(fbb, CreateCommand(fbb, 5, bop::wire::CommandBody(42), later));
+    b = finish(fbb);
+    const Decoded<bop::protocol::Command> c = decodeCommand(b.data(), b.size());
+    CHECK(c.error == DecodeError::Unsupported);
+    CHECK(c.message.find("42") != std::string::npos);
+    fbb.Clear();
+    const auto param = CreateSetParameterDirect(fbb, std::string(65, 'x').c_str(), 0, 0, 1.0).Union();
+    FinishCommandBuffer(fbb, CreateCommand(fbb, 5, bop::wire::CommandBody::SetParameter, param));
+    b = finish(fbb);
+    CHECK(decodeCommand(b.data(), b.size()).error == DecodeError::BadLength);
+    fbb.Clear();
+    const auto seed = CreateSeedParticle(fbb, 0, &at).Union();  // species 0
+    FinishCommandBuffer(fbb, CreateCommand(fbb, 5, bop::wire::CommandBody::SeedParticle, seed));
+    b = finish(fbb);
+    CHECK(decodeCommand(b.data(), b.size()).error == DecodeError::OutOfRange);
+}
+
+TEST_CASE("scene info beyond its limits is refused", "[protocol]") {
+    using namespace bop::wire;
+    const auto sceneWith = [](int species) {
+        flatbuffers::FlatBufferBuilder fbb;
+        std::vector<flatbuffers::Offset<Species>> list;
+        for (int k = 0; k < species; ++k) list.push_back(CreateSpeciesDirect(fbb, "s"));
+        const Vec3 lo(0, 0, 0), hi(1, 1, 1);
+        FinishSceneInfoBuffer(fbb, CreateSceneInfoDirect(fbb, 1, &list, &lo, &hi, nullptr, nullptr, 0, 1.7, 0, 0.01));
+        return finish(fbb);
+    };
+    Buffer b = sceneWith(255);
+    CHECK(decodeSceneInfo(b.data(), b.size()).ok());
+    b = sceneWith(256);  // within the verifier's table limit, over the species limit
+    CHECK(decodeSceneInfo(b.data(), b.size()).error == DecodeError::BadLength);
+    b = sceneWith(300);  // more tables than the verifier is allowed to visit
+    REQUIRE(b.size() <= kMaxSceneInfoBytes);
+    CHECK(decodeSceneInfo(b.data(), b.size()).error == DecodeError::Malformed);
+
+    bop::protocol::SceneInfo s = sampleScene();
+    s.boxHi.y() = s.boxLo.y();
+    CHECK_THROWS_AS(encodeSceneInfo(s), EncodeError);
+}
+
+TEST_CASE("encoders refuse values a decoder would refuse", "[protocol]") {
+    bop::protocol::Probe p = sampleProbe();
+    p.k0 = -1;
+    CHECK_THROWS_AS(encodeProbe(p), EncodeError);
+    CHECK_THROWS_AS(encodeCommand({1, SeedParticle{0, {0, 0, 0}}}), EncodeError);
+    CHECK_THROWS_AS(encodeCommand({1, RunControl{RunAction::SingleStep, 0}}), EncodeError);
+    StateFrame f = sampleFrame(10, FrameEncoding::Float32, true, false);
+    f.normals.pop_back();
+    CHECK_THROWS_AS(encodeStateFrame(f), EncodeError);
+    f = sampleFrame(10, FrameEncoding::Float32, true, false);
+    f.chunkIndex = 1;
+    try {
+        encodeStateFrame(f);
+        FAIL("no exception");
+    } catch (const EncodeError& e) {
+        CHECK(std::string(e.what()) == "cannot encode StateFrame.chunk_index: 1 not below chunk_count 1");
+    }
+}
