@@ -26,6 +26,7 @@ Buffer encodeHello(const Hello& m) {
     b.add_frame_rate_hz(m.frameRateHz);
     b.add_read_only(m.readOnly);
     b.add_client_name(name);
+    b.add_udp_frame_port(m.udpFramePort);
     wire::FinishHelloBuffer(fbb, b.Finish());
     return detail::toBuffer(fbb);
 }
@@ -40,6 +41,7 @@ Decoded<Hello> decodeHello(const std::uint8_t* buf, std::size_t len) {
     m.frameRateHz = w.frame_rate_hz();
     m.readOnly = w.read_only();
     m.clientName = detail::str(w.client_name());
+    m.udpFramePort = w.udp_frame_port();
     const Validation v = validate(m);
     return detail::accept(std::move(m), v);
 }
@@ -75,6 +77,7 @@ Buffer encodeSceneInfo(const SceneInfo& m) {
     b.add_endpoints(endpoints);
     b.add_particle_count(m.particleCount);
     b.add_units(units);
+    b.add_publish_rate_hz(m.publishRateHz);
     wire::FinishSceneInfoBuffer(fbb, b.Finish());
     return detail::toBuffer(fbb);
 }
@@ -113,6 +116,7 @@ Decoded<SceneInfo> decodeSceneInfo(const std::uint8_t* buf, std::size_t len) {
     }
     m.particleCount = w.particle_count();
     m.units = detail::str(w.units());
+    m.publishRateHz = w.publish_rate_hz();
     const Validation v = validate(m);
     return detail::accept(std::move(m), v);
 }

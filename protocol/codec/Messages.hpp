@@ -26,6 +26,7 @@ struct Hello {
     float frameRateHz = 0;   // wanted state-frame rate, wall Hz; 0 = the server's default
     bool readOnly = false;   // asks for a session that may not send commands
     std::string clientName;  // for logs, at most kMaxNameBytes
+    std::uint16_t udpFramePort = 0;  // the client's UDP port for frames as datagrams; 0 = none
 };
 
 enum class SpeciesKind : std::uint8_t { Surface = 0, Volume = 1 };
@@ -56,6 +57,7 @@ struct SceneInfo {
     Endpoints endpoints;
     std::uint64_t particleCount = 0;  // at the time of the handshake
     std::string units;                // the units in words, at most kMaxTextBytes
+    float publishRateHz = 0;          // the server's state-frame rate, wall Hz (0 = not sent)
 };
 
 // ---- state frames ----

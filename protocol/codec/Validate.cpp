@@ -97,7 +97,9 @@ Validation validate(const SceneInfo& m) {
         c.finite(m.r0, "r0") && c.require(m.r0 > 0, DecodeError::OutOfRange, "r0", "not > 0") &&
         c.finite(m.r0Voxels, "r0_voxels") &&
         c.require(m.r0Voxels >= 0, DecodeError::OutOfRange, "r0_voxels", "negative") && c.finite(m.dt, "dt") &&
-        c.require(m.dt > 0, DecodeError::OutOfRange, "dt", "not > 0") &&
+        c.require(m.dt > 0, DecodeError::OutOfRange, "dt", "not > 0") && c.finite(m.publishRateHz, "publish_rate_hz") &&
+        c.require(m.publishRateHz >= 0 && m.publishRateHz <= kMaxFrameRateHz, DecodeError::OutOfRange, "publish_rate_hz",
+                  "outside 0.." + std::to_string(int(kMaxFrameRateHz)) + " Hz") &&
         c.maxBytes(m.endpoints.frameEndpoint, kMaxEndpointBytes, "endpoints.frame_endpoint") &&
         c.maxBytes(m.units, kMaxTextBytes, "units");
     return c.result();

@@ -50,6 +50,7 @@ Hello sampleHello() {
     h.frameRateHz = 60;
     h.readOnly = true;
     h.clientName = "bop-haptic test";
+    h.udpFramePort = 40123;
     return h;
 }
 
@@ -70,6 +71,7 @@ SceneInfo sampleScene(int speciesCount) {
     s.dt = 0.005;
     s.endpoints = {"tcp://127.0.0.1:7701", 7702, 7703};
     s.particleCount = 123456;
+    s.publishRateHz = 60;
     s.units = "length: r0 = sqrt(3); time: simulation units; force: simulation units";
     return s;
 }
@@ -121,7 +123,7 @@ StateFrame sampleFrame(std::size_t n, FrameEncoding encoding, bool withNormals, 
 
 bool same(const Hello& a, const Hello& b) {
     return a.protocolVersion == b.protocolVersion && a.role == b.role && a.frameRateHz == b.frameRateHz &&
-           a.readOnly == b.readOnly && a.clientName == b.clientName;
+           a.readOnly == b.readOnly && a.clientName == b.clientName && a.udpFramePort == b.udpFramePort;
 }
 
 bool same(const SceneInfo& a, const SceneInfo& b) {
@@ -136,7 +138,7 @@ bool same(const SceneInfo& a, const SceneInfo& b) {
            a.endpoints.frameEndpoint == b.endpoints.frameEndpoint &&
            a.endpoints.udpFramePort == b.endpoints.udpFramePort &&
            a.endpoints.udpProbePort == b.endpoints.udpProbePort && a.particleCount == b.particleCount &&
-           a.units == b.units;
+           a.units == b.units && a.publishRateHz == b.publishRateHz;
 }
 
 bool same(const Probe& a, const Probe& b) {
