@@ -7,6 +7,7 @@
 #include "DecomposedBatch.hpp"
 #include "ExtendedXyz.hpp"
 #include "SceneConfig.hpp"
+#include "ServedRun.hpp"
 #include "SimulationSetup.hpp"
 #include "shape/GradientMapCrop.hpp"
 #include "parallel/Session.hpp"
@@ -29,11 +30,14 @@ using namespace bop;
 namespace {
 
 int run(int argc, char** argv) {
-    CLI::App app{"bop-server: the BoP dynamics host. Batch mode: bop-server SCENE.toml --steps K --no-listen; "
-                 "under mpirun -np N the box is split into one subdomain per rank (docs/parallel.md)"};
+    CLI::App app{"bop-server: the BoP dynamics host. Served: bop-server SCENE.toml [--port P] streams to viewers and "
+                 "haptic clients (docs/protocol.md) until SIGINT/SIGTERM or --steps K; batch: bop-server SCENE.toml "
+                 "--steps K --no-listen; under mpirun -np N the box is split into one subdomain per rank "
+                 "(docs/parallel.md)"};
     std::string scenePath, outDir, restart, cache;
     long long steps = -1, snapshotEvery = -1, reportEvery = -1;
-    bool noListen = false;
+    bool noListen = false, waitForClient = false, readOnlyViewers = false, quantised = false;
+    protocol::FrontOptions front;
     app.add_option("scene", scenePath, "scene file (TOML)")->required();
     app.add_option("--steps", steps, "steps to run (default: [run].steps of the scene)");
     app.add_flag("--no-listen", noListen, "batch run without the network front");
@@ -42,8 +46,18 @@ int run(int argc, char** argv) {
     app.add_option("--report-every", reportEvery, "progress line period in steps");
     app.add_option("--restart", restart, "start from the last frame of an extended XYZ file");
     app.add_option("--cache", cache, "gradient-map cache (default: <out>/gradient-map.bopgm)");
+    app.add_option("--port", front.basePort, "base port P: commands P, frames P+1, UDP probes P+2 (0 = ephemeral)")
+        ->check(CLI::Range(0, 65533));
+    app.add_option("--bind", front.bindAddress, "address to bind (default 127.0.0.1; * = every interface)");
+    app.add_option("--publish-hz", front.publishHz, "state-frame rate, wall Hz (clients may ask for more)")
+        ->check(CLI::Range(1.0, 1000.0));
+    app.add_option("--chunk-bytes", front.chunkBytes, "largest state-frame chunk, bytes")->check(CLI::Range(4096, 1 << 30));
+    app.add_flag("--quantised", quantised, "16-bit state frames (positions against the box, octahedral normals)");
+    app.add_flag("--wait-for-client", waitForClient, "hold the first step until a client has said hello");
+    app.add_flag("--read-only-viewers", readOnlyViewers, "viewers may watch but not command");
     CLI11_PARSE(app, argc, argv);
-    if (!noListen) throw Error("bop-server", "the network front is not part of this build; run batch mode with --no-listen");
+    front.quantised = quantised;
+    front.viewersMayCommand = !readOnlyViewers;
 
     spdlog::set_pattern("[bop-server] %v");
     const int ranks = parallel::MpiSession::worldSize();
@@ -64,6 +78,11 @@ int run(int argc, char** argv) {
                      model.ljParams.rCutR0);
     const auto t00 = std::chrono::steady_clock::now();
     const auto progress = [](const std::string& m) { spdlog::info("{}", m); };
+    if (!noListen) {
+        app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
+                                                          parallel::MpiSession::barrier, progress);
+        return app::runServed(scene, std::move(start), {front, steps == scene.run.steps ? 0 : steps, waitForClient, outDir});
+    }
     if (ranks > 1) {
         app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
                                                           parallel::MpiSession::barrier, progress);

@@ -24,6 +24,17 @@ void DecomposedRun::setEnergyEvery(long long n) { impl_->sim.setEnergyEvery(n); 
 void DecomposedRun::setProbe(const core::ProbeState& probe) { impl_->sim.probe() = probe; }
 Totals DecomposedRun::totals() const { return impl_->sim.totals(); }
 core::Particles DecomposedRun::gather() const { return impl_->sim.gather(); }
+void DecomposedRun::submit(const Command& command) { impl_->sim.submit(command); }
+long long DecomposedRun::stepNumber() const { return impl_->sim.stepCount(); }
+
+std::array<double, 4> DecomposedRun::agree(const std::array<double, 4>& mine) {
+    std::vector<double> v(mine.begin(), mine.end());
+    impl_->comm.broadcast(v);
+    std::array<double, 4> out{};
+    std::copy_n(v.begin(), std::min<std::size_t>(4, v.size()), out.begin());
+    return out;
+}
+
 int DecomposedRun::rank() const { return impl_->comm.rank(); }
 int DecomposedRun::size() const { return impl_->comm.size(); }
 Coords DecomposedRun::dims() const { return impl_->comm.dims(); }

@@ -2,6 +2,7 @@
 // A decomposed run over MPI_COMM_WORLD for tools outside parallel/ (no <mpi.h> here): every rank
 // constructs it with the whole scene's model and particles, steps it, and reads reductions
 // that are the same on every rank. Collective: every call must be made on every rank.
+#include "Commands.hpp"
 #include "DecomposedOptions.hpp"
 #include "Decomposition.hpp"
 #include "core/ForceField.hpp"
@@ -9,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <memory>
 
 namespace bop::parallel {
@@ -40,6 +42,12 @@ public:
     void refreshForces();
     void setEnergyEvery(long long n);
     void setProbe(const core::ProbeState& probe);  // the same on every rank
+    // On rank 0 only: a command every rank applies at the start of the next step
+    // (std::invalid_argument if it is refused, std::logic_error on other ranks).
+    void submit(const Command& command);
+    // Rank 0's values on every rank (one small broadcast): the run loop's decisions.
+    std::array<double, 4> agree(const std::array<double, 4>& mine);
+    long long stepNumber() const;  // steps so far, counted from the scene's first step
     Totals totals() const;
     RunCounters counters() const;
     core::Particles gather() const;  // every particle sorted by id

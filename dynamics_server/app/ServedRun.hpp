@@ -1,0 +1,28 @@
+#pragma once
+// bop-server with its network front (docs/protocol.md): the decomposed run at any rank count,
+// rank 0 serving viewers and haptic clients. Each pass of the loop, rank 0 turns the clients'
+// commands and newest probe into run commands, decides whether to step (pause, single step),
+// whether a frame is due and whether to stop, and broadcasts that to every rank; frames are
+// gathered to every rank only at publish ticks. No rank waits on a client.
+#include "SimulationSetup.hpp"
+#include "server/ServerFront.hpp"
+
+#include <string>
+
+namespace bop::app {
+
+struct ServeOptions {
+    protocol::FrontOptions front;
+    long long steps = 0;          // stop after this many steps; 0 = until SIGINT or SIGTERM
+    bool waitForClient = false;   // hold the first step until a client said Hello
+    std::string outDir;           // final.xyz goes here
+};
+
+// Collective: every rank calls it. Returns the exit code.
+int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& options);
+
+// The handshake's description of a scene (species with colours, box, map grid when `map`, a
+// header or whole map, is given, r0, dt).
+protocol::SceneInfo sceneInfoOf(const Scene& scene, const GradientMap* map);
+
+}  // namespace bop::app

@@ -1,0 +1,79 @@
+#pragma once
+// The network front of bop-server (rank 0): a thread that owns every socket (ZeroMQ ROUTER for
+// handshakes, commands and probes; PUB for state frames; UDP for probes and datagram frames)
+// and talks to the step loop only through small mutex-guarded slots, so that a step never
+// waits on a client (docs/protocol.md). The step loop takes commands and the newest probe,
+// offers frames (the newest replaces one not yet sent) and feedback, and answers commands.
+#include "codec/Messages.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bop::protocol {
+
+struct FrontOptions {
+    std::string bindAddress = "127.0.0.1";  // interface to bind; "*" for all
+    int basePort = 7700;                    // control P, frames P+1, UDP probes P+2; 0 = ephemeral ports
+    float publishHz = 60;                   // default state-frame rate, wall Hz
+    float maxPublishHz = 240;               // the most a client may ask for, wall Hz
+    std::size_t chunkBytes = 4u << 20;      // largest frame chunk, bytes
+    bool quantised = false;                 // 16-bit frames (positions against the box, octahedral normals)
+    bool viewersMayCommand = true;          // false: viewers are read-only, only control clients command
+    std::string curveSecretKey;             // z85 server secret key; empty = no CURVE
+    bool udp = true;                        // probes on UDP P+2 and frames to clients' UDP ports
+};
+
+struct FrontStats {
+    std::uint64_t malformed = 0;      // inbound buffers refused by a decoder or of an unexpected kind
+    std::uint64_t oversized = 0;      // of those, refused for their size
+    std::uint64_t framesSent = 0;     // frames published (all chunks)
+    std::uint64_t framesDropped = 0;  // frames replaced before the thread could send them
+    std::uint64_t bytesSent = 0;      // frame bytes handed to the PUB socket
+    std::uint64_t commands = 0, probes = 0, hellos = 0;
+    std::size_t clients = 0;          // identities that said Hello
+};
+
+// A command as the step loop sees it; answer it with ServerFront::reply().
+struct PendingCommand {
+    std::string client;  // opaque peer identity
+    bool mayCommand = true;
+    Command command;
+};
+
+class ServerFront {
+public:
+    // Binds the sockets (bop::Error naming the endpoint if one cannot be bound) and starts the thread.
+    ServerFront(FrontOptions options, SceneInfo scene);
+    ~ServerFront();
+    ServerFront(const ServerFront&) = delete;
+    ServerFront& operator=(const ServerFront&) = delete;
+
+    int controlPort() const;
+    int framePort() const;
+    int udpProbePort() const;  // 0 without UDP
+    std::string controlEndpoint() const;
+
+    // ---- the step loop's side: none of these waits on the network ----
+    std::vector<PendingCommand> takeCommands();
+    std::optional<Probe> takeProbe();  // the newest probe since the last call
+    bool frameDue(std::chrono::steady_clock::time_point now);  // a publish tick has come
+    void offerFrame(StateFrame frame);  // a whole frame; chunked, encoded and sent by the thread
+    void offerFeedback(const Feedback& feedback);
+    void reply(const PendingCommand& command, const CommandReply& reply);
+    void setParticleCount(std::uint64_t n);  // for SceneInfo of later handshakes
+    bool waitForClient(std::chrono::milliseconds timeout);  // until some client said Hello
+    bool anyHaptic() const;  // some client sent a probe in the last second
+    FrontStats stats() const;
+    float publishHz() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace bop::protocol
