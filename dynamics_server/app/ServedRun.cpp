@@ -188,6 +188,7 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
                 desk.probe.position = p->position;
                 desk.probe.params = {p->k0, p->k1};
                 desk.probeSeq = p->seq;
+                front->probeApplied(*p, std::uint64_t(run.stepNumber()));
                 parallel::Command c;
                 c.probe = desk.probe;
                 run.submit(c);
@@ -218,8 +219,14 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
     }
     const core::Particles all = run.gather();
     if (!root) return 0;
+    front->finish();  // the recording, if any, is complete from here
     const protocol::FrontStats s = front->stats();
     front.reset();
+    if (!o.front.recordPath.empty())
+        std::cout << (s.recordError.empty() ? "recorded the session in " + o.front.recordPath
+                                            : "recording stopped early (" + s.recordError + "); what was written is in " +
+                                                  o.front.recordPath + ".partial")
+                  << "\n";
     std::filesystem::create_directories(o.outDir);
     const std::string finalFile = o.outDir + "/final.xyz";
     std::filesystem::remove(finalFile);

@@ -55,6 +55,7 @@ int run(int argc, char** argv) {
     app.add_flag("--quantised", quantised, "16-bit state frames (positions against the box, octahedral normals)");
     app.add_flag("--wait-for-client", waitForClient, "hold the first step until a client has said hello");
     app.add_flag("--read-only-viewers", readOnlyViewers, "viewers may watch but not command");
+    app.add_option("--record", front.recordPath, "record the session (commands, probes, frames) as MCAP in this file");
     CLI11_PARSE(app, argc, argv);
     front.quantised = quantised;
     front.viewersMayCommand = !readOnlyViewers;
@@ -79,6 +80,8 @@ int run(int argc, char** argv) {
     const auto t00 = std::chrono::steady_clock::now();
     const auto progress = [](const std::string& m) { spdlog::info("{}", m); };
     if (!noListen) {
+        front.recordMeta = {{"scene", fs::absolute(scenePath).string()}, {"ranks", std::to_string(ranks)},
+                            {"restart", restart}};
         app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
                                                           parallel::MpiSession::barrier, progress);
         return app::runServed(scene, std::move(start), {front, steps == scene.run.steps ? 0 : steps, waitForClient, outDir});

@@ -3,6 +3,7 @@
 #include "bop/common/Error.hpp"
 #include "codec/Codec.hpp"
 #include "codec/MessageKind.hpp"
+#include "server/SessionRecorder.hpp"
 
 #include <zmq.hpp>
 
@@ -53,6 +54,8 @@ struct ServerFront::Impl {
     std::optional<StateFrame> frame;
     std::optional<Feedback> feedback;
     std::vector<std::pair<std::string, Buffer>> replies;
+    std::vector<std::pair<Buffer, Buffer>> toRecord;  // (command, reply) or (probe, applied)
+    std::unique_ptr<SessionRecorder> recorder;        // used by the thread only, once it runs
     std::map<std::string, Client> clients;
     FrontStats stats;
     std::atomic<float> rateHz{60};
@@ -167,10 +170,23 @@ struct ServerFront::Impl {
             pub.send(zmq::buffer(&tier, 1), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
             pub.send(zmq::buffer(chunk), zmq::send_flags::dontwait);  // PUB drops for a full subscriber
             bytes += chunk.size();
+            record([&] { recorder->frameChunk(chunk); });
         }
         std::lock_guard lock(m);
         ++stats.framesSent;
         stats.bytesSent += bytes;
+    }
+
+    // Runs a recorder call; a failure (disk full, ...) ends the recording, never the server.
+    template <class F> void record(F f) {
+        if (!recorder) return;
+        try {
+            f();
+        } catch (const std::exception& e) {
+            std::lock_guard lock(m);
+            stats.recordError = e.what();
+            recorder.reset();
+        }
     }
 
     void loop() {
@@ -179,6 +195,7 @@ struct ServerFront::Impl {
             zmq::poll(items, 1, std::chrono::milliseconds(1));
             std::optional<StateFrame> f;
             std::optional<Feedback> fb;
+            std::vector<std::pair<Buffer, Buffer>> inputs;
             {
                 std::lock_guard lock(m);
                 for (int k = 0; k < 256; ++k) {  // a burst, then the outbound side gets its turn
@@ -198,6 +215,7 @@ struct ServerFront::Impl {
                 replies.clear();
                 f.swap(frame);
                 fb.swap(feedback);
+                inputs.swap(toRecord);
                 if (fb) {
                     const Buffer b = encodeFeedback(*fb);
                     const auto recent = Clock::now() - std::chrono::seconds(1);
@@ -207,6 +225,8 @@ struct ServerFront::Impl {
                     haptic = any;
                 }
             }
+            for (const auto& [a, b] : inputs)
+                record([&] { messageKind(a.data(), a.size()) == MessageKind::Command ? recorder->command(a, b) : recorder->probe(a, b); });
             if (f) publish(std::move(*f));
         }
     }
@@ -224,12 +244,24 @@ ServerFront::ServerFront(FrontOptions options, SceneInfo scene) : impl_(std::mak
     d.framePort = d.bind(d.pub, d.opt.basePort + 1);
     d.controlEndpoint = "tcp://" + (d.opt.bindAddress == "*" ? std::string("127.0.0.1") : d.opt.bindAddress) + ":" +
                         std::to_string(d.controlPort);
+    if (!d.opt.recordPath.empty()) d.recorder = std::make_unique<SessionRecorder>(d.opt.recordPath, d.sceneNow(), d.opt.recordMeta);
     d.thread = std::thread([&d] { d.loop(); });
 }
 
-ServerFront::~ServerFront() {
+void ServerFront::finish() {
     impl_->stop = true;
     if (impl_->thread.joinable()) impl_->thread.join();
+    if (impl_->recorder) {
+        auto r = std::move(impl_->recorder);
+        r->close();
+    }
+}
+
+ServerFront::~ServerFront() {
+    try {
+        finish();
+    } catch (...) {  // the file keeps its .partial name; finish() reported the error to whoever called it
+    }
 }
 
 int ServerFront::controlPort() const { return impl_->controlPort; }
@@ -272,6 +304,12 @@ void ServerFront::reply(const PendingCommand& command, const CommandReply& reply
     const Buffer b = encodeCommandReply(reply);
     std::lock_guard lock(impl_->m);
     impl_->replies.emplace_back(command.client, b);
+    if (impl_->recorder) impl_->toRecord.emplace_back(encodeCommand(command.command), b);
+}
+
+void ServerFront::probeApplied(const Probe& probe, std::uint64_t step) {
+    std::lock_guard lock(impl_->m);
+    if (impl_->recorder) impl_->toRecord.emplace_back(encodeProbe(probe), encodeFeedback({probe.seq, step, {}, nowNs()}));
 }
 
 void ServerFront::setParticleCount(std::uint64_t n) {

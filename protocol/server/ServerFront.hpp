@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -26,6 +27,8 @@ struct FrontOptions {
     bool viewersMayCommand = true;          // false: viewers are read-only, only control clients command
     std::string curveSecretKey;             // z85 server secret key; empty = no CURVE
     bool udp = true;                        // probes on UDP P+2 and frames to clients' UDP ports
+    std::string recordPath;                 // MCAP recording of the session (SessionRecorder.hpp); empty = none
+    std::map<std::string, std::string> recordMeta;  // scene file, ranks, ...: stored in the recording
 };
 
 struct FrontStats {
@@ -36,6 +39,7 @@ struct FrontStats {
     std::uint64_t bytesSent = 0;      // frame bytes handed to the PUB socket
     std::uint64_t commands = 0, probes = 0, hellos = 0;
     std::size_t clients = 0;          // identities that said Hello
+    std::string recordError;          // why recording stopped early, if it did
 };
 
 // A command as the step loop sees it; answer it with ServerFront::reply().
@@ -64,7 +68,10 @@ public:
     bool frameDue(std::chrono::steady_clock::time_point now);  // a publish tick has come
     void offerFrame(StateFrame frame);  // a whole frame; chunked, encoded and sent by the thread
     void offerFeedback(const Feedback& feedback);
-    void reply(const PendingCommand& command, const CommandReply& reply);
+    void reply(const PendingCommand& command, const CommandReply& reply);  // also recorded
+    void probeApplied(const Probe& probe, std::uint64_t step);               // recorded when recording
+    // Stops the thread and finishes the recording (bop::Error if the file cannot be finished).
+    void finish();
     void setParticleCount(std::uint64_t n);  // for SceneInfo of later handshakes
     bool waitForClient(std::chrono::milliseconds timeout);  // until some client said Hello
     bool anyHaptic() const;  // some client sent a probe in the last second
