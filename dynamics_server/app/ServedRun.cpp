@@ -174,6 +174,36 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
             while (!gStop && !front->waitForClient(std::chrono::milliseconds(200))) {}
         }
     }
+    // Replayed inputs (ServeOptions::replay), by step.
+    std::size_t nextCommand = 0, nextProbe = 0;
+    std::set<long long> frameSteps;
+    if (o.replay)
+        for (const auto& c : o.replay->chunks)
+            if (c.frame.chunkIndex == 0) frameSteps.insert(static_cast<long long>(c.frame.step));
+    const auto takeProbe = [&](const protocol::Probe& p) {
+        desk.probe.active = p.active;
+        desk.probe.position = p.position;
+        desk.probe.params = {p.k0, p.k1};
+        desk.probeSeq = p.seq;
+        front->probeApplied(p, std::uint64_t(run.stepNumber()));
+        parallel::Command c;
+        c.probe = desk.probe;
+        run.submit(c);
+    };
+    const auto replayInputs = [&]() -> std::array<double, 4> {
+        const long long now = run.stepNumber();
+        const auto& r = *o.replay;
+        for (; nextCommand < r.commands.size() && (long long)(r.commands[nextCommand].reply.step) <= now; ++nextCommand) {
+            const auto& rc = r.commands[nextCommand];
+            if ((long long)(rc.reply.step) < now || rc.reply.status != protocol::ReplyStatus::Ok) continue;
+            front->reply({"", true, rc.command}, apply(rc.command, desk, run, model.speciesCount()));
+        }
+        for (; nextProbe < r.probes.size() && (long long)(r.probes[nextProbe].step) <= now; ++nextProbe)
+            if ((long long)(r.probes[nextProbe].step) == now) takeProbe(r.probes[nextProbe].probe);
+        desk.paused = false;  // the recording's steps drive the run
+        const bool last = frameSteps.empty() || now >= *frameSteps.rbegin();
+        return {gStop || last ? 1.0 : 0.0, 1.0, frameSteps.count(now + 1) ? 1.0 : 0.0, desk.probe.active ? 1.0 : 0.0};
+    };
     const double volume = model.box.size().prod();
     long long done = 0;
     auto rateClock = Clock::now();
@@ -181,18 +211,11 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
     double stepRate = 0;
     for (;;) {
         std::array<double, 4> ctl{0, 0, 0, 0};  // stop, step, publish, feedback
-        if (root) {
+        if (root && o.replay) {
+            ctl = replayInputs();
+        } else if (root) {
             for (const auto& pc : front->takeCommands()) front->reply(pc, apply(pc.command, desk, run, model.speciesCount()));
-            if (const auto p = front->takeProbe()) {
-                desk.probe.active = p->active;
-                desk.probe.position = p->position;
-                desk.probe.params = {p->k0, p->k1};
-                desk.probeSeq = p->seq;
-                front->probeApplied(*p, std::uint64_t(run.stepNumber()));
-                parallel::Command c;
-                c.probe = desk.probe;
-                run.submit(c);
-            }
+            if (const auto p = front->takeProbe()) takeProbe(*p);
             const bool step = !desk.paused || desk.singleSteps > 0;
             if (desk.paused && desk.singleSteps > 0) --desk.singleSteps;
             ctl = {gStop || (o.steps > 0 && done >= o.steps) ? 1.0 : 0.0, step ? 1.0 : 0.0,

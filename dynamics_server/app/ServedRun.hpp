@@ -5,8 +5,11 @@
 // whether a frame is due and whether to stop, and broadcasts that to every rank; frames are
 // gathered to every rank only at publish ticks. No rank waits on a client.
 #include "SimulationSetup.hpp"
+#include "recording/SessionReader.hpp"
 #include "server/ServerFront.hpp"
 
+#include <optional>
+#include <set>
 #include <string>
 
 namespace bop::app {
@@ -16,6 +19,10 @@ struct ServeOptions {
     long long steps = 0;          // stop after this many steps; 0 = until SIGINT or SIGTERM
     bool waitForClient = false;   // hold the first step until a client said Hello
     std::string outDir;           // final.xyz goes here
+    // Replay a recorded session's inputs instead of listening to clients' (bop-replay check):
+    // its commands and probes at the steps they were applied, frames at the steps it has
+    // frames of, and stop after the last of them.
+    std::optional<protocol::RecordedSession> replay;
 };
 
 // Collective: every rank calls it. Returns the exit code.

@@ -56,6 +56,9 @@ int run(int argc, char** argv) {
     app.add_flag("--wait-for-client", waitForClient, "hold the first step until a client has said hello");
     app.add_flag("--read-only-viewers", readOnlyViewers, "viewers may watch but not command");
     app.add_option("--record", front.recordPath, "record the session (commands, probes, frames) as MCAP in this file");
+    std::string replayInputs;
+    app.add_option("--replay-inputs", replayInputs, "apply a recorded session's commands and probes at their steps "
+                                                    "instead of clients' (bop-replay check runs this)");
     CLI11_PARSE(app, argc, argv);
     front.quantised = quantised;
     front.viewersMayCommand = !readOnlyViewers;
@@ -84,7 +87,9 @@ int run(int argc, char** argv) {
                             {"restart", restart}};
         app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
                                                           parallel::MpiSession::barrier, progress);
-        return app::runServed(scene, std::move(start), {front, steps == scene.run.steps ? 0 : steps, waitForClient, outDir});
+        app::ServeOptions serve{front, steps == scene.run.steps ? 0 : steps, waitForClient, outDir, std::nullopt};
+        if (!replayInputs.empty()) serve.replay = protocol::readSession(replayInputs);
+        return app::runServed(scene, std::move(start), serve);
     }
     if (ranks > 1) {
         app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,

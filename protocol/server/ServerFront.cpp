@@ -52,6 +52,7 @@ struct ServerFront::Impl {
     std::vector<PendingCommand> commands;
     std::optional<Probe> probe;
     std::optional<StateFrame> frame;
+    std::optional<std::vector<Buffer>> encodedFrame;
     std::optional<Feedback> feedback;
     std::vector<std::pair<std::string, Buffer>> replies;
     std::vector<std::pair<Buffer, Buffer>> toRecord;  // (command, reply) or (probe, applied)
@@ -163,10 +164,14 @@ struct ServerFront::Impl {
         f.encoding = opt.quantised ? FrameEncoding::Quantised16 : FrameEncoding::Float32;
         f.quantLo = scene.boxLo;
         f.quantHi = scene.boxHi;
+        send(encodeStateFrameChunks(f, opt.chunkBytes));
+    }
+
+    void send(const std::vector<Buffer>& chunks) {
         const std::uint64_t n = ++frameNumber;
         const std::uint8_t tier = std::uint8_t(std::min(std::countr_zero(n), 7));
         std::size_t bytes = 0;
-        for (const Buffer& chunk : encodeStateFrameChunks(f, opt.chunkBytes)) {
+        for (const Buffer& chunk : chunks) {
             pub.send(zmq::buffer(&tier, 1), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
             pub.send(zmq::buffer(chunk), zmq::send_flags::dontwait);  // PUB drops for a full subscriber
             bytes += chunk.size();
@@ -194,6 +199,7 @@ struct ServerFront::Impl {
         while (!stop) {
             zmq::poll(items, 1, std::chrono::milliseconds(1));
             std::optional<StateFrame> f;
+            std::optional<std::vector<Buffer>> encoded;
             std::optional<Feedback> fb;
             std::vector<std::pair<Buffer, Buffer>> inputs;
             {
@@ -214,6 +220,7 @@ struct ServerFront::Impl {
                 for (auto& [id, b] : replies) sendTo(id, b);
                 replies.clear();
                 f.swap(frame);
+                encoded.swap(encodedFrame);
                 fb.swap(feedback);
                 inputs.swap(toRecord);
                 if (fb) {
@@ -228,6 +235,7 @@ struct ServerFront::Impl {
             for (const auto& [a, b] : inputs)
                 record([&] { messageKind(a.data(), a.size()) == MessageKind::Command ? recorder->command(a, b) : recorder->probe(a, b); });
             if (f) publish(std::move(*f));
+            if (encoded) send(*encoded);
         }
     }
 };
@@ -293,6 +301,12 @@ void ServerFront::offerFrame(StateFrame frame) {
     std::lock_guard lock(impl_->m);
     if (impl_->frame) ++impl_->stats.framesDropped;
     impl_->frame = std::move(frame);
+}
+
+void ServerFront::offerEncodedFrame(std::vector<Buffer> chunks) {
+    std::lock_guard lock(impl_->m);
+    if (impl_->encodedFrame) ++impl_->stats.framesDropped;
+    impl_->encodedFrame = std::move(chunks);
 }
 
 void ServerFront::offerFeedback(const Feedback& feedback) {
