@@ -3,6 +3,7 @@
 #include "bop/common/Error.hpp"
 #include "codec/Codec.hpp"
 #include "codec/MessageKind.hpp"
+#include "server/FrontUdp.hpp"
 #include "server/SessionRecorder.hpp"
 
 #include <zmq.hpp>
@@ -26,6 +27,13 @@ constexpr int kPubHighWaterMark = 64;                // messages queued per subs
 
 std::int64_t nowNs() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
+}
+
+// Frames a client that wants `wantedHz` gets of a server publishing at `rateHz`: every 2^tier-th
+// (docs/protocol.md, "Frame rate tiers").
+int tierFor(float rateHz, float wantedHz) {
+    if (!(wantedHz > 0) || wantedHz >= rateHz) return 0;
+    return std::clamp(int(std::floor(std::log2(rateHz / wantedHz))), 0, 7);
 }
 
 struct Client {
@@ -57,6 +65,7 @@ struct ServerFront::Impl {
     std::vector<std::pair<std::string, Buffer>> replies;
     std::vector<std::pair<Buffer, Buffer>> toRecord;  // (command, reply) or (probe, applied)
     std::unique_ptr<SessionRecorder> recorder;        // used by the thread only, once it runs
+    std::unique_ptr<FrontUdp> udp;                    // the same
     std::map<std::string, Client> clients;
     FrontStats stats;
     std::atomic<float> rateHz{60};
@@ -97,6 +106,7 @@ struct ServerFront::Impl {
         s.publishRateHz = rateHz.load();
         s.endpoints.frameEndpoint = "tcp://" + (opt.bindAddress == "*" ? std::string("127.0.0.1") : opt.bindAddress) + ":" +
                                     std::to_string(framePort);
+        s.endpoints.udpProbePort = udp ? std::uint16_t(udp->port()) : 0;
         return s;
     }
 
@@ -109,7 +119,7 @@ struct ServerFront::Impl {
     }
 
     // One inbound message from peer `id` (m held).
-    void handle(const std::string& id, const zmq::message_t& msg) {
+    void handle(const std::string& id, zmq::message_t& msg) {
         const auto* data = static_cast<const std::uint8_t*>(msg.data());
         const std::size_t size = msg.size();
         const auto bad = [&](DecodeError e) {
@@ -129,6 +139,14 @@ struct ServerFront::Impl {
             for (const auto& [_, other] : clients) rate = std::max(rate, std::min(other.wantedHz, opt.maxPublishHz));
             rateHz = rate;
             stats.clients = clients.size();
+            if (udp && h.value.udpFramePort) {
+                std::string address = "127.0.0.1";
+                try {
+                    address = msg.gets("Peer-Address");
+                } catch (const zmq::error_t&) {  // not a TCP peer: loopback
+                }
+                udp->setFrameClient(id, address, h.value.udpFramePort, tierFor(rate, c.wantedHz));
+            }
             sendTo(id, encodeSceneInfo(sceneNow()));
             helloSeen.notify_all();
             return;
@@ -164,7 +182,9 @@ struct ServerFront::Impl {
         f.encoding = opt.quantised ? FrameEncoding::Quantised16 : FrameEncoding::Float32;
         f.quantLo = scene.boxLo;
         f.quantHi = scene.boxHi;
-        send(encodeStateFrameChunks(f, opt.chunkBytes));
+        const std::vector<Buffer> chunks = encodeStateFrameChunks(f, opt.chunkBytes);
+        send(chunks);
+        if (udp) udp->frame(chunks.size() == 1 ? chunks.front() : encodeStateFrame(f), frameNumber);
     }
 
     void send(const std::vector<Buffer>& chunks) {
@@ -223,12 +243,20 @@ struct ServerFront::Impl {
                 encoded.swap(encodedFrame);
                 fb.swap(feedback);
                 inputs.swap(toRecord);
+                if (udp) {
+                    const FrontUdp::Inbound in = udp->poll(Clock::now());
+                    stats.probes += in.probes;
+                    stats.malformed += in.malformed;
+                    stats.oversized += in.oversized;
+                    if (in.newest && (!probe || in.newest->seq > probe->seq)) probe = in.newest;
+                }
                 if (fb) {
                     const Buffer b = encodeFeedback(*fb);
                     const auto recent = Clock::now() - std::chrono::seconds(1);
                     bool any = false;
                     for (const auto& [id, c] : clients)
                         if (c.lastProbe > recent) sendTo(id, b), any = true;
+                    if (udp) udp->feedback(b, Clock::now()), any = any || udp->anyProbing(Clock::now());
                     haptic = any;
                 }
             }
@@ -250,6 +278,7 @@ ServerFront::ServerFront(FrontOptions options, SceneInfo scene) : impl_(std::mak
     d.pub.set(zmq::sockopt::sndhwm, kPubHighWaterMark);
     d.controlPort = d.bind(d.router, d.opt.basePort);
     d.framePort = d.bind(d.pub, d.opt.basePort + 1);
+    if (d.opt.udp) d.udp = std::make_unique<FrontUdp>(d.opt.bindAddress, d.opt.basePort == 0 ? 0 : d.opt.basePort + 2);
     d.controlEndpoint = "tcp://" + (d.opt.bindAddress == "*" ? std::string("127.0.0.1") : d.opt.bindAddress) + ":" +
                         std::to_string(d.controlPort);
     if (!d.opt.recordPath.empty()) d.recorder = std::make_unique<SessionRecorder>(d.opt.recordPath, d.sceneNow(), d.opt.recordMeta);
@@ -274,7 +303,7 @@ ServerFront::~ServerFront() {
 
 int ServerFront::controlPort() const { return impl_->controlPort; }
 int ServerFront::framePort() const { return impl_->framePort; }
-int ServerFront::udpProbePort() const { return 0; }
+int ServerFront::udpProbePort() const { return impl_->udp ? impl_->udp->port() : 0; }
 std::string ServerFront::controlEndpoint() const { return impl_->controlEndpoint; }
 float ServerFront::publishHz() const { return impl_->rateHz.load(); }
 bool ServerFront::anyHaptic() const { return impl_->haptic.load(); }

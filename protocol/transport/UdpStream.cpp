@@ -59,13 +59,14 @@ std::vector<Message> UdpReceiver::receive(int timeoutMs) {
     const auto deadline = Clock::now() + std::chrono::milliseconds(std::max(timeoutMs, 0));
     std::vector<Message> newest;
     bool complete = false;
-    for (;;) {
+    for (std::size_t read = 1;; ++read) {
         const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now());
         std::optional<Datagram> d = socket_.receive(static_cast<int>(left.count()));
-        if (!d) break;  // timed out
+        if (!d) break;  // nothing more came in time
         complete = take(std::move(*d), newest);
-        // Also stop at the deadline while datagrams keep coming without completing a message.
-        if (complete || Clock::now() >= deadline) break;
+        // Past the deadline, what is queued is still read, but no more than kMaxDrainDatagrams
+        // while datagrams keep coming without completing a message.
+        if (complete || (read >= kMaxDrainDatagrams && Clock::now() >= deadline)) break;
     }
     for (std::size_t i = 0; complete && i < kMaxDrainDatagrams; ++i) {
         std::optional<Datagram> d = socket_.receive(0);

@@ -56,20 +56,22 @@ private:
 
 class UdpReceiver {
 public:
-    // At most this many datagrams are read in one receive() once a message is complete, so that
-    // a sender faster than the reader cannot keep receive() from returning.
+    // Datagrams read past the deadline, or after a message completed, are at most about this
+    // many, so that a sender faster than the reader cannot keep receive() from returning.
     static constexpr std::size_t kMaxDrainDatagrams = 8192;
 
     explicit UdpReceiver(UdpSocket socket, ReassemblyLimits limits = {});
 
-    // Waits at most timeoutMs milliseconds for a message to complete, then also reads what is
-    // already queued without waiting. Returns the newest complete message of each stream (by
-    // stream id; empty on timeout); older ones completed in the same call are superseded.
+    // Reads datagrams until a message completes or timeoutMs milliseconds have passed (0: only
+    // what is queued now), then also reads what is already queued. Returns the newest complete
+    // message of each stream, by stream id (empty on timeout); older ones completed in the same
+    // call are superseded.
     std::vector<Message> receive(int timeoutMs);
 
     const ReassemblyStats& stats() const { return reassembler_.stats(); }
     std::uint64_t superseded() const { return superseded_; }  // delivered, then replaced
     std::uint64_t datagrams() const { return datagrams_; }    // read from the socket
+    std::size_t partialMessages() const { return reassembler_.partialMessages(); }
     UdpSocket& socket() { return socket_; }
 
 private:

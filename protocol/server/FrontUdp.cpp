@@ -1,0 +1,77 @@
+#include "server/FrontUdp.hpp"
+
+#include "codec/MessageKind.hpp"
+
+namespace bop::protocol {
+namespace {
+
+std::string parts(const Endpoint& e) { return e.address + ":" + std::to_string(e.port); }
+
+Endpoint endpointOf(const std::string& text) {
+    const auto colon = text.rfind(':');
+    return {text.substr(0, colon), std::uint16_t(std::stoi(text.substr(colon + 1)))};
+}
+
+}  // namespace
+
+FrontUdp::FrontUdp(const std::string& bindAddress, int port)
+    : socket_(bindAddress == "*" ? "0.0.0.0" : bindAddress, std::uint16_t(port)) {}
+
+FrontUdp::Inbound FrontUdp::poll(Clock::time_point now) {
+    Inbound in;
+    for (int k = 0; k < 256; ++k) {  // a burst; the rest next time round
+        auto d = socket_.receive(0);
+        if (!d) break;
+        const auto p = decodeProbe(d->bytes.data(), d->bytes.size());
+        if (!p) {
+            ++in.malformed;
+            if (p.error == DecodeError::TooLarge) ++in.oversized;
+            continue;
+        }
+        ++in.probes;
+        probers_[parts(d->sender)] = now;
+        if (!in.newest || p.value.seq > in.newest->seq) in.newest = p.value;
+    }
+    return in;
+}
+
+void FrontUdp::feedback(const Buffer& b, Clock::time_point now) {
+    for (auto it = probers_.begin(); it != probers_.end();) {
+        if (now - it->second > std::chrono::seconds(1)) {
+            it = probers_.erase(it);
+            continue;
+        }
+        socket_.sendTo(endpointOf(it->first), b);  // a drop is a lost datagram, as UDP allows
+        ++it;
+    }
+}
+
+bool FrontUdp::anyProbing(Clock::time_point now) const {
+    for (const auto& [_, t] : probers_)
+        if (now - t <= std::chrono::seconds(1)) return true;
+    return false;
+}
+
+void FrontUdp::setFrameClient(const std::string& id, const std::string& address, std::uint16_t port, int tier) {
+    if (port == 0) {
+        frameClients_.erase(id);
+        return;
+    }
+    FrameClient c;
+    c.sender = std::make_unique<UdpSender>(UdpSocket(socket_.local().address, 0), Endpoint{address, port});
+    c.tier = tier;
+    frameClients_[id] = std::move(c);
+}
+
+void FrontUdp::frame(const Buffer& whole, std::uint64_t frameNumber) {
+    for (auto& [_, c] : frameClients_)
+        if (frameNumber % (std::uint64_t(1) << c.tier) == 0) c.sender->send(kFrameStream, whole);
+}
+
+std::uint64_t FrontUdp::datagramsDropped() const {
+    std::uint64_t n = 0;
+    for (const auto& [_, c] : frameClients_) n += c.sender->stats().datagramsDropped;
+    return n;
+}
+
+}  // namespace bop::protocol

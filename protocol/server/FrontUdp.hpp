@@ -1,0 +1,49 @@
+#pragma once
+// The front's datagram side (the paper's UDP mode, docs/protocol.md): probes arrive as single
+// datagrams on port P+2 and get their feedback back as datagrams; clients that named a UDP
+// frame port in their Hello get every 2^m-th frame (m from their wanted rate) as one
+// fragmented message (transport/UdpStream.hpp). Used by the front's thread only.
+#include "codec/Codec.hpp"
+#include "transport/UdpStream.hpp"
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace bop::protocol {
+
+class FrontUdp {
+public:
+    using Clock = std::chrono::steady_clock;
+    static constexpr std::uint8_t kFrameStream = 1;  // stream id of frames in the datagram header
+
+    FrontUdp(const std::string& bindAddress, int port);  // port 0: ephemeral
+    int port() const { return socket_.boundPort(); }
+
+    struct Inbound {
+        std::optional<Probe> newest;  // the newest valid probe that came
+        std::uint64_t probes = 0, malformed = 0, oversized = 0;
+    };
+    Inbound poll(Clock::time_point now);                 // what is queued now, without waiting
+    void feedback(const Buffer& b, Clock::time_point now);  // to probe senders of the last second
+    bool anyProbing(Clock::time_point now) const;
+
+    // A client (by identity) that wants frames at `address:port`, every 2^tier-th frame.
+    void setFrameClient(const std::string& id, const std::string& address, std::uint16_t port, int tier);
+    // The whole frame (one buffer), the frame's number (from 1) decides which clients get it.
+    void frame(const Buffer& whole, std::uint64_t frameNumber);
+    std::uint64_t datagramsDropped() const;
+
+private:
+    UdpSocket socket_;
+    std::map<std::string, Clock::time_point> probers_;  // "address:port" -> last probe
+    struct FrameClient {
+        std::unique_ptr<UdpSender> sender;
+        int tier = 0;
+    };
+    std::map<std::string, FrameClient> frameClients_;
+};
+
+}  // namespace bop::protocol
