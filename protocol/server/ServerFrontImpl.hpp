@@ -1,0 +1,91 @@
+#pragma once
+// The front's state (ServerFront.hpp), shared by its thread's side (ServerFront.cpp: sockets,
+// handshakes, publishing) and the step loop's side (ServerFrontSlots.cpp: the slots).
+#include "server/ServerFront.hpp"
+
+#include "codec/Codec.hpp"
+#include "server/FrontUdp.hpp"
+#include "server/SessionRecorder.hpp"
+
+#include <zmq.hpp>
+
+#include <condition_variable>
+#include <map>
+#include <mutex>
+#include <thread>
+
+namespace bop::protocol {
+namespace front {
+
+using Clock = std::chrono::steady_clock;
+inline constexpr std::size_t kMaxInboundBytes = 64 * 1024;  // ZeroMQ drops larger messages and their peer
+inline constexpr std::size_t kMaxQueuedCommands = 1024;     // beyond: refused as the step loop is behind
+inline constexpr int kPubHighWaterMark = 64;                // messages queued per subscriber before PUB drops
+
+inline std::int64_t nowNs() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
+}
+
+struct Client {
+    Role role = Role::Viewer;
+    bool mayCommand = true;
+    float wantedHz = 0;
+    Clock::time_point lastProbe{};
+};
+
+}  // namespace front
+
+struct ServerFront::Impl {
+    using Clock = front::Clock;
+    FrontOptions opt;
+    SceneInfo scene;
+    zmq::context_t ctx{1};
+    zmq::socket_t router{ctx, zmq::socket_type::router}, pub{ctx, zmq::socket_type::pub};
+    int controlPort = 0, framePort = 0;
+    std::string controlEndpoint;
+    std::atomic<bool> stop{false};
+    std::thread thread;
+
+    mutable std::mutex m;  // guards everything below
+    std::condition_variable helloSeen;
+    std::vector<PendingCommand> commands;
+    std::optional<Probe> probe;
+    std::optional<StateFrame> frame;
+    std::optional<std::vector<Buffer>> encodedFrame;
+    std::optional<Feedback> feedback;
+    std::vector<std::pair<std::string, Buffer>> replies;
+    std::vector<std::pair<Buffer, Buffer>> toRecord;  // (command, reply) or (probe, applied)
+    std::unique_ptr<SessionRecorder> recorder;        // used by the thread only, once it runs
+    std::unique_ptr<FrontUdp> udp;                    // the same
+    std::map<std::string, front::Client> clients;
+    FrontStats stats;
+    std::atomic<float> rateHz{60};
+    std::atomic<bool> haptic{false};
+    std::uint64_t particleCount = 0;
+    std::uint64_t frameNumber = 0;   // frames published (tier of the next one)
+    Clock::time_point nextTick{};    // step loop's publish clock
+
+    int bind(zmq::socket_t& s, int port);
+    void configure(zmq::socket_t& s);
+    void sendTo(const std::string& id, const Buffer& b);
+    SceneInfo sceneNow();
+    void refuse(const std::string& id, const Command& c, ReplyStatus status, const std::string& why);
+    // One inbound message from peer `id` (m held).
+    void handle(const std::string& id, zmq::message_t& msg);
+    void publish(StateFrame f);
+    void send(const std::vector<Buffer>& chunks);
+    // Runs a recorder call; a failure (disk full, ...) ends the recording, never the server.
+    template <class F> void record(F f) {
+        if (!recorder) return;
+        try {
+            f();
+        } catch (const std::exception& e) {
+            std::lock_guard lock(m);
+            stats.recordError = e.what();
+            recorder.reset();
+        }
+    }
+    void loop();
+};
+
+}  // namespace bop::protocol

@@ -1,0 +1,73 @@
+// The step loop's side of the front: slots guarded by the front's mutex, never a socket call.
+#include "server/ServerFrontImpl.hpp"
+
+#include <utility>
+
+namespace bop::protocol {
+
+using front::nowNs;
+using Clock = front::Clock;
+
+std::vector<PendingCommand> ServerFront::takeCommands() {
+    std::lock_guard lock(impl_->m);
+    return std::exchange(impl_->commands, {});
+}
+
+std::optional<Probe> ServerFront::takeProbe() {
+    std::lock_guard lock(impl_->m);
+    return std::exchange(impl_->probe, std::nullopt);
+}
+
+bool ServerFront::frameDue(Clock::time_point now) {
+    Impl& d = *impl_;
+    if (now < d.nextTick) return false;
+    const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / d.rateHz.load()));
+    d.nextTick = std::max(d.nextTick + period, now);  // no burst after a pause
+    return true;
+}
+
+void ServerFront::offerFrame(StateFrame frame) {
+    std::lock_guard lock(impl_->m);
+    if (impl_->frame) ++impl_->stats.framesDropped;
+    impl_->frame = std::move(frame);
+}
+
+void ServerFront::offerEncodedFrame(std::vector<Buffer> chunks) {
+    std::lock_guard lock(impl_->m);
+    if (impl_->encodedFrame) ++impl_->stats.framesDropped;
+    impl_->encodedFrame = std::move(chunks);
+}
+
+void ServerFront::offerFeedback(const Feedback& feedback) {
+    std::lock_guard lock(impl_->m);
+    impl_->feedback = feedback;
+}
+
+void ServerFront::reply(const PendingCommand& command, const CommandReply& reply) {
+    const Buffer b = encodeCommandReply(reply);
+    std::lock_guard lock(impl_->m);
+    impl_->replies.emplace_back(command.client, b);
+    if (impl_->recorder) impl_->toRecord.emplace_back(encodeCommand(command.command), b);
+}
+
+void ServerFront::probeApplied(const Probe& probe, std::uint64_t step) {
+    std::lock_guard lock(impl_->m);
+    if (impl_->recorder) impl_->toRecord.emplace_back(encodeProbe(probe), encodeFeedback({probe.seq, step, {}, nowNs()}));
+}
+
+void ServerFront::setParticleCount(std::uint64_t n) {
+    std::lock_guard lock(impl_->m);
+    impl_->particleCount = n;
+}
+
+bool ServerFront::waitForClient(std::chrono::milliseconds timeout) {
+    std::unique_lock lock(impl_->m);
+    return impl_->helloSeen.wait_for(lock, timeout, [&] { return !impl_->clients.empty(); });
+}
+
+FrontStats ServerFront::stats() const {
+    std::lock_guard lock(impl_->m);
+    return impl_->stats;
+}
+
+}  // namespace bop::protocol
