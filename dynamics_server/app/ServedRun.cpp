@@ -237,6 +237,8 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
         if (!root) continue;
         const double elapsed = std::chrono::duration<double>(Clock::now() - rateClock).count();
         if (elapsed > 0.5) stepRate = double(rateSteps) / elapsed, rateSteps = 0, rateClock = Clock::now();
+        if (o.replay)  // a replay is compared frame by frame: none may be replaced unsent
+            while (front->framePending()) std::this_thread::sleep_for(std::chrono::microseconds(200));
         front->setParticleCount(all.size());
         front->offerFrame(frameOf(all, t, desk, run.stepNumber(), model.integration.dt, volume, stepRate));
     }

@@ -8,6 +8,7 @@
 #include "ExtendedXyz.hpp"
 #include "SceneConfig.hpp"
 #include "ServedRun.hpp"
+#include "client/CurveKeys.hpp"
 #include "SimulationSetup.hpp"
 #include "shape/GradientMapCrop.hpp"
 #include "parallel/Session.hpp"
@@ -56,11 +57,14 @@ int run(int argc, char** argv) {
     app.add_flag("--wait-for-client", waitForClient, "hold the first step until a client has said hello");
     app.add_flag("--read-only-viewers", readOnlyViewers, "viewers may watch but not command");
     app.add_option("--record", front.recordPath, "record the session (commands, probes, frames) as MCAP in this file");
-    std::string replayInputs;
+    std::string replayInputs, curveSecret;
+    app.add_option("--curve-secret", curveSecret, "CURVE secret key file (bop-keys): encrypt every session; clients "
+                                                  "need the matching public key");
     app.add_option("--replay-inputs", replayInputs, "apply a recorded session's commands and probes at their steps "
                                                     "instead of clients' (bop-replay check runs this)");
     CLI11_PARSE(app, argc, argv);
     front.quantised = quantised;
+    if (!curveSecret.empty()) front.curveSecretKey = protocol::readCurveKey(curveSecret);
     front.viewersMayCommand = !readOnlyViewers;
 
     spdlog::set_pattern("[bop-server] %v");

@@ -129,6 +129,7 @@ void ServerFront::Impl::handle(const std::string& id, zmq::message_t& msg) {
 
 void ServerFront::Impl::publish(StateFrame f) {
     f.serverTimeNs = nowNs();
+    f.frameSeq = frameNumber + 1;  // the number send() gives it
     f.encoding = opt.quantised ? FrameEncoding::Quantised16 : FrameEncoding::Float32;
     f.quantLo = scene.boxLo;
     f.quantHi = scene.boxHi;
@@ -209,6 +210,7 @@ ServerFront::ServerFront(FrontOptions options, SceneInfo scene) : impl_(std::mak
     Impl& d = *impl_;
     d.opt = std::move(options);
     d.scene = std::move(scene);
+    d.particleCount = d.scene.particleCount;
     d.rateHz = d.opt.publishHz;
     d.configure(d.router);
     d.configure(d.pub);

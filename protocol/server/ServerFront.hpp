@@ -68,6 +68,7 @@ public:
     bool frameDue(std::chrono::steady_clock::time_point now);  // a publish tick has come
     void offerFrame(StateFrame frame);  // a whole frame; chunked, encoded and sent by the thread
     void offerEncodedFrame(std::vector<std::vector<std::uint8_t>> chunks);  // sent as they are (replay)
+    bool framePending() const;  // an offered frame is not sent yet (a replay waits: every frame counts)
     void offerFeedback(const Feedback& feedback);
     void reply(const PendingCommand& command, const CommandReply& reply);  // also recorded
     void probeApplied(const Probe& probe, std::uint64_t step);               // recorded when recording

@@ -38,6 +38,11 @@ void ServerFront::offerEncodedFrame(std::vector<Buffer> chunks) {
     impl_->encodedFrame = std::move(chunks);
 }
 
+bool ServerFront::framePending() const {
+    std::lock_guard lock(impl_->m);
+    return impl_->frame.has_value() || impl_->encodedFrame.has_value();
+}
+
 void ServerFront::offerFeedback(const Feedback& feedback) {
     std::lock_guard lock(impl_->m);
     impl_->feedback = feedback;

@@ -1,0 +1,253 @@
+#include "client/ClientSessionImpl.hpp"
+
+#include "bop/common/Error.hpp"
+#include "client/CurveKeys.hpp"
+#include "codec/Codec.hpp"
+#include "codec/MessageKind.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+namespace bop::protocol {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using std::chrono::milliseconds;
+
+std::string inMs(milliseconds t) { return std::to_string(t.count()) + " ms"; }
+
+// "tcp://HOST:PORT" -> HOST; empty for anything else.
+std::string tcpHost(const std::string& endpoint) {
+    const std::size_t colon = endpoint.rfind(':');
+    if (!endpoint.starts_with("tcp://") || colon == std::string::npos || colon < 6) return {};
+    return endpoint.substr(6, colon - 6);
+}
+
+bool isLocalHost(const std::string& host) {
+    return host == "127.0.0.1" || host == "localhost" || host == "::1" || host == "[::1]" || host == "*" ||
+           host == "0.0.0.0";
+}
+
+// A server bound to every interface announces its frame endpoint on 127.0.0.1 (ServerFront),
+// which seen from another machine is the client itself: keep the announced port, and use the
+// host that reached the control endpoint.
+std::string frameEndpointFor(const std::string& control, const std::string& announced) {
+    const std::string controlHost = tcpHost(control), frameHost = tcpHost(announced);
+    if (controlHost.empty() || frameHost.empty() || !isLocalHost(frameHost) || isLocalHost(controlHost))
+        return announced;
+    return "tcp://" + controlHost + announced.substr(announced.rfind(':'));
+}
+
+void requireKey(const std::string& key, const char* what) {
+    if (!isCurveKey(key)) throw Error(what, "not a z85 CURVE key (40 characters)");
+}
+
+}  // namespace
+
+int frameTierFor(float publishHz, float wantedHz) {
+    if (!(publishHz > 0) || !(wantedHz > 0) || wantedHz >= publishHz) return 0;
+    return std::clamp(int(std::floor(std::log2(double(publishHz) / double(wantedHz)))), 0, 7);
+}
+
+bool ClientSession::Impl::waitReadable(zmq::socket_t& s, Clock::time_point deadline) {
+    const auto left = std::chrono::ceil<milliseconds>(deadline - Clock::now());
+    if (left.count() <= 0) return false;
+    zmq::pollitem_t item{s.handle(), 0, ZMQ_POLLIN, 0};
+    try {
+        return zmq::poll(&item, 1, left) > 0;
+    } catch (const zmq::error_t& e) {
+        if (e.num() == EINTR) return false;
+        throw;
+    }
+}
+
+// Multi-part messages are not ours: counted as malformed.
+template <class Take>
+bool ClientSession::Impl::pumpControl(Clock::time_point deadline, Take take) {
+    for (;;) {
+        zmq::message_t msg;
+        while (dealer->recv(msg, zmq::recv_flags::dontwait)) {
+            if (!msg.more()) {
+                if (take(msg)) return true;
+                continue;
+            }
+            for (zmq::message_t part; msg.more() && dealer->recv(part, zmq::recv_flags::dontwait);) msg = std::move(part);
+            countMalformed();
+        }
+        if (Clock::now() >= deadline) return false;
+        waitReadable(*dealer, deadline);
+    }
+}
+
+void ClientSession::Impl::countMalformed() {
+    std::lock_guard lock(m);
+    ++stats.malformed;
+}
+
+void ClientSession::Impl::setCommonOptions(zmq::socket_t& s, std::size_t maxMessageBytes) {
+    s.set(zmq::sockopt::linger, 0);  // closing never waits for unsent probes or commands
+    s.set(zmq::sockopt::maxmsgsize, std::int64_t(maxMessageBytes));
+    if (opt.curveServerKey.empty()) return;
+    s.set(zmq::sockopt::curve_serverkey, opt.curveServerKey);
+    s.set(zmq::sockopt::curve_publickey, opt.curvePublicKey);
+    s.set(zmq::sockopt::curve_secretkey, opt.curveSecretKey);
+}
+
+MessageKind ClientSession::Impl::takeControl(const zmq::message_t& msg, CommandReply* reply) {
+    const auto* data = static_cast<const std::uint8_t*>(msg.data());
+    const std::size_t size = msg.size();
+    const MessageKind kind = messageKind(data, size);
+    bool ok = false;
+    if (kind == MessageKind::SceneInfo) {
+        auto s = decodeSceneInfo(data, size);
+        if ((ok = s.ok())) scene = std::move(s.value);
+    } else if (kind == MessageKind::Feedback) {
+        const auto f = decodeFeedback(data, size);
+        if ((ok = f.ok())) feedback = f.value;  // one TCP stream: the last to arrive is the newest
+    } else if (kind == MessageKind::CommandReply) {
+        auto r = decodeCommandReply(data, size);
+        if ((ok = r.ok()) && reply) *reply = std::move(r.value);
+        if (ok && !reply) {
+            std::lock_guard lock(m);
+            ++stats.repliesDropped;
+        }
+    }
+    if (!ok) countMalformed();
+    return ok ? kind : MessageKind::Unknown;
+}
+
+void ClientSession::Impl::connectSub() {
+    sub.emplace(ctx, zmq::socket_type::sub);
+    setCommonOptions(*sub, opt.maxFrameChunkBytes);
+    sub->set(zmq::sockopt::rcvhwm, opt.frameHighWaterMark);
+    for (int t = tier; t <= 7; ++t) {  // topic: one byte, the frame's tier
+        const char topic = char(t);
+        sub->set(zmq::sockopt::subscribe, std::string_view(&topic, 1));
+    }
+    try {
+        sub->connect(frameEndpoint);
+    } catch (const zmq::error_t& e) {
+        throw Error(frameEndpoint, std::string("cannot connect the frame socket: ") + e.what());
+    }
+    frameLimits.maxChunkBytes = opt.maxFrameChunkBytes;
+    frameLimits.speciesCount = int(scene.species.size());
+}
+
+ClientSession::ClientSession(ClientOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
+
+ClientSession::~ClientSession() { impl_->joinReceiver(); }
+
+SceneInfo ClientSession::connect(const std::string& endpoint) { return connect(endpoint, impl_->opt.receiveTimeout); }
+
+SceneInfo ClientSession::connect(const std::string& endpoint, milliseconds timeout) {
+    Impl& d = *impl_;
+    if (d.opt.udpFramePort != 0)
+        throw Error("ClientOptions::udpFramePort", "frames over UDP are not received by this client yet; use 0");
+    if (!d.opt.curveServerKey.empty()) {
+        requireKey(d.opt.curveServerKey, "CURVE server key");
+        if (d.opt.curvePublicKey.empty() && d.opt.curveSecretKey.empty()) {
+            const CurveKeyPair pair = makeCurveKeyPair();  // this session's own, unauthenticated
+            d.opt.curvePublicKey = pair.publicKey;
+            d.opt.curveSecretKey = pair.secretKey;
+        }
+        requireKey(d.opt.curvePublicKey, "CURVE client public key");
+        requireKey(d.opt.curveSecretKey, "CURVE client secret key");
+    }
+    d.joinReceiver();
+    d.sub.reset();
+    d.dealer.reset();
+    d.assembler.reset();  // a new session may number its frames from 1 again
+    d.feedback.reset();
+    d.controlEndpoint = endpoint;
+    try {
+        d.dealer.emplace(d.ctx, zmq::socket_type::dealer);
+        d.setCommonOptions(*d.dealer, d.opt.maxControlBytes);
+        try {
+            d.dealer->connect(endpoint);
+        } catch (const zmq::error_t& e) {
+            throw Error(endpoint, std::string("cannot connect: ") + e.what());
+        }
+        Hello hello;
+        hello.role = d.opt.role;
+        hello.frameRateHz = d.opt.frameRateHz;
+        hello.readOnly = d.opt.readOnly;
+        hello.clientName = d.opt.clientName;
+        const Buffer b = encodeHello(hello);  // EncodeError on a bad option (a name over 64 bytes, ...)
+        if (!d.dealer->send(zmq::buffer(b), zmq::send_flags::dontwait)) throw Error(endpoint, "cannot queue Hello");
+        const bool got = d.pumpControl(Clock::now() + timeout, [&](const zmq::message_t& msg) {
+            return d.takeControl(msg, nullptr) == MessageKind::SceneInfo;
+        });
+        if (!got)
+            throw Error(endpoint, "no SceneInfo within " + inMs(timeout) +
+                                      (d.opt.curveServerKey.empty()
+                                           ? std::string(" (is a bop-server listening there?)")
+                                           : " (is a bop-server listening there, with the secret key matching our "
+                                             "CURVE server key?)"));
+        if (d.scene.endpoints.frameEndpoint.empty()) throw Error(endpoint, "SceneInfo announces no frame endpoint");
+        d.tier = frameTierFor(d.scene.publishRateHz, d.opt.frameRateHz);
+        d.frameEndpoint = frameEndpointFor(endpoint, d.scene.endpoints.frameEndpoint);
+        d.connectSub();
+    } catch (...) {
+        d.sub.reset();  // not connected: connected() says so, and the sockets stop retrying
+        d.dealer.reset();
+        throw;
+    }
+    return d.scene;
+}
+
+const SceneInfo& ClientSession::scene() const { return impl_->scene; }
+bool ClientSession::connected() const { return impl_->sub.has_value(); }
+int ClientSession::frameTier() const { return impl_->tier; }
+std::string ClientSession::frameEndpoint() const { return impl_->frameEndpoint; }
+
+bool ClientSession::sendProbe(const Probe& probe) {
+    if (!impl_->dealer) throw std::logic_error("ClientSession::sendProbe before connect");
+    const Buffer b = encodeProbe(probe);
+    return impl_->dealer->send(zmq::buffer(b), zmq::send_flags::dontwait).has_value();
+}
+
+CommandReply ClientSession::sendCommand(const Command& command) { return sendCommand(command, impl_->opt.receiveTimeout); }
+
+CommandReply ClientSession::sendCommand(const Command& command, milliseconds timeout) {
+    Impl& d = *impl_;
+    if (!d.dealer) throw std::logic_error("ClientSession::sendCommand before connect");
+    const Buffer b = encodeCommand(command);
+    if (!d.dealer->send(zmq::buffer(b), zmq::send_flags::dontwait))
+        throw Error(d.controlEndpoint, "cannot queue command " + std::to_string(command.requestId) + " (send queue full)");
+    std::optional<CommandReply> answer;
+    d.pumpControl(Clock::now() + timeout, [&](const zmq::message_t& msg) {
+        CommandReply r;
+        if (d.takeControl(msg, &r) != MessageKind::CommandReply) return false;
+        if (r.requestId == command.requestId) {
+            answer = std::move(r);
+            return true;
+        }
+        std::lock_guard lock(d.m);
+        ++d.stats.repliesDropped;  // the late answer to an earlier request that timed out
+        return false;
+    });
+    if (!answer)
+        throw Error(d.controlEndpoint,
+                    "no reply to command " + std::to_string(command.requestId) + " within " + inMs(timeout));
+    return std::move(*answer);
+}
+
+std::optional<Feedback> ClientSession::pollFeedback() {
+    Impl& d = *impl_;
+    if (!d.dealer) return std::nullopt;
+    d.pumpControl(Clock::now(), [&](const zmq::message_t& msg) {
+        d.takeControl(msg, nullptr);
+        return false;  // read everything queued: the newest feedback wins
+    });
+    return std::exchange(d.feedback, std::nullopt);
+}
+
+ClientStats ClientSession::stats() const {
+    std::lock_guard lock(impl_->m);
+    return impl_->stats;
+}
+
+}  // namespace bop::protocol

@@ -1,0 +1,67 @@
+#pragma once
+// ClientSession's state, shared by its control side (ClientSession.cpp: DEALER, handshake,
+// commands, probes, feedback) and its frame side (ClientFrames.cpp: SUB, reassembly, the
+// receiver thread).
+#include "client/ClientSession.hpp"
+#include "codec/MessageKind.hpp"
+
+#include <zmq.hpp>
+
+#include <atomic>
+#include <mutex>
+#include <thread>
+
+namespace bop::protocol {
+
+struct ClientSession::Impl {
+    using Clock = std::chrono::steady_clock;
+
+    ClientOptions opt;
+    zmq::context_t ctx{1};
+    std::optional<zmq::socket_t> dealer, sub;  // made by connect()
+    std::string controlEndpoint, frameEndpoint;
+    SceneInfo scene;
+    int tier = 0;
+    std::optional<Feedback> feedback;  // newest not yet polled
+
+    // Frame side: used by the caller's thread, or only by the receiver thread while it runs.
+    FrameAssembler assembler;
+    FrameLimits frameLimits;
+    std::thread receiver;
+    std::atomic<bool> stopReceiver{false};
+    std::atomic<bool> running{false};  // the receiver thread is in its loop
+
+    mutable std::mutex m;  // guards everything below
+    ClientStats stats;
+    LatestFrame latest;
+    std::string receiverError;
+
+    explicit Impl(ClientOptions o) : opt(std::move(o)), assembler(opt.assembler) {}
+
+    // ---- control side (ClientSession.cpp) ----
+    void setCommonOptions(zmq::socket_t& s, std::size_t maxMessageBytes);
+    void connectSub();
+    // Handles one DEALER message: keeps SceneInfo and feedback, puts a reply in *reply (counted
+    // as dropped when reply is null). Returns what it decoded; Unknown when refused (counted).
+    MessageKind takeControl(const zmq::message_t& msg, CommandReply* reply);
+    void countMalformed();
+    // Reads DEALER messages, handing each to `take`, until it returns true (then true) or
+    // `deadline` passes (then false, having read everything queued). Defined in ClientSession.cpp.
+    template <class Take> bool pumpControl(Clock::time_point deadline, Take take);
+    // Waits until `s` has something to read or `deadline` passes; false at the deadline or when a
+    // signal interrupted the wait (callers look at the clock again).
+    static bool waitReadable(zmq::socket_t& s, Clock::time_point deadline);
+
+    // ---- frame side (ClientFrames.cpp) ----
+    // Reads every frame message queued on the SUB socket without waiting; returns the newest
+    // whole frame they completed, if any.
+    std::optional<StateFrame> drainSub();
+    // One frame chunk, from whatever transport carried it (the SUB socket now; the UDP receiver
+    // of ClientOptions::udpFramePort later): decoded, counted, fed to the assembler.
+    std::optional<StateFrame> takeChunk(const std::uint8_t* data, std::size_t size);
+    void receiverLoop() noexcept;
+    void joinReceiver();
+    void syncAssemblerStats();  // m held
+};
+
+}  // namespace bop::protocol

@@ -1,0 +1,126 @@
+#include "ServerProcess.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+namespace bop::test {
+
+std::string buildDir() { return BOP_BUILD_DIR; }
+
+namespace {
+// Open MPI refuses root unless told (CI runs as root) and more ranks than cores unless told.
+void allowMpiAsRoot() {
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
+}
+}  // namespace
+
+std::pair<int, std::string> runCommand(const std::string& command) {
+    allowMpiAsRoot();
+    FILE* p = popen(command.c_str(), "r");
+    if (!p) throw std::runtime_error("cannot run " + command);
+    std::string out;
+    char buf[4096];
+    while (const std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+    const int status = pclose(p);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+std::string mpiexec() { return BOP_MPIEXEC; }
+
+ServerProcess::ServerProcess(std::vector<std::string> argv, std::chrono::milliseconds timeout) {
+    allowMpiAsRoot();
+    int pipeFds[2];
+    if (pipe(pipeFds) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+    pid_ = fork();
+    if (pid_ < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+    if (pid_ == 0) {
+        dup2(pipeFds[1], 1);
+        dup2(pipeFds[1], 2);
+        close(pipeFds[0]);
+        close(pipeFds[1]);
+        setpgid(0, 0);  // its own group: stop() reaches mpirun's ranks too
+        std::vector<char*> args;
+        for (auto& a : argv) args.push_back(a.data());
+        args.push_back(nullptr);
+        execvp(args[0], args.data());
+        _exit(127);
+    }
+    close(pipeFds[1]);
+    fd_ = pipeFds[0];
+    fcntl(fd_, F_SETFL, O_NONBLOCK);
+    const auto until = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < until) {
+        drain(50);
+        const auto at = out_.find("listening on ");
+        if (at != std::string::npos) {
+            const auto end = out_.find_first_of(" \n", at + 13);
+            if (end != std::string::npos) {
+                endpoint_ = out_.substr(at + 13, end - at - 13);
+                return;
+            }
+        }
+        if (!running()) break;
+    }
+    kill(-pid_, SIGKILL);
+    throw std::runtime_error("server did not start listening; its output:\n" + out_);
+}
+
+ServerProcess::~ServerProcess() {
+    if (running()) {
+        kill(-pid_, SIGKILL);
+        waitpid(pid_, &status_, 0);
+    }
+    if (fd_ >= 0) close(fd_);
+}
+
+void ServerProcess::drain(int waitMs) {
+    pollfd p{fd_, POLLIN, 0};
+    if (poll(&p, 1, waitMs) <= 0) return;
+    char buf[4096];
+    for (;;) {
+        const ssize_t n = read(fd_, buf, sizeof buf);
+        if (n <= 0) break;
+        out_.append(buf, std::size_t(n));
+    }
+}
+
+bool ServerProcess::running() {
+    if (status_ != -1) return false;
+    int st = 0;
+    const pid_t r = waitpid(pid_, &st, WNOHANG);
+    if (r == pid_) {
+        status_ = st;
+        return false;
+    }
+    return true;
+}
+
+int ServerProcess::stop(int signal, std::chrono::milliseconds timeout) {
+    if (running()) kill(-pid_, signal);
+    const auto until = std::chrono::steady_clock::now() + timeout;
+    while (running() && std::chrono::steady_clock::now() < until) drain(20);
+    drain(0);
+    if (running()) {
+        kill(-pid_, SIGKILL);
+        waitpid(pid_, &status_, 0);
+        return -1;
+    }
+    return WIFEXITED(status_) ? WEXITSTATUS(status_) : 128 + WTERMSIG(status_);
+}
+
+std::string ServerProcess::output() {
+    drain(0);
+    return out_;
+}
+
+}  // namespace bop::test

@@ -1,0 +1,43 @@
+#pragma once
+// A bop-server (or any tool that prints "listening on ENDPOINT") run as a child process for the
+// integration tests: started with its arguments, its control endpoint read from its output,
+// stopped by a signal, its whole output kept for assertions.
+#include <chrono>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bop::test {
+
+class ServerProcess {
+public:
+    // Starts argv[0] with the arguments; waits up to `timeout` for the "listening on" line
+    // (std::runtime_error with the output so far if it does not come).
+    ServerProcess(std::vector<std::string> argv, std::chrono::milliseconds timeout = std::chrono::seconds(60));
+    ~ServerProcess();  // SIGKILL if still running
+    ServerProcess(const ServerProcess&) = delete;
+    ServerProcess& operator=(const ServerProcess&) = delete;
+
+    const std::string& endpoint() const { return endpoint_; }  // tcp://127.0.0.1:PORT
+    bool running();
+    // Sends `signal` and waits up to `timeout` for the exit; returns the exit code (128 + signal
+    // if killed), or -1 if it did not exit (then it is killed).
+    int stop(int signal, std::chrono::milliseconds timeout = std::chrono::seconds(30));
+    // Everything the process printed (stdout and stderr) so far.
+    std::string output();
+    int pid() const { return pid_; }
+
+private:
+    void drain(int waitMs);
+    int pid_ = -1, fd_ = -1, status_ = -1;
+    std::string out_, endpoint_;
+};
+
+// Runs a shell command to its end: (exit code, everything it printed).
+std::pair<int, std::string> runCommand(const std::string& command);
+
+// The build folder's executables (BOP_BUILD_DIR), MPI launcher (BOP_MPIEXEC) and sources.
+std::string buildDir();
+std::string mpiexec();
+
+}  // namespace bop::test

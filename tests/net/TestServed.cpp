@@ -1,0 +1,190 @@
+// bop-server with its network front, run as a process (at 2 ranks under mpiexec) and driven by
+// test clients over loopback: handshake, frames at the configured rate, a probe that moves
+// particles and comes back as a reaction force, a recorded session replayed bit for bit,
+// malformed and oversized messages refused and counted, a client killed mid-message.
+#include "ServerProcess.hpp"
+#include "TestUtil.hpp"
+#include "client/ClientSession.hpp"
+#include "codec/Codec.hpp"
+
+#include <catch2/catch.hpp>
+#include <zmq.hpp>
+
+#include <csignal>
+#include <regex>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+using namespace bop;
+using namespace bop::protocol;
+using test::ServerProcess;
+using namespace std::chrono_literals;
+
+namespace {
+
+std::vector<std::string> server(int ranks, const std::string& scene, std::vector<std::string> extra) {
+    std::vector<std::string> a;
+    if (ranks > 1) a = {test::mpiexec(), "-np", std::to_string(ranks), "--oversubscribe"};
+    a.push_back(test::buildDir() + "/dynamics_server/bop-server");
+    a.push_back(test::sourceDir() + "/config/scenes/" + scene + ".toml");
+    a.insert(a.end(), {"--port", "0"});
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+}
+
+// The counts a stopped server printed: "N malformed messages refused (M oversized)", "K commands".
+long long printed(const std::string& out, const std::string& what) {
+    std::smatch m;
+    const std::regex re("([0-9]+) " + what);
+    return std::regex_search(out, m, re) ? std::stoll(m[1]) : -1;
+}
+
+// Stops the server with SIGINT and checks that rank 0 shut down cleanly (mpirun itself exits 1
+// after a signal even when every rank ends normally, so its code is not the test).
+void stopCleanly(ServerProcess& srv) {
+    srv.stop(SIGINT);
+    const std::string out = srv.output();
+    INFO(out);
+    CHECK(out.find("final state:") != std::string::npos);
+}
+
+Eigen::Vector3d centreOf(const SceneInfo& s) { return 0.5 * (s.boxLo + s.boxHi); }
+
+double nearestTo(const StateFrame& f, const Eigen::Vector3d& x) {
+    double best = 1e300;
+    for (std::size_t i = 0; i < f.count(); ++i)
+        best = std::min(best, (Eigen::Vector3d(f.positions[3 * i], f.positions[3 * i + 1], f.positions[3 * i + 2]) - x).norm());
+    return best;
+}
+
+}  // namespace
+
+TEST_CASE("a client of a 2-rank server gets the scene, frames at the set rate, and a probe's reaction", "[net]") {
+    test::TempDir dir("served");
+    ServerProcess srv(server(2, "bulk-box", {"--publish-hz", "20", "-o", dir.file("out")}));
+    ClientSession c;
+    const SceneInfo scene = c.connect(srv.endpoint(), 20s);
+    CHECK(scene.species.size() == 1);
+    CHECK(scene.particleCount == 2048);
+    CHECK(scene.publishRateHz == Approx(20));
+    // Frames for 3 s: about 20 per second (loose bounds: a loaded machine slows the steps, not the clock).
+    int frames = 0;
+    std::optional<StateFrame> first;
+    const auto t0 = std::chrono::steady_clock::now();
+    while (std::chrono::steady_clock::now() - t0 < 3s)
+        if (auto f = c.receiveFrame(200ms)) {
+            ++frames;
+            if (!first) first = f;
+        }
+    INFO(frames << " frames in 3 s");
+    CHECK(frames >= 30);
+    CHECK(frames <= 75);
+    REQUIRE(first);
+    CHECK(first->count() == 2048);
+    // A probe at the centre of the box, sent every 5 ms for 2 s: the particles give way and the
+    // feedback carries their force on the probe.
+    const Eigen::Vector3d centre = centreOf(scene);
+    const double before = nearestTo(*first, centre);
+    Probe p;
+    p.active = true;
+    p.position = centre;
+    p.k0 = 1.0;
+    p.k1 = 4.0;
+    std::optional<Feedback> feedback;
+    for (int k = 0; k < 400; ++k) {
+        p.seq = std::uint64_t(k + 1);
+        c.sendProbe(p);
+        if (auto fb = c.pollFeedback()) feedback = fb;
+        std::this_thread::sleep_for(5ms);
+    }
+    REQUIRE(feedback);
+    CHECK(feedback->probeSeq > 0);
+    CHECK(feedback->force.norm() > 1e-3);
+    std::optional<StateFrame> after;
+    for (int k = 0; k < 20 && !after; ++k) after = c.receiveFrame(200ms);
+    REQUIRE(after);
+    CHECK(after->probeActive);
+    INFO("nearest particle to the probe: " << before << " before, " << nearestTo(*after, centre) << " after");
+    CHECK(nearestTo(*after, centre) > before + 0.1);
+    stopCleanly(srv);
+}
+
+TEST_CASE("malformed, truncated and oversized messages are refused and counted, and a killed client costs nothing", "[net]") {
+    test::TempDir dir("served-bad");
+    ServerProcess srv(server(2, "bulk-box", {"-o", dir.file("out")}));
+    int sent = 0, oversized = 0;
+    {
+        zmq::context_t ctx;
+        zmq::socket_t raw(ctx, zmq::socket_type::dealer);
+        raw.set(zmq::sockopt::linger, 0);
+        raw.connect(srv.endpoint());
+        const Buffer hello = encodeHello({});
+        std::vector<std::vector<std::uint8_t>> bad = {{1, 2, 3}, std::vector<std::uint8_t>(100, 0xff)};
+        for (std::size_t cut = 1; cut < hello.size(); cut += 3) bad.emplace_back(hello.begin(), hello.begin() + long(cut));
+        std::vector<std::uint8_t> big(10000, 0);  // a "command" beyond its 4 KiB cap
+        std::copy_n("BCMD", 4, big.begin() + 4);
+        bad.push_back(big);
+        for (const auto& b : bad) raw.send(zmq::buffer(b), zmq::send_flags::none);
+        sent = int(bad.size());
+        oversized = 1;
+        std::this_thread::sleep_for(300ms);
+    }
+    // A client process that floods the server and dies by SIGKILL in the middle of it.
+    const pid_t child = fork();
+    if (child == 0) {
+        zmq::context_t ctx;
+        zmq::socket_t s(ctx, zmq::socket_type::dealer);
+        s.connect(srv.endpoint());
+        const std::vector<std::uint8_t> junk(60000, 0x42);
+        for (;;) s.send(zmq::buffer(junk), zmq::send_flags::dontwait);
+    }
+    std::this_thread::sleep_for(300ms);
+    kill(child, SIGKILL);
+    waitpid(child, nullptr, 0);
+    // The server still answers and streams.
+    ClientSession c;
+    c.connect(srv.endpoint(), 20s);
+    std::optional<StateFrame> f;
+    for (int k = 0; k < 20 && !f; ++k) f = c.receiveFrame(200ms);
+    CHECK(f);
+    CHECK(srv.running());
+    stopCleanly(srv);
+    const std::string out = srv.output();
+    INFO(out);
+    CHECK(printed(out, "malformed messages refused") >= sent);
+    CHECK(printed(out, "oversized\\)") >= oversized);
+}
+
+TEST_CASE("a recorded session replayed at the same rank count reproduces every frame bit for bit", "[net][replay]") {
+    test::TempDir dir("served-record");
+    const std::string rec = dir.file("session.mcap");
+    ServerProcess srv(server(2, "bulk-box", {"--publish-hz", "30", "--record", rec, "-o", dir.file("out")}));
+    ClientSession c;
+    const SceneInfo scene = c.connect(srv.endpoint(), 20s);
+    Probe p;
+    p.active = true;
+    p.position = centreOf(scene);
+    p.k1 = 3.0;
+    for (int k = 0; k < 100; ++k) {
+        p.seq = std::uint64_t(k + 1);
+        p.position.x() += 0.01;
+        c.sendProbe(p);
+        std::this_thread::sleep_for(5ms);
+    }
+    Command drag;
+    drag.requestId = 7;
+    drag.body = SetParameter{"drag_v", 1, 0, 0.5};
+    const CommandReply r = c.sendCommand(drag, 10s);
+    CHECK(r.status == ReplyStatus::Ok);
+    std::this_thread::sleep_for(500ms);
+    stopCleanly(srv);
+    const auto [code, out] = test::runCommand(test::buildDir() + "/protocol/bop-replay check " + rec + " -o " +
+                                              dir.file("replay") + " 2>&1");
+    INFO(out);
+    CHECK(code == 0);
+    std::smatch m;
+    REQUIRE(std::regex_search(out, m, std::regex("([0-9]+) of ([0-9]+) frame chunks identical bit for bit")));
+    CHECK(m[1] == m[2]);
+    CHECK(std::stoi(m[2]) >= 10);  // frames after the drag command too: the replay applied it at its step
+}
