@@ -5,6 +5,7 @@
 #include "ServerProcess.hpp"
 #include "TestUtil.hpp"
 #include "client/ClientSession.hpp"
+#include "client/CurveKeys.hpp"
 #include "codec/Codec.hpp"
 
 #include <catch2/catch.hpp>
@@ -187,4 +188,82 @@ TEST_CASE("a recorded session replayed at the same rank count reproduces every f
     REQUIRE(std::regex_search(out, m, std::regex("([0-9]+) of ([0-9]+) frame chunks identical bit for bit")));
     CHECK(m[1] == m[2]);
     CHECK(std::stoi(m[2]) >= 10);  // frames after the drag command too: the replay applied it at its step
+}
+
+TEST_CASE("commands are acknowledged with their step, pause and resume are idempotent, read-only viewers are refused", "[net]") {
+    test::TempDir dir("served-commands");
+    ServerProcess srv(server(2, "bulk-box", {"--read-only-viewers", "--publish-hz", "50", "-o", dir.file("out")}));
+    ClientOptions control;
+    control.role = Role::Control;
+    ClientSession c(control);
+    c.connect(srv.endpoint(), 20s);
+    const auto send = [&](CommandBody body) {
+        static std::uint64_t id = 0;
+        Command cmd;
+        cmd.requestId = ++id;
+        cmd.body = std::move(body);
+        const CommandReply r = c.sendCommand(cmd, 10s);
+        CHECK(r.requestId == cmd.requestId);
+        return r;
+    };
+    CHECK(send(RunControl{RunAction::Pause, 1}).status == ReplyStatus::Ok);
+    CHECK(send(RunControl{RunAction::Pause, 1}).status == ReplyStatus::Ok);  // again: still paused, still fine
+    std::this_thread::sleep_for(300ms);
+    const auto stepOf = [&] {
+        std::optional<StateFrame> f;
+        for (int k = 0; k < 20 && !f; ++k) f = c.receiveFrame(200ms);
+        REQUIRE(f);
+        return f->step;
+    };
+    const std::uint64_t a = stepOf();
+    std::this_thread::sleep_for(300ms);
+    CHECK(stepOf() == a);  // paused: frames keep coming, the step does not move
+    const CommandReply one = send(RunControl{RunAction::SingleStep, 5});
+    CHECK(one.step == a);
+    std::this_thread::sleep_for(300ms);
+    CHECK(stepOf() == a + 5);
+    CHECK(send(RunControl{RunAction::Resume, 1}).status == ReplyStatus::Ok);
+    CHECK(send(RunControl{RunAction::Resume, 1}).status == ReplyStatus::Ok);
+    std::this_thread::sleep_for(300ms);
+    CHECK(stepOf() > a + 5);
+    CHECK(send(SetParameter{"no_such_thing", 0, 0, 1}).status == ReplyStatus::Unsupported);
+    CHECK(send(SetParameter{"lj", 1, 5, 1}).status == ReplyStatus::Rejected);  // species 5 does not exist
+    // A viewer of a server with read-only viewers may watch, not command.
+    ClientSession viewer;
+    viewer.connect(srv.endpoint(), 20s);
+    Command cmd;
+    cmd.requestId = 99;
+    cmd.body = RunControl{RunAction::Pause, 1};
+    CHECK(viewer.sendCommand(cmd, 10s).status == ReplyStatus::ReadOnly);
+    stopCleanly(srv);
+}
+
+TEST_CASE("with CURVE on, a client without the server's key gets nothing and commands nothing", "[net][curve]") {
+    test::TempDir dir("served-curve");
+    const CurveKeyPair keys = makeCurveKeyPair();
+    writeCurveKeyFiles(dir.file("server"), keys);
+    ServerProcess srv(server(2, "bulk-box", {"--curve-secret", dir.file("server.key"), "-o", dir.file("out")}));
+    ClientOptions with;
+    with.curveServerKey = keys.publicKey;
+    ClientSession good(with);
+    CHECK(good.connect(srv.endpoint(), 20s).particleCount == 2048);
+    std::optional<StateFrame> f;
+    for (int k = 0; k < 20 && !f; ++k) f = good.receiveFrame(200ms);
+    CHECK(f);  // encrypted frames arrive
+    ClientSession plain;  // no key: the handshake never completes
+    CHECK_THROWS_WITH(plain.connect(srv.endpoint(), 2s), Catch::Contains("no SceneInfo"));
+    {
+        zmq::context_t ctx;  // a plaintext peer sending a command straight away
+        zmq::socket_t raw(ctx, zmq::socket_type::dealer);
+        raw.set(zmq::sockopt::linger, 0);
+        raw.connect(srv.endpoint());
+        Command cmd;
+        cmd.body = RunControl{RunAction::Pause, 1};
+        raw.send(zmq::buffer(encodeCommand(cmd)), zmq::send_flags::dontwait);
+        zmq::message_t reply;
+        raw.set(zmq::sockopt::rcvtimeo, 1000);
+        CHECK_FALSE(raw.recv(reply));
+    }
+    stopCleanly(srv);
+    CHECK(printed(srv.output(), "commands") == 0);  // none reached the server
 }
