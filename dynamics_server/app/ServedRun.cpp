@@ -99,25 +99,22 @@ protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::D
     return answer(c, ReplyStatus::Ok, next);
 }
 
-protocol::StateFrame frameOf(const core::Particles& all, const parallel::Totals& t, const Desk& desk, long long step,
+protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t, const Desk& desk, long long step,
                              double dt, double volume, double stepRate) {
     protocol::StateFrame f;
+    const std::size_t n = a.species.size();
     f.step = std::uint64_t(step);
     f.simTime = double(step) * dt;
     f.probePosition = desk.probe.position;
     f.probeForce = t.probeReaction;
     f.probeActive = desk.probe.active;
     f.stats = {t.kinetic, t.pairEnergy + t.probeEnergy, (2 * t.kinetic + t.virial) / (3 * volume), stepRate,
-               std::uint64_t(all.size())};
-    f.frameParticleCount = std::uint32_t(all.size());
-    f.positions.reserve(3 * all.size());
-    f.normals.reserve(3 * all.size());
-    for (std::size_t i = 0; i < all.size(); ++i) {
-        for (int a = 0; a < 3; ++a) f.positions.push_back(float(all.pos[i][a]));
-        for (int a = 0; a < 3; ++a) f.normals.push_back(float(all.normal[i][a]));
-    }
-    f.species = all.species;
-    f.ids = all.id;
+               std::uint64_t(n)};
+    f.frameParticleCount = std::uint32_t(n);
+    f.positions = std::move(a.positions);
+    f.normals = std::move(a.normals);
+    f.species = std::move(a.species);
+    f.ids = std::move(a.ids);
     return f;
 }
 
@@ -233,14 +230,14 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
         const parallel::Totals t = run.totals();  // collective
         if (root && ctl[3] != 0) front->offerFeedback({desk.probeSeq, std::uint64_t(run.stepNumber()), t.probeReaction, nowNs()});
         if (ctl[2] == 0) continue;
-        const core::Particles all = run.gather();  // collective
+        parallel::FrameArrays arrays = run.gatherFrame();  // collective
         if (!root) continue;
         const double elapsed = std::chrono::duration<double>(Clock::now() - rateClock).count();
         if (elapsed > 0.5) stepRate = double(rateSteps) / elapsed, rateSteps = 0, rateClock = Clock::now();
         if (o.replay)  // a replay is compared frame by frame: none may be replaced unsent
             while (front->framePending()) std::this_thread::sleep_for(std::chrono::microseconds(200));
-        front->setParticleCount(all.size());
-        front->offerFrame(frameOf(all, t, desk, run.stepNumber(), model.integration.dt, volume, stepRate));
+        front->setParticleCount(arrays.species.size());
+        front->offerFrame(frameOf(std::move(arrays), t, desk, run.stepNumber(), model.integration.dt, volume, stepRate));
     }
     const core::Particles all = run.gather();
     if (!root) return 0;

@@ -76,6 +76,24 @@ std::vector<double> CartComm::allGatherV(const std::vector<double>& mine) const 
     return all;
 }
 
+std::vector<float> CartComm::gatherV(const std::vector<float>& mine) const {
+    if (mine.size() > std::size_t(std::numeric_limits<int>::max()))
+        throw std::runtime_error("MPI_Gatherv: " + std::to_string(mine.size()) + " values exceed one message's int count");
+    int count = int(mine.size());
+    const std::size_t ranks = std::size_t(size_);
+    std::vector<int> counts(ranks, 0), offsets(ranks, 0);
+    check(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, cart_), "MPI_Gather (counts)");
+    long long total = 0;
+    for (int c : counts) total += c;
+    if (rank_ == 0 && total > std::numeric_limits<int>::max())
+        throw std::runtime_error("MPI_Gatherv: " + std::to_string(total) + " values exceed one message's int count");
+    for (int r = 1; r < size_; ++r) offsets[std::size_t(r)] = offsets[std::size_t(r) - 1] + counts[std::size_t(r) - 1];
+    std::vector<float> all(rank_ == 0 ? std::size_t(total) : 0);
+    check(MPI_Gatherv(mine.data(), count, MPI_FLOAT, all.data(), counts.data(), offsets.data(), MPI_FLOAT, 0, cart_),
+          "MPI_Gatherv");
+    return all;
+}
+
 void CartComm::broadcast(std::vector<double>& data) const {
     unsigned long long n = data.size();
     check(MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, cart_), "MPI_Bcast (count)");

@@ -39,6 +39,8 @@ public:
     std::vector<double> allGather(const std::vector<double>& mine) const;
     // The same for buffers of any length per rank.
     std::vector<double> allGatherV(const std::vector<double>& mine) const;
+    // Every rank's floats, concatenated in rank order, on rank 0 only (empty elsewhere).
+    std::vector<float> gatherV(const std::vector<float>& mine) const;
     bool allTrue(bool mine) const;
     // Rank 0's buffer on every rank (sizes first).
     void broadcast(std::vector<double>& data) const;

@@ -35,6 +35,37 @@ std::array<double, 4> DecomposedRun::agree(const std::array<double, 4>& mine) {
     return out;
 }
 
+FrameArrays DecomposedRun::gatherFrame() const {
+    const core::Particles& p = impl_->sim.particles();
+    // One float array per rank: 6 floats of position and normal, then species and the id's two
+    // halves as floats holding exact 16-bit pieces (floats hold integers below 2^24 exactly).
+    constexpr std::size_t kFields = 11;
+    std::vector<float> mine;
+    mine.reserve(p.size() * kFields);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const std::uint64_t id = p.id[i];
+        mine.insert(mine.end(), {float(p.pos[i].x()), float(p.pos[i].y()), float(p.pos[i].z()), float(p.normal[i].x()),
+                                 float(p.normal[i].y()), float(p.normal[i].z()), float(p.species[i]),
+                                 float(id & 0xffff), float((id >> 16) & 0xffff), float((id >> 32) & 0xffff),
+                                 float(id >> 48)});
+    }
+    const std::vector<float> all = size() == 1 ? std::move(mine) : impl_->comm.gatherV(mine);
+    FrameArrays f;
+    const std::size_t n = all.size() / kFields;
+    f.positions.resize(3 * n);
+    f.normals.resize(3 * n);
+    f.species.resize(n);
+    f.ids.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const float* v = &all[k * kFields];
+        std::copy_n(v, 3, &f.positions[3 * k]);
+        std::copy_n(v + 3, 3, &f.normals[3 * k]);
+        f.species[k] = std::uint8_t(v[6]);
+        f.ids[k] = std::uint64_t(v[7]) | std::uint64_t(v[8]) << 16 | std::uint64_t(v[9]) << 32 | std::uint64_t(v[10]) << 48;
+    }
+    return f;
+}
+
 int DecomposedRun::rank() const { return impl_->comm.rank(); }
 int DecomposedRun::size() const { return impl_->comm.size(); }
 Coords DecomposedRun::dims() const { return impl_->comm.dims(); }

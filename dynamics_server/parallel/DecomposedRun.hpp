@@ -21,6 +21,14 @@ struct Totals {              // over all ranks, identical on every rank
     double total() const { return kinetic + pairEnergy + probeEnergy; }
 };
 
+// A state frame's arrays, gathered to rank 0 in rank order (each rank's particles in its own
+// order: the same order at a fixed rank count). Empty on other ranks.
+struct FrameArrays {
+    std::vector<float> positions, normals;  // 3 per particle, length / unit
+    std::vector<std::uint8_t> species;
+    std::vector<std::uint64_t> ids;
+};
+
 struct RunCounters {         // summed over ranks, identical on every rank
     double haloBytesPerStep = 0;  // bytes the ranks sent for the halo in the last step
     double migrations = 0;        // particles that changed rank so far
@@ -51,6 +59,7 @@ public:
     Totals totals() const;
     RunCounters counters() const;
     core::Particles gather() const;  // every particle sorted by id
+    FrameArrays gatherFrame() const; // what a state frame carries, on rank 0 (lighter than gather())
     int rank() const;
     int size() const;
     Coords dims() const;
