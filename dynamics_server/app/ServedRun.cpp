@@ -215,8 +215,10 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
             if (const auto p = front->takeProbe()) takeProbe(*p);
             const bool step = !desk.paused || desk.singleSteps > 0;
             if (desk.paused && desk.singleSteps > 0) --desk.singleSteps;
-            ctl = {gStop || (o.steps > 0 && done >= o.steps) ? 1.0 : 0.0, step ? 1.0 : 0.0,
-                   front->frameDue(Clock::now()) ? 1.0 : 0.0, front->anyHaptic() || desk.probe.active ? 1.0 : 0.0};
+            // No gather while the front still holds a frame: it would only replace it.
+            const bool frame = !front->framePending() && front->frameDue(Clock::now());
+            ctl = {gStop || (o.steps > 0 && done >= o.steps) ? 1.0 : 0.0, step ? 1.0 : 0.0, frame ? 1.0 : 0.0,
+                   front->anyHaptic() || desk.probe.active ? 1.0 : 0.0};
         }
         ctl = run.agree(ctl);
         if (ctl[0] != 0) break;

@@ -54,6 +54,7 @@ int run(int argc, char** argv) {
         ->check(CLI::Range(1.0, 1000.0));
     app.add_option("--chunk-bytes", front.chunkBytes, "largest state-frame chunk, bytes")->check(CLI::Range(4096, 1 << 30));
     app.add_flag("--quantised", quantised, "16-bit state frames (positions against the box, octahedral normals)");
+    app.add_flag("--frame-ids", front.frameIds, "state frames carry every particle's id (8 bytes per particle)");
     app.add_flag("--wait-for-client", waitForClient, "hold the first step until a client has said hello");
     app.add_flag("--read-only-viewers", readOnlyViewers, "viewers may watch but not command");
     app.add_option("--record", front.recordPath, "record the session (commands, probes, frames) as MCAP in this file");

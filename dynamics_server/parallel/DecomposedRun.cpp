@@ -37,6 +37,20 @@ std::array<double, 4> DecomposedRun::agree(const std::array<double, 4>& mine) {
 
 FrameArrays DecomposedRun::gatherFrame() const {
     const core::Particles& p = impl_->sim.particles();
+    FrameArrays f;
+    if (size() == 1) {  // straight into the frame's arrays
+        const std::size_t n = p.size();
+        f.positions.resize(3 * n);
+        f.normals.resize(3 * n);
+        for (std::size_t i = 0; i < n; ++i)
+            for (int a = 0; a < 3; ++a) {
+                f.positions[3 * i + std::size_t(a)] = float(p.pos[i][a]);
+                f.normals[3 * i + std::size_t(a)] = float(p.normal[i][a]);
+            }
+        f.species = p.species;
+        f.ids = p.id;
+        return f;
+    }
     // One float array per rank: 6 floats of position and normal, then species and the id's two
     // halves as floats holding exact 16-bit pieces (floats hold integers below 2^24 exactly).
     constexpr std::size_t kFields = 11;
@@ -49,8 +63,7 @@ FrameArrays DecomposedRun::gatherFrame() const {
                                  float(id & 0xffff), float((id >> 16) & 0xffff), float((id >> 32) & 0xffff),
                                  float(id >> 48)});
     }
-    const std::vector<float> all = size() == 1 ? std::move(mine) : impl_->comm.gatherV(mine);
-    FrameArrays f;
+    const std::vector<float> all = impl_->comm.gatherV(mine);
     const std::size_t n = all.size() / kFields;
     f.positions.resize(3 * n);
     f.normals.resize(3 * n);

@@ -44,22 +44,27 @@ Eigen::Vector3d positionErrorBound(const Eigen::Vector3d& lo, const Eigen::Vecto
 
 std::size_t quantisePositions(const float* xyz, std::size_t n, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                               std::uint16_t* out) {
+    // quantiseCoord() per value, with the division by the range hoisted out of the loop (a 1M
+    // particle frame is quantised many times a second).
     std::size_t clamped = 0;
+    const Eigen::Vector3d scale = Eigen::Vector3d::Constant(kQuantLevels).cwiseQuotient(hi - lo);
     for (std::size_t i = 0; i < n; ++i)
         for (int a = 0; a < 3; ++a) {
             const double x = xyz[3 * i + a];
-            if (!(x >= lo[a] && x <= hi[a])) ++clamped;
-            out[3 * i + a] = quantiseCoord(x, lo[a], hi[a]);
+            double t = (x - lo[a]) * scale[a];
+            if (!(t > 0)) t = 0;  // also NaN
+            if (t > kQuantLevels) t = kQuantLevels;
+            clamped += !(x >= lo[a] && x <= hi[a]);
+            out[3 * i + a] = std::uint16_t(t + 0.5);  // t >= 0: rounds half up, as lround
         }
     return clamped;
 }
 
 void dequantisePositions(const std::uint16_t* q, std::size_t n, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                          float* xyz) {
-    for (std::size_t i = 0; i < 3 * n; ++i) {
-        const int a = int(i % 3);
-        xyz[i] = float(dequantiseCoord(q[i], lo[a], hi[a]));
-    }
+    const Eigen::Vector3d step = (hi - lo) / kQuantLevels;
+    for (std::size_t i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a) xyz[3 * i + a] = float(lo[a] + step[a] * q[3 * i + a]);
 }
 
 std::array<std::uint16_t, 2> octEncode(const Eigen::Vector3d& n) {

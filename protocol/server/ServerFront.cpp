@@ -5,7 +5,12 @@
 
 #include <algorithm>
 #include <bit>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+
+#include <sys/eventfd.h>
+#include <unistd.h>
 
 namespace bop::protocol {
 namespace {
@@ -130,6 +135,7 @@ void ServerFront::Impl::handle(const std::string& id, zmq::message_t& msg) {
 void ServerFront::Impl::publish(StateFrame f) {
     f.serverTimeNs = nowNs();
     f.frameSeq = frameNumber + 1;  // the number send() gives it
+    if (!opt.frameIds) f.ids.clear();
     f.encoding = opt.quantised ? FrameEncoding::Quantised16 : FrameEncoding::Float32;
     f.quantLo = scene.boxLo;
     f.quantHi = scene.boxHi;
@@ -154,9 +160,13 @@ void ServerFront::Impl::send(const std::vector<Buffer>& chunks) {
 }
 
 void ServerFront::Impl::loop() {
-    zmq::pollitem_t items[] = {{router.handle(), 0, ZMQ_POLLIN, 0}};
+    zmq::pollitem_t items[] = {{router.handle(), 0, ZMQ_POLLIN, 0}, {nullptr, wakeFd, ZMQ_POLLIN, 0}};
     while (!stop) {
-        zmq::poll(items, 1, std::chrono::milliseconds(1));
+        zmq::poll(items, 2, std::chrono::milliseconds(1));
+        if (items[1].revents & ZMQ_POLLIN) {
+            std::uint64_t n;
+            [[maybe_unused]] const auto r = read(wakeFd, &n, sizeof n);  // clears the count
+        }
         std::optional<StateFrame> f;
         std::optional<std::vector<Buffer>> encoded;
         std::optional<Feedback> fb;
@@ -221,7 +231,14 @@ ServerFront::ServerFront(FrontOptions options, SceneInfo scene) : impl_(std::mak
     d.controlEndpoint = "tcp://" + (d.opt.bindAddress == "*" ? std::string("127.0.0.1") : d.opt.bindAddress) + ":" +
                         std::to_string(d.controlPort);
     if (!d.opt.recordPath.empty()) d.recorder = std::make_unique<SessionRecorder>(d.opt.recordPath, d.sceneNow(), d.opt.recordMeta);
+    d.wakeFd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    if (d.wakeFd < 0) throw Error("bop-server", std::string("eventfd: ") + std::strerror(errno));
     d.thread = std::thread([&d] { d.loop(); });
+}
+
+void ServerFront::Impl::wake() {
+    const std::uint64_t one = 1;
+    [[maybe_unused]] const auto r = write(wakeFd, &one, sizeof one);  // a full counter is still a wake-up
 }
 
 void ServerFront::finish() {
@@ -238,6 +255,7 @@ ServerFront::~ServerFront() {
         finish();
     } catch (...) {  // the file keeps its .partial name; finish() reported the error to whoever called it
     }
+    if (impl_->wakeFd >= 0) close(impl_->wakeFd);
 }
 
 int ServerFront::controlPort() const { return impl_->controlPort; }

@@ -24,6 +24,7 @@ struct FrontOptions {
     float maxPublishHz = 240;               // the most a client may ask for, wall Hz
     std::size_t chunkBytes = 4u << 20;      // largest frame chunk, bytes
     bool quantised = false;                 // 16-bit frames (positions against the box, octahedral normals)
+    bool frameIds = false;                  // frames carry particle ids (8 bytes per particle more)
     bool viewersMayCommand = true;          // false: viewers are read-only, only control clients command
     std::string curveSecretKey;             // z85 server secret key; empty = no CURVE
     bool udp = true;                        // probes on UDP P+2 and frames to clients' UDP ports

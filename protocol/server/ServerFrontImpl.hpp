@@ -45,6 +45,7 @@ struct ServerFront::Impl {
     std::string controlEndpoint;
     std::atomic<bool> stop{false};
     std::thread thread;
+    int wakeFd = -1;  // eventfd: the step loop's offers wake the thread at once (feedback latency)
 
     mutable std::mutex m;  // guards everything below
     std::condition_variable helloSeen;
@@ -86,6 +87,7 @@ struct ServerFront::Impl {
         }
     }
     void loop();
+    void wake();  // from the step loop, after an offer
 };
 
 }  // namespace bop::protocol

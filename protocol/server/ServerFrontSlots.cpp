@@ -30,12 +30,14 @@ void ServerFront::offerFrame(StateFrame frame) {
     std::lock_guard lock(impl_->m);
     if (impl_->frame) ++impl_->stats.framesDropped;
     impl_->frame = std::move(frame);
+    impl_->wake();
 }
 
 void ServerFront::offerEncodedFrame(std::vector<Buffer> chunks) {
     std::lock_guard lock(impl_->m);
     if (impl_->encodedFrame) ++impl_->stats.framesDropped;
     impl_->encodedFrame = std::move(chunks);
+    impl_->wake();
 }
 
 bool ServerFront::framePending() const {
@@ -46,6 +48,7 @@ bool ServerFront::framePending() const {
 void ServerFront::offerFeedback(const Feedback& feedback) {
     std::lock_guard lock(impl_->m);
     impl_->feedback = feedback;
+    impl_->wake();
 }
 
 void ServerFront::reply(const PendingCommand& command, const CommandReply& reply) {
@@ -53,6 +56,7 @@ void ServerFront::reply(const PendingCommand& command, const CommandReply& reply
     std::lock_guard lock(impl_->m);
     impl_->replies.emplace_back(command.client, b);
     if (impl_->recorder) impl_->toRecord.emplace_back(encodeCommand(command.command), b);
+    impl_->wake();
 }
 
 void ServerFront::probeApplied(const Probe& probe, std::uint64_t step) {
