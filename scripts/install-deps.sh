@@ -3,6 +3,7 @@
 # present are skipped, so a second run costs a few dpkg queries. Runs as root, or via sudo.
 #   scripts/install-deps.sh           build and test dependencies
 #   scripts/install-deps.sh --bench   also the peers the benchmarks compare against
+#   scripts/install-deps.sh --fuzz    also Clang's libFuzzer (scripts/fuzz.sh)
 set -euo pipefail
 
 packages=(
@@ -20,6 +21,9 @@ packages=(
 )
 if [[ "${1:-}" == "--bench" ]]; then
   packages+=(python3-scipy lammps time)
+fi
+if [[ "${1:-}" == "--fuzz" ]]; then  # scripts/fuzz.sh: libFuzzer and sanitizer runtimes, symbolizer
+  packages+=(clang libclang-rt-dev llvm)
 fi
 
 missing=()

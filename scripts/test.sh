@@ -2,7 +2,8 @@
 # Installs what is missing, builds with warnings as errors, runs every test with ctest, then
 # builds the unit tests with AddressSanitizer + UndefinedBehaviorSanitizer and runs them.
 #   scripts/test.sh                 everything (what CI runs)
-#   scripts/test.sh --no-sanitize   skip the sanitizer build
+#   scripts/test.sh --no-sanitize   skip the sanitizer build and the fuzzing
+# Last, every decoder of untrusted input is fuzzed for BOP_FUZZ_SECONDS (default 10) each.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=${BOP_JOBS:-2}
@@ -24,4 +25,6 @@ if [[ "${1:-}" != "--no-sanitize" ]]; then
   # Open MPI keeps its allocations until exit by design: leak checks off for the MPI tests only.
   ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan -R '^mpi[.]np' --output-on-failure
+  echo "== fuzzing the decoders (libFuzzer, ${BOP_FUZZ_SECONDS:-10} s each) =="
+  BOP_FUZZ_SECONDS=${BOP_FUZZ_SECONDS:-10} scripts/fuzz.sh
 fi

@@ -209,8 +209,12 @@ void ServerFront::Impl::loop() {
                 haptic = any;
             }
         }
-        for (const auto& [a, b] : inputs)
-            record([&] { messageKind(a.data(), a.size()) == MessageKind::Command ? recorder->command(a, b) : recorder->probe(a, b); });
+        for (const auto& input : inputs)
+            record([&] {
+                const auto& [in, applied] = input;
+                messageKind(in.data(), in.size()) == MessageKind::Command ? recorder->command(in, applied)
+                                                                          : recorder->probe(in, applied);
+            });
         if (f) publish(std::move(*f));
         if (encoded) send(*encoded);
     }

@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# Fuzzes the decoders of untrusted input (tests/fuzz) with libFuzzer + AddressSanitizer +
+# UndefinedBehaviorSanitizer: installs what is missing, configures build-fuzz with Clang and
+# BOP_FUZZ=ON, builds only the fuzz targets and the seed generator, writes the seeds, then runs
+# each target for a bounded time and prints its executions per second. Exits non-zero if any
+# target crashed (sanitizer report, broken round trip, timeout, out of memory or leak); the
+# reproducer is build-fuzz/fuzz/artifacts/<target>-crash-<sha1> (also leak-, timeout-, oom-).
+#   scripts/fuzz.sh                      every target
+#   scripts/fuzz.sh frame mcap           only these (hello scene frame probe feedback command reply mcap)
+# Environment:
+#   BOP_FUZZ_SECONDS   seconds per target (default 30)
+#   BOP_FUZZ_TIMEOUT   seconds one input may take before it counts as a hang (default 10)
+#   BOP_JOBS           build jobs (default 2)
+#   BOP_FUZZ_CXX       the Clang C++ compiler (default clang++)
+# The corpus grows across runs in build-fuzz/fuzz/corpus/<target>. To replay one reproducer:
+#   build-fuzz/tests/fuzz/bop_fuzz_<target> build-fuzz/fuzz/artifacts/<target>-crash-...
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs=${BOP_JOBS:-2}
+seconds=${BOP_FUZZ_SECONDS:-30}
+timeout=${BOP_FUZZ_TIMEOUT:-10}
+cxx=${BOP_FUZZ_CXX:-clang++}
+all_targets=(hello scene frame probe feedback command reply mcap)
+targets=("$@")
+[[ ${#targets[@]} -gt 0 ]] || targets=("${all_targets[@]}")
+for t in "${targets[@]}"; do
+  [[ " ${all_targets[*]} " == *" $t "* ]] || { echo "fuzz: unknown target '$t' (${all_targets[*]})" >&2; exit 2; }
+done
+
+scripts/install-deps.sh --fuzz
+command -v "$cxx" >/dev/null || { echo "fuzz: $cxx not found (scripts/install-deps.sh --fuzz installs clang)" >&2; exit 1; }
+
+echo "== configure build-fuzz ($cxx, BOP_FUZZ=ON) =="
+cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER="$cxx" -DBOP_FUZZ=ON >/dev/null
+build_targets=(bop_fuzz_seeds)
+for t in "${targets[@]}"; do build_targets+=("bop_fuzz_$t"); done
+echo "== build ${build_targets[*]} =="
+cmake --build build-fuzz -j "$jobs" --target "${build_targets[@]}"
+
+work=build-fuzz/fuzz
+bin=build-fuzz/tests/fuzz
+rm -rf "$work/seeds" "$work/logs"
+mkdir -p "$work/corpus" "$work/artifacts" "$work/logs"
+echo "== seeds =="
+"$bin/bop_fuzz_seeds" "$work/seeds"
+
+# Symbolised stack traces when llvm-symbolizer is there (Debian: package llvm).
+if [[ -z "${ASAN_SYMBOLIZER_PATH:-}" ]]; then
+  for s in llvm-symbolizer /usr/lib/llvm-*/bin/llvm-symbolizer; do
+    if command -v "$s" >/dev/null 2>&1; then export ASAN_SYMBOLIZER_PATH=$(command -v "$s"); break; fi
+  done
+fi
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+
+# A libFuzzer -print_final_stats value from a log.
+final_stat() { sed -n "s/^stat::$1: *//p" "$2" | tail -1; }
+
+failed=()
+summary=()
+for t in "${targets[@]}"; do
+  max_len=65536
+  [[ $t == frame ]] && max_len=$((1 << 20))  # frame chunks are large: a 1 MiB buffer holds ~50k particles
+  mkdir -p "$work/corpus/$t"
+  log="$work/logs/$t.log"
+  # Artifacts of earlier runs stay; only the ones this run writes count.
+  before=$(find "$work/artifacts" -maxdepth 1 -name "$t-*" -type f | sort)
+  echo "== fuzz $t (${seconds} s, -max_len=$max_len) =="
+  rc=0
+  "$bin/bop_fuzz_$t" -max_len="$max_len" -rss_limit_mb=2048 -timeout="$timeout" -max_total_time="$seconds" \
+    -print_final_stats=1 -artifact_prefix="$work/artifacts/$t-" "$work/corpus/$t" "$work/seeds/$t" >"$log" 2>&1 || rc=$?
+  after=$(find "$work/artifacts" -maxdepth 1 -name "$t-*" -type f | sort)
+  new_artifacts=$(comm -13 <(echo "$before") <(echo "$after") | sed '/^$/d' || true)
+  execs=$(final_stat number_of_executed_units "$log")
+  rate=$(final_stat average_exec_per_sec "$log")
+  corpus=$(find "$work/corpus/$t" -type f | wc -l)
+  if [[ $rc -ne 0 || -n "$new_artifacts" ]]; then
+    failed+=("$t")
+    summary+=("$(printf '%-9s CRASH (exit %s)  %s exec/s' "$t" "$rc" "${rate:-?}")")
+    echo "fuzz: $t FAILED (exit $rc); log: $log"
+    grep -E "^(==[0-9]+==ERROR|SUMMARY|FUZZ CONTRACT BROKEN)|runtime error" "$log" | head -5 || true
+    echo "--- last lines of the log ---"
+    tail -n 40 "$log"
+    for a in $new_artifacts; do echo "fuzz: reproducer $a ($(wc -c <"$a") bytes)"; done
+  else
+    summary+=("$(printf '%-9s ok  %8s exec/s  %10s execs  corpus %s' "$t" "${rate:-?}" "${execs:-?}" "$corpus")")
+    echo "fuzz: $t ok: ${rate:-?} exec/s, ${execs:-?} executions, corpus $corpus inputs"
+  fi
+done
+
+echo "== summary (${seconds} s per target) =="
+printf '%s\n' "${summary[@]}"
+if [[ ${#failed[@]} -gt 0 ]]; then
+  echo "fuzz: crashes in: ${failed[*]} (reproducers in $work/artifacts)" >&2
+  exit 1
+fi
