@@ -36,7 +36,7 @@ protocol::CommandReply answer(const protocol::Command& c, protocol::ReplyStatus 
     r.requestId = c.requestId;
     r.status = s;
     r.step = std::uint64_t(std::max(0LL, step));
-    r.message = std::move(why);
+    r.message = why.substr(0, protocol::kMaxTextBytes);  // a reply may not exceed its cap
     return r;
 }
 

@@ -108,11 +108,13 @@ int check(const std::string& file, std::string server, int ranks, const std::str
     return compare(file, replayed);
 }
 
-int serve(const std::string& file, FrontOptions front, double speed) {
+int serve(const std::string& file, FrontOptions front, double speed, bool wait) {
     const RecordedSession s = readSession(file);
     front.udp = false;
     ServerFront f(front, s.scene);
     std::cout << "listening on " << f.controlEndpoint() << " (frames on port " << f.framePort() << ")" << std::endl;
+    if (wait)
+        while (!f.waitForClient(std::chrono::milliseconds(200))) {}
     std::map<std::uint64_t, std::vector<const RecordedChunk*>> frames;  // by frame sequence, in order
     for (const auto& c : s.chunks) frames[c.frame.frameSeq].push_back(&c);
     const auto t0 = Clock::now();
@@ -141,12 +143,14 @@ int main(int argc, char** argv) {
         std::string file, other, server, outDir = "out/replay";
         int ranks = 0;
         double speed = 1;
+        bool wait = false;
         FrontOptions front;
         auto* s = app.add_subcommand("serve", "act as the server: the recorded scene and frames, at the recorded pace");
         s->add_option("file", file, "recording (.mcap)")->required();
         s->add_option("--port", front.basePort, "base port (0 = ephemeral)");
         s->add_option("--bind", front.bindAddress, "address to bind");
         s->add_option("--speed", speed, "playback speed, times the recorded pace")->check(CLI::PositiveNumber);
+        s->add_flag("--wait-for-client", wait, "start playing when the first client has said hello");
         auto* c = app.add_subcommand("check", "run a fresh server on the recorded inputs and compare its frames");
         c->add_option("file", file, "recording (.mcap)")->required();
         c->add_option("--server", server, "bop-server executable (default: next to this tool's build folder)");
@@ -160,7 +164,7 @@ int main(int argc, char** argv) {
         } catch (const CLI::ParseError& e) {
             return app.exit(e);
         }
-        if (s->parsed()) return serve(file, front, speed);
+        if (s->parsed()) return serve(file, front, speed, wait);
         if (c->parsed()) return check(file, server, ranks, outDir);
         return compare(file, other);
     });

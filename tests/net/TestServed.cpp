@@ -7,12 +7,14 @@
 #include "client/ClientSession.hpp"
 #include "client/CurveKeys.hpp"
 #include "codec/Codec.hpp"
+#include "recording/SessionReader.hpp"
 
 #include <catch2/catch.hpp>
 #include <zmq.hpp>
 
 #include <csignal>
 #include <regex>
+#include <set>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -311,4 +313,33 @@ TEST_CASE("a subscriber that never reads leaves the server's step rate alone", "
     // measured with repetitions by scripts/bench/stream.sh.
     CHECK(median(with) >= 0.85 * median(without));
     stopCleanly(srv);
+}
+
+TEST_CASE("bop-replay serve plays a recording to a viewer as the server did", "[net][replay]") {
+    test::TempDir dir("served-replay-serve");
+    const std::string rec = dir.file("session.mcap");
+    {
+        ServerProcess srv(server(1, "bulk-box", {"--publish-hz", "30", "--record", rec, "-o", dir.file("out")}));
+        ClientSession c;
+        c.connect(srv.endpoint(), 20s);
+        std::this_thread::sleep_for(1500ms);
+        stopCleanly(srv);
+    }
+    const RecordedSession recorded = readSession(rec);
+    REQUIRE(recorded.chunks.size() >= 20);
+    ServerProcess replay({test::buildDir() + "/protocol/bop-replay", "serve", rec, "--port", "0", "--speed", "2", "--wait-for-client"});
+    ClientSession viewer;
+    const SceneInfo scene = viewer.connect(replay.endpoint(), 20s);
+    CHECK(scene.particleCount == recorded.scene.particleCount);
+    std::set<std::uint64_t> steps;
+    for (int k = 0; k < 40; ++k)
+        if (auto f = viewer.receiveFrame(100ms)) {
+            const auto it = std::find_if(recorded.chunks.begin(), recorded.chunks.end(),
+                                         [&](const RecordedChunk& c) { return c.frame.step == f->step; });
+            REQUIRE(it != recorded.chunks.end());  // a recorded frame, not a new one
+            CHECK(f->positions == it->frame.positions);
+            steps.insert(f->step);
+        }
+    CHECK(steps.size() >= 5);
+    replay.stop(SIGINT);
 }
