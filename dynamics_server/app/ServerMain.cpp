@@ -75,6 +75,7 @@ int run(int argc, char** argv) {
     if (outDir.empty()) outDir = "out/" + fs::path(scenePath).stem().string();
     if (cache.empty()) cache = outDir + "/gradient-map.bopgm";
     fs::create_directories(outDir);
+    const bool stepsGiven = steps >= 0;  // a served run without --steps runs until stopped
     if (steps < 0) steps = scene.run.steps;
     if (snapshotEvery < 0) snapshotEvery = scene.run.snapshotEverySteps;
     if (reportEvery < 0) reportEvery = scene.run.reportEverySteps > 0 ? scene.run.reportEverySteps : std::max(1LL, steps / 10);
@@ -92,7 +93,7 @@ int run(int argc, char** argv) {
                             {"restart", restart}};
         app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
                                                           parallel::MpiSession::barrier, progress);
-        app::ServeOptions serve{front, steps == scene.run.steps ? 0 : steps, waitForClient, outDir, std::nullopt};
+        app::ServeOptions serve{front, stepsGiven ? steps : 0, waitForClient, outDir, std::nullopt};
         if (!replayInputs.empty()) serve.replay = protocol::readSession(replayInputs);
         return app::runServed(scene, std::move(start), serve);
     }
