@@ -193,7 +193,7 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
         for (; nextCommand < r.commands.size() && (long long)(r.commands[nextCommand].reply.step) <= now; ++nextCommand) {
             const auto& rc = r.commands[nextCommand];
             if ((long long)(rc.reply.step) < now || rc.reply.status != protocol::ReplyStatus::Ok) continue;
-            front->reply({"", true, rc.command}, apply(rc.command, desk, run, model.speciesCount()));
+            front->reply({"", rc.command}, apply(rc.command, desk, run, model.speciesCount()));
         }
         for (; nextProbe < r.probes.size() && (long long)(r.probes[nextProbe].step) <= now; ++nextProbe)
             if ((long long)(r.probes[nextProbe].step) == now) takeProbe(r.probes[nextProbe].probe);

@@ -66,7 +66,7 @@ Eigen::Vector3d DecomposedSimulation::defaultSeed(int species) const {
 }
 
 void DecomposedSimulation::construct(std::vector<core::ConstructionEvent> events) {
-    built_ = {};
+    core::ConstructionCounts built;  // over all ranks
     bool changed = false;
     for (const auto& e : events) {
         if (e.action != core::ConstructionEvent::Action::Seed) {
@@ -93,7 +93,7 @@ void DecomposedSimulation::construct(std::vector<core::ConstructionEvent> events
             params, gatherMarks(comm_, core::markDeaths(params, {sub_, sub_.box, seen, owned}, step_)), count);
         removeIds(p_, die);
         removeIds(seen, die);
-        built_.deaths = die.size();
+        built.deaths = die.size();
 
         count = speciesCounts(comm_, p_, sub_.speciesCount());
         for (int s = 1; sub_.map && s <= sub_.speciesCount(); ++s) {
@@ -117,11 +117,11 @@ void DecomposedSimulation::construct(std::vector<core::ConstructionEvent> events
                     if (valid) seen.add(x, s, core::birthId(step_, w.voxel));
                 }
             }
-            built_.births += winners.size();
+            built.births += winners.size();
         }
     }
     if (!changed) return;
-    construction_.addToTotals(built_);
+    construction_.addToTotals(built);
     // The particles changed: new halo (and cut planes, as a growing bag needs them), new list,
     // forces for the newborn (as a single process does).
     if (imbalanceNow() > 1.1) {

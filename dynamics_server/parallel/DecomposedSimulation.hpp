@@ -62,7 +62,6 @@ public:
     core::ProbeState& probe() { return probe_; }
     long long stepCount() const { return step_; }  // step number (firstStep + steps done)
     const core::Construction& construction() const { return construction_; }
-    core::ConstructionCounts built() const { return built_; }  // births and deaths of the last step, all ranks
     std::size_t mapBytes() const;  // this rank's window of the gradient map
     std::size_t haloBytesPerStep() const { return haloBytes_; }  // sent by this rank, last update
     std::size_t migrations() const { return migrations_; }       // particles this rank sent away
@@ -118,7 +117,6 @@ private:
     std::vector<double> out_[2], in_[2];  // message buffers, kept to avoid fresh pages every step
     std::vector<double> commands_;        // queued on rank 0, encoded
     core::Construction construction_;
-    core::ConstructionCounts built_;
     bool forcesStale_ = false;  // a command changed the weights since the last forces
     std::optional<MapSource> mapSource_;
     shape::VoxelWindow window_;

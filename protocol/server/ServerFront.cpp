@@ -87,7 +87,6 @@ void ServerFront::Impl::handle(const std::string& id, zmq::message_t& msg) {
         if (!h) return bad(h.error);
         ++stats.hellos;
         front::Client& c = clients[id];
-        c.role = h.value.role;
         c.wantedHz = h.value.frameRateHz;
         c.mayCommand = !h.value.readOnly && (opt.viewersMayCommand || h.value.role != Role::Viewer);
         float rate = opt.publishHz;
@@ -114,7 +113,7 @@ void ServerFront::Impl::handle(const std::string& id, zmq::message_t& msg) {
         if (it == clients.end()) return refuse(id, c.value, ReplyStatus::Rejected, "hello first");
         if (!it->second.mayCommand) return refuse(id, c.value, ReplyStatus::ReadOnly, "this session is read-only");
         if (commands.size() >= kMaxQueuedCommands) return refuse(id, c.value, ReplyStatus::Rejected, "server busy");
-        commands.push_back({id, true, c.value});
+        commands.push_back({id, c.value});
         return;
     }
     case MessageKind::Probe: {

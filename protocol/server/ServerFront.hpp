@@ -46,7 +46,6 @@ struct FrontStats {
 // A command as the step loop sees it; answer it with ServerFront::reply().
 struct PendingCommand {
     std::string client;  // opaque peer identity
-    bool mayCommand = true;
     Command command;
 };
 

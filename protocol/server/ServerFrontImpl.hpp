@@ -27,7 +27,6 @@ inline std::int64_t nowNs() {
 }
 
 struct Client {
-    Role role = Role::Viewer;
     bool mayCommand = true;
     float wantedHz = 0;
     Clock::time_point lastProbe{};
