@@ -232,7 +232,12 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
         const parallel::Totals t = run.totals();  // collective
         if (root && ctl[3] != 0) front->offerFeedback({desk.probeSeq, std::uint64_t(run.stepNumber()), t.probeReaction, nowNs()});
         if (ctl[2] == 0) continue;
-        parallel::FrameArrays arrays = run.gatherFrame();  // collective
+        parallel::FrameArrays arrays;
+        if (root) {  // the memory of a frame the front has sent
+            protocol::StateFrame spare = front->takeSpareFrame();
+            arrays = {std::move(spare.positions), std::move(spare.normals), std::move(spare.species), std::move(spare.ids)};
+        }
+        run.gatherFrame(arrays);  // collective
         if (!root) continue;
         const double elapsed = std::chrono::duration<double>(Clock::now() - rateClock).count();
         if (elapsed > 0.5) stepRate = double(rateSteps) / elapsed, rateSteps = 0, rateClock = Clock::now();

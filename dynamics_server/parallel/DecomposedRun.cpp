@@ -35,9 +35,8 @@ std::array<double, 4> DecomposedRun::agree(const std::array<double, 4>& mine) {
     return out;
 }
 
-FrameArrays DecomposedRun::gatherFrame() const {
+void DecomposedRun::gatherFrame(FrameArrays& f) const {
     const core::Particles& p = impl_->sim.particles();
-    FrameArrays f;
     if (size() == 1) {  // straight into the frame's arrays
         const std::size_t n = p.size();
         f.positions.resize(3 * n);
@@ -47,9 +46,9 @@ FrameArrays DecomposedRun::gatherFrame() const {
                 f.positions[3 * i + std::size_t(a)] = float(p.pos[i][a]);
                 f.normals[3 * i + std::size_t(a)] = float(p.normal[i][a]);
             }
-        f.species = p.species;
-        f.ids = p.id;
-        return f;
+        f.species.assign(p.species.begin(), p.species.end());
+        f.ids.assign(p.id.begin(), p.id.end());
+        return;
     }
     // One float array per rank: 6 floats of position and normal, then species and the id's two
     // halves as floats holding exact 16-bit pieces (floats hold integers below 2^24 exactly).
@@ -76,7 +75,6 @@ FrameArrays DecomposedRun::gatherFrame() const {
         f.species[k] = std::uint8_t(v[6]);
         f.ids[k] = std::uint64_t(v[7]) | std::uint64_t(v[8]) << 16 | std::uint64_t(v[9]) << 32 | std::uint64_t(v[10]) << 48;
     }
-    return f;
 }
 
 int DecomposedRun::rank() const { return impl_->comm.rank(); }

@@ -59,7 +59,9 @@ public:
     Totals totals() const;
     RunCounters counters() const;
     core::Particles gather() const;  // every particle sorted by id
-    FrameArrays gatherFrame() const; // what a state frame carries, on rank 0 (lighter than gather())
+    // What a state frame carries, on rank 0 (lighter than gather()), into `into`, whose arrays
+    // keep their capacity (a frame's memory reused for the next one).
+    void gatherFrame(FrameArrays& into) const;
     int rank() const;
     int size() const;
     Coords dims() const;

@@ -2,6 +2,7 @@
 //   frames ENDPOINT      frames/s and MB/s received for --seconds (after --pause: the same state
 //                        streamed at the server's frame rate, so the stream alone is measured)
 //   probe ENDPOINT       probe -> feedback round trips at --hz (1 kHz): p50, p99, max in ms
+//                        (over ZeroMQ, or as datagrams with --udp)
 //   rate ENDPOINT        the server's step rate (median of what frames carry) over --seconds
 //   stuck ENDPOINT       a subscriber that never reads, for --seconds
 #include "bop/common/ToolMain.hpp"
@@ -40,7 +41,10 @@ int frames(ClientSession& c, double secs, bool pause) {
     std::size_t particles = 0;
     const auto t0 = Clock::now();
     while (seconds(Clock::now() - t0) < secs)
-        if (auto f = c.receiveFrame(std::chrono::milliseconds(100))) particles = f->count();
+        if (auto f = c.receiveFrame(std::chrono::milliseconds(100))) {
+            particles = f->count();
+            c.recycle(std::move(*f));  // as a viewer would: the next frame reuses its memory
+        }
     const double dt = seconds(Clock::now() - t0);
     const ClientStats s1 = c.stats();
     const double fps = double(s1.framesReceived - s0.framesReceived) / dt;
@@ -68,7 +72,9 @@ int probe(ClientSession& c, double secs, double hz) {
         c.sendProbe(p);
         next += period;
         while (Clock::now() < next) {
-            if (auto fb = c.pollFeedback(); fb && fb->probeSeq > answered) {
+            // Only our own probes count: feedback names the probe last applied, which right after
+            // connecting may be an earlier client's (sequences are per client).
+            if (auto fb = c.pollFeedback(); fb && fb->probeSeq > answered && sent.count(fb->probeSeq)) {
                 const auto now = Clock::now();
                 for (auto it = sent.begin(); it != sent.end() && it->first <= fb->probeSeq;) {
                     if (it->first == fb->probeSeq) rtt.push_back(seconds(now - it->second) * 1e3);
@@ -118,8 +124,11 @@ int main(int argc, char** argv) {
         app.add_option("--seconds", secs, "how long to measure, s")->check(CLI::PositiveNumber);
         app.add_option("--hz", hz, "probe rate, Hz")->check(CLI::Range(1.0, 10000.0));
         app.add_flag("--pause", pause, "pause the server first (frames: the stream alone)");
+        bool udp = false;
+        app.add_flag("--udp", udp, "probe: probes and feedback as datagrams instead of over ZeroMQ");
         CLI11_PARSE(app, argc, argv);
         ClientOptions o;
+        o.probeOverUdp = udp;
         o.role = mode == "probe" ? Role::Haptic : Role::Viewer;
         o.clientName = "bop-stream-bench";
         ClientSession c(o);

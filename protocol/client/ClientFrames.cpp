@@ -23,12 +23,13 @@ constexpr int kDrainHighWaterMarks = 4;
 }  // namespace
 
 std::optional<StateFrame> ClientSession::Impl::takeChunk(const std::uint8_t* data, std::size_t size) {
-    auto chunk = decodeStateFrame(data, size, frameLimits);
-    if (!chunk) {
+    StateFrame chunk = assembler.spare();
+    if (!decodeStateFrameInto(data, size, chunk, frameLimits).ok()) {
+        assembler.recycle(std::move(chunk));
         countMalformed();
         return std::nullopt;
     }
-    std::optional<StateFrame> whole = assembler.add(std::move(chunk.value));
+    std::optional<StateFrame> whole = assembler.add(std::move(chunk));
     std::lock_guard lock(m);
     syncAssemblerStats();
     return whole;
@@ -65,14 +66,43 @@ std::optional<StateFrame> ClientSession::Impl::drainSub() {
             continue;
         }
         ++chunks;
-        if (auto whole = takeChunk(static_cast<const std::uint8_t*>(chunk.data()), chunk.size()))
+        if (auto whole = takeChunk(static_cast<const std::uint8_t*>(chunk.data()), chunk.size())) {
+            if (newest) assembler.recycle(std::move(*newest));
             newest = std::move(whole);
+        }
     }
     std::lock_guard lock(m);
     stats.chunksReceived += chunks;
     stats.bytesReceived += bytes;
     stats.malformed += bad;
     return newest;
+}
+
+std::optional<StateFrame> ClientSession::Impl::drainUdp() {
+    if (!udpFrames) return std::nullopt;
+    std::optional<StateFrame> newest;
+    // A frame travels as one message of stream kFrameStream: the whole frame, one chunk.
+    for (const Message& msg : udpFrames->receive(0)) {
+        if (msg.stream != kUdpFrameStream) continue;
+        if (auto whole = takeChunk(msg.bytes.data(), msg.bytes.size())) {
+            if (newest) assembler.recycle(std::move(*newest));
+            newest = std::move(whole);
+        }
+    }
+    std::lock_guard lock(m);
+    stats.udpDatagrams = udpFrames->datagrams();
+    stats.udpFramesLost = udpFrames->stats().lost;
+    return newest;
+}
+
+// The newest whole frame from the SUB socket and the UDP receiver, if either completed one.
+std::optional<StateFrame> ClientSession::Impl::drainAll() {
+    std::optional<StateFrame> tcp = drainSub(), udp = drainUdp();
+    if (!tcp) return udp;
+    if (!udp) return tcp;
+    // The assembler took them in this order, so the UDP one is newer.
+    assembler.recycle(std::move(*tcp));
+    return udp;
 }
 
 std::optional<StateFrame> ClientSession::receiveFrame(std::chrono::milliseconds timeout) {
@@ -83,22 +113,30 @@ std::optional<StateFrame> ClientSession::receiveFrame(std::chrono::milliseconds 
     const auto deadline = Clock::now() + timeout;
     std::optional<StateFrame> newest;
     for (;;) {
-        if (auto whole = d.drainSub()) newest = std::move(whole);
+        if (auto whole = d.drainAll()) {
+            if (newest) d.assembler.recycle(std::move(*newest));
+            newest = std::move(whole);
+        }
         if (newest || Clock::now() >= deadline) return newest;
-        d.waitReadable(*d.sub, deadline);
+        d.waitReadable(*d.sub, deadline, d.udpFrameFd());
     }
 }
 
 void ClientSession::Impl::receiverLoop() noexcept {
     try {
         while (!stopReceiver) {
-            if (auto whole = drainSub()) {
-                auto frame = std::make_shared<const StateFrame>(std::move(*whole));
-                std::lock_guard lock(m);
-                latest.frame = std::move(frame);
-                ++latest.count;
+            if (auto whole = drainAll()) {
+                std::shared_ptr<const StateFrame> frame = std::make_shared<StateFrame>(std::move(*whole));
+                {
+                    std::lock_guard lock(m);
+                    std::swap(latest.frame, frame);
+                    ++latest.count;
+                }
+                // The frame replaced, if no renderer still holds it: out of the slot, it cannot be
+                // handed out again, so a count of one means it is ours alone (made non-const above).
+                if (frame && frame.use_count() == 1) assembler.recycle(std::move(const_cast<StateFrame&>(*frame)));
             }
-            waitReadable(*sub, Clock::now() + kReceiverPollInterval);
+            waitReadable(*sub, Clock::now() + kReceiverPollInterval, udpFrameFd());
         }
     } catch (const std::exception& e) {  // a socket error or memory exhausted: stop, say why
         std::lock_guard lock(m);
@@ -132,6 +170,10 @@ void ClientSession::startReceiver() {
         d.running = false;
         throw;
     }
+}
+
+void ClientSession::recycle(StateFrame&& frame) {
+    if (!impl_->running) impl_->assembler.recycle(std::move(frame));
 }
 
 void ClientSession::stopReceiver() { impl_->joinReceiver(); }

@@ -52,12 +52,12 @@ int frameTierFor(float publishHz, float wantedHz) {
     return std::clamp(int(std::floor(std::log2(double(publishHz) / double(wantedHz)))), 0, 7);
 }
 
-bool ClientSession::Impl::waitReadable(zmq::socket_t& s, Clock::time_point deadline) {
+bool ClientSession::Impl::waitReadable(zmq::socket_t& s, Clock::time_point deadline, int fd) {
     const auto left = std::chrono::ceil<milliseconds>(deadline - Clock::now());
     if (left.count() <= 0) return false;
-    zmq::pollitem_t item{s.handle(), 0, ZMQ_POLLIN, 0};
+    zmq::pollitem_t items[] = {{s.handle(), 0, ZMQ_POLLIN, 0}, {nullptr, fd, ZMQ_POLLIN, 0}};
     try {
-        return zmq::poll(&item, 1, left) > 0;
+        return zmq::poll(items, fd >= 0 ? 2 : 1, left) > 0;
     } catch (const zmq::error_t& e) {
         if (e.num() == EINTR) return false;
         throw;
@@ -123,7 +123,8 @@ void ClientSession::Impl::connectSub() {
     sub.emplace(ctx, zmq::socket_type::sub);
     setCommonOptions(*sub, opt.maxFrameChunkBytes);
     sub->set(zmq::sockopt::rcvhwm, opt.frameHighWaterMark);
-    for (int t = tier; t <= 7; ++t) {  // topic: one byte, the frame's tier
+    // Frames come over UDP instead when a UDP frame port is set: the SUB socket stays unsubscribed.
+    for (int t = tier; t <= 7 && !udpFrames; ++t) {  // topic: one byte, the frame's tier
         const char topic = char(t);
         sub->set(zmq::sockopt::subscribe, std::string_view(&topic, 1));
     }
@@ -144,8 +145,6 @@ SceneInfo ClientSession::connect(const std::string& endpoint) { return connect(e
 
 SceneInfo ClientSession::connect(const std::string& endpoint, milliseconds timeout) {
     Impl& d = *impl_;
-    if (d.opt.udpFramePort != 0)
-        throw Error("ClientOptions::udpFramePort", "frames over UDP are not received by this client yet; use 0");
     if (!d.opt.curveServerKey.empty()) {
         requireKey(d.opt.curveServerKey, "CURVE server key");
         if (d.opt.curvePublicKey.empty() && d.opt.curveSecretKey.empty()) {
@@ -161,6 +160,8 @@ SceneInfo ClientSession::connect(const std::string& endpoint, milliseconds timeo
     d.dealer.reset();
     d.assembler.reset();  // a new session may number its frames from 1 again
     d.feedback.reset();
+    d.probeSocket.reset();
+    d.udpFrames.reset();
     d.controlEndpoint = endpoint;
     try {
         d.dealer.emplace(d.ctx, zmq::socket_type::dealer);
@@ -175,6 +176,13 @@ SceneInfo ClientSession::connect(const std::string& endpoint, milliseconds timeo
         hello.frameRateHz = d.opt.frameRateHz;
         hello.readOnly = d.opt.readOnly;
         hello.clientName = d.opt.clientName;
+        // Datagram sockets bind where the server is reached from: loopback for a local server.
+        const std::string host = tcpHost(endpoint);
+        const std::string udpLocal = isLocalHost(host) ? "127.0.0.1" : "0.0.0.0";
+        if (d.opt.udpFramePort != 0) {
+            d.udpFrames.emplace(UdpSocket(udpLocal, d.opt.udpFramePort));
+            hello.udpFramePort = d.opt.udpFramePort;
+        }
         const Buffer b = encodeHello(hello);  // EncodeError on a bad option (a name over 64 bytes, ...)
         if (!d.dealer->send(zmq::buffer(b), zmq::send_flags::dontwait)) throw Error(endpoint, "cannot queue Hello");
         const bool got = d.pumpControl(Clock::now() + timeout, [&](const zmq::message_t& msg) {
@@ -189,10 +197,18 @@ SceneInfo ClientSession::connect(const std::string& endpoint, milliseconds timeo
         if (d.scene.endpoints.frameEndpoint.empty()) throw Error(endpoint, "SceneInfo announces no frame endpoint");
         d.tier = frameTierFor(d.scene.publishRateHz, d.opt.frameRateHz);
         d.frameEndpoint = frameEndpointFor(endpoint, d.scene.endpoints.frameEndpoint);
+        if (d.opt.probeOverUdp) {
+            if (d.scene.endpoints.udpProbePort == 0)
+                throw Error(endpoint, "the server takes no probes over UDP (it runs with CURVE, or UDP is off)");
+            d.probeTo = {isLocalHost(host) ? "127.0.0.1" : host, d.scene.endpoints.udpProbePort};
+            d.probeSocket.emplace(udpLocal, 0);
+        }
         d.connectSub();
     } catch (...) {
         d.sub.reset();  // not connected: connected() says so, and the sockets stop retrying
         d.dealer.reset();
+        d.probeSocket.reset();
+        d.udpFrames.reset();
         throw;
     }
     return d.scene;
@@ -206,7 +222,20 @@ std::string ClientSession::frameEndpoint() const { return impl_->frameEndpoint; 
 bool ClientSession::sendProbe(const Probe& probe) {
     if (!impl_->dealer) throw std::logic_error("ClientSession::sendProbe before connect");
     const Buffer b = encodeProbe(probe);
+    if (impl_->probeSocket) return impl_->probeSocket->sendTo(impl_->probeTo, b);
     return impl_->dealer->send(zmq::buffer(b), zmq::send_flags::dontwait).has_value();
+}
+
+void ClientSession::Impl::takeUdpFeedback() {
+    // Datagrams may arrive out of order: the one of the latest step wins.
+    while (auto d = probeSocket->receive(0)) {
+        const auto f = decodeFeedback(d->bytes.data(), d->bytes.size());
+        if (!f.ok() || !(d->sender == probeTo)) {
+            countMalformed();
+            continue;
+        }
+        if (!feedback || f.value.step >= feedback->step) feedback = f.value;
+    }
 }
 
 CommandReply ClientSession::sendCommand(const Command& command) { return sendCommand(command, impl_->opt.receiveTimeout); }
@@ -242,6 +271,7 @@ std::optional<Feedback> ClientSession::pollFeedback() {
         d.takeControl(msg, nullptr);
         return false;  // read everything queued: the newest feedback wins
     });
+    if (d.probeSocket) d.takeUdpFeedback();
     return std::exchange(d.feedback, std::nullopt);
 }
 

@@ -43,11 +43,14 @@ struct ClientOptions {
     // that a slow client sees recent frames rather than a backlog; a chunk is one message.
     int frameHighWaterMark = 16;
     AssemblerLimits assembler;
-    // TODO(udp): frames as datagrams (transport/UdpStream.hpp). When set, Hello names this port and
-    // the server sends frames there at our tier; a UdpReceiver on it would hand each reassembled
-    // buffer to the same chunk path as the SUB socket (ClientSession::Impl::takeChunk). Until that
-    // receiver exists here, connect() refuses a non-zero port rather than announce a dead one.
+    // Frames as datagrams (the paper's UDP mode; transport/UdpStream.hpp): when set, Hello names
+    // this local port and the server sends every frame of our tier there as one fragmented
+    // message; the SUB socket then takes none. Only complete frames are taken; incomplete ones
+    // count in ClientStats::udpFramesLost. 0: frames over the SUB socket.
     std::uint16_t udpFramePort = 0;
+    // Probes as datagrams to the server's UDP probe port instead of over the DEALER socket; the
+    // server answers a datagram prober with feedback datagrams. Needs a server with UDP on.
+    bool probeOverUdp = false;
 };
 
 struct ClientStats {
@@ -60,6 +63,8 @@ struct ClientStats {
     std::uint64_t malformed = 0;           // buffers refused by a decoder or of an unexpected kind
     std::uint64_t bytesReceived = 0;       // bytes of every frame message (topic and chunk)
     std::uint64_t repliesDropped = 0;      // command replies with no waiting request (late or foreign)
+    std::uint64_t udpDatagrams = 0;        // frame datagrams read (ClientOptions::udpFramePort)
+    std::uint64_t udpFramesLost = 0;       // frames whose datagrams did not all come (given up)
 };
 
 // The newest whole frame from the receiver thread: `count` grows by one per frame kept, so a
@@ -105,6 +110,10 @@ public:
     // waiting more, and returns the newest whole frame (nothing if none completed in time).
     // std::logic_error while the receiver thread runs (it owns the SUB socket then).
     std::optional<StateFrame> receiveFrame(std::chrono::milliseconds timeout);
+    // Gives a frame from receiveFrame() back, so that later frames are decoded into its memory
+    // instead of fresh memory (large frames come several times faster). Ignored while the
+    // receiver thread runs; that thread reuses the frames latestFrame() no longer hands out.
+    void recycle(StateFrame&& frame);
 
     // The receiver thread: owns the SUB socket and keeps the newest whole frame for latestFrame().
     void startReceiver();

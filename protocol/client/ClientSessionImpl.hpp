@@ -4,6 +4,7 @@
 // receiver thread).
 #include "client/ClientSession.hpp"
 #include "codec/MessageKind.hpp"
+#include "transport/UdpStream.hpp"
 
 #include <zmq.hpp>
 
@@ -23,10 +24,13 @@ struct ClientSession::Impl {
     SceneInfo scene;
     int tier = 0;
     std::optional<Feedback> feedback;  // newest not yet polled
+    std::optional<UdpSocket> probeSocket;  // ClientOptions::probeOverUdp
+    Endpoint probeTo;                      // the server's UDP probe port
 
     // Frame side: used by the caller's thread, or only by the receiver thread while it runs.
     FrameAssembler assembler;
     FrameLimits frameLimits;
+    std::optional<UdpReceiver> udpFrames;  // ClientOptions::udpFramePort
     std::thread receiver;
     std::atomic<bool> stopReceiver{false};
     std::atomic<bool> running{false};  // the receiver thread is in its loop
@@ -48,16 +52,21 @@ struct ClientSession::Impl {
     // Reads DEALER messages, handing each to `take`, until it returns true (then true) or
     // `deadline` passes (then false, having read everything queued). Defined in ClientSession.cpp.
     template <class Take> bool pumpControl(Clock::time_point deadline, Take take);
-    // Waits until `s` has something to read or `deadline` passes; false at the deadline or when a
-    // signal interrupted the wait (callers look at the clock again).
-    static bool waitReadable(zmq::socket_t& s, Clock::time_point deadline);
+    // Waits until `s` (or file descriptor `fd`, if not -1) has something to read or `deadline`
+    // passes; false at the deadline or when a signal interrupted the wait (callers look at the
+    // clock again).
+    static bool waitReadable(zmq::socket_t& s, Clock::time_point deadline, int fd = -1);
+    void takeUdpFeedback();  // feedback datagrams queued on probeSocket
 
     // ---- frame side (ClientFrames.cpp) ----
     // Reads every frame message queued on the SUB socket without waiting; returns the newest
     // whole frame they completed, if any.
     std::optional<StateFrame> drainSub();
-    // One frame chunk, from whatever transport carried it (the SUB socket now; the UDP receiver
-    // of ClientOptions::udpFramePort later): decoded, counted, fed to the assembler.
+    std::optional<StateFrame> drainUdp();  // the same for frames over UDP
+    std::optional<StateFrame> drainAll();  // both
+    int udpFrameFd() { return udpFrames ? udpFrames->socket().fd() : -1; }
+    // One frame chunk, from whatever transport carried it (the SUB socket, or a whole frame from
+    // the UDP receiver): decoded, counted, fed to the assembler.
     std::optional<StateFrame> takeChunk(const std::uint8_t* data, std::size_t size);
     void receiverLoop() noexcept;
     void joinReceiver();

@@ -1,15 +1,18 @@
 #include "client/FrameAssembler.hpp"
 
+#include <algorithm>
 #include <iterator>
 #include <utility>
 
 namespace bop::protocol {
 namespace {
 
-// Bytes of a chunk's particle arrays as held in memory (what AssemblerLimits::maxPartialBytes caps).
-std::size_t particleBytes(const StateFrame& c) {
-    return (c.positions.size() + c.normals.size()) * sizeof(float) + c.species.size() +
-           c.ids.size() * sizeof(std::uint64_t);
+// Bytes of a frame of n particles as held in memory (what AssemblerLimits::maxPartialBytes caps),
+// with normals and ids where chunk `c` has them.
+std::size_t frameBytes(const StateFrame& c, std::size_t n) {
+    const std::size_t perParticle = 3 * sizeof(float) * (c.normals.empty() ? 1 : 2) + sizeof(std::uint8_t) +
+                                    (c.ids.empty() ? 0 : sizeof(std::uint64_t));
+    return n * perParticle;
 }
 
 // Chunks of one frame repeat its header; those fields decide how the arrays fit together.
@@ -18,9 +21,26 @@ bool sameFrame(const StateFrame& a, const StateFrame& b) {
            a.encoding == b.encoding && a.normals.empty() == b.normals.empty() && a.ids.empty() == b.ids.empty();
 }
 
+void swapArrays(StateFrame& a, StateFrame& b) {
+    a.positions.swap(b.positions);
+    a.normals.swap(b.normals);
+    a.species.swap(b.species);
+    a.ids.swap(b.ids);
+}
+
+// Every field of `from` but its particle arrays into `to`, whose arrays stay as they are.
+void copyHeader(StateFrame& from, StateFrame& to) {
+    StateFrame fromArrays, toArrays;
+    swapArrays(from, fromArrays);
+    swapArrays(to, toArrays);
+    to = from;
+    swapArrays(from, fromArrays);
+    swapArrays(to, toArrays);
+}
+
 template <class T>
-void append(std::vector<T>& to, const std::vector<T>& from) {
-    to.insert(to.end(), from.begin(), from.end());
+void place(const std::vector<T>& from, std::vector<T>& to, std::size_t at) {
+    std::copy(from.begin(), from.end(), to.begin() + std::ptrdiff_t(at));
 }
 
 }  // namespace
@@ -28,10 +48,30 @@ void append(std::vector<T>& to, const std::vector<T>& from) {
 FrameAssembler::FrameAssembler(AssemblerLimits limits) : limits_(limits) {}
 
 void FrameAssembler::reset() {
-    partial_.clear();
+    for (auto it = partial_.begin(); it != partial_.end();) erase(it++, false);
     heldBytes_ = 0;
     staleRun_ = 0;
     lastDelivered_.reset();
+}
+
+void FrameAssembler::recycle(StateFrame&& frame) {
+    if (frame.positions.capacity() == 0 && frame.species.capacity() == 0) return;
+    spares_.push_back(std::move(frame));
+    if (spares_.size() <= kMaxSpares) return;
+    const auto smallest = std::min_element(spares_.begin(), spares_.end(), [](const StateFrame& a, const StateFrame& b) {
+        return a.positions.capacity() < b.positions.capacity();
+    });
+    spares_.erase(smallest);
+}
+
+StateFrame FrameAssembler::spare() {
+    if (spares_.empty()) return {};
+    const auto largest = std::max_element(spares_.begin(), spares_.end(), [](const StateFrame& a, const StateFrame& b) {
+        return a.positions.capacity() < b.positions.capacity();
+    });
+    StateFrame f = std::move(*largest);
+    spares_.erase(largest);
+    return f;
 }
 
 std::optional<StateFrame> FrameAssembler::add(StateFrame chunk) {
@@ -40,11 +80,13 @@ std::optional<StateFrame> FrameAssembler::add(StateFrame chunk) {
     if (chunk.chunkCount == 0 || chunk.chunkIndex >= chunk.chunkCount ||
         std::uint64_t(chunk.firstIndex) + chunk.count() > chunk.frameParticleCount) {
         ++stats_.inconsistent;
+        recycle(std::move(chunk));
         return std::nullopt;
     }
     if (lastDelivered_ && seq <= *lastDelivered_) {
         if (limits_.restartAfterStale == 0 || ++staleRun_ < limits_.restartAfterStale) {
             ++stats_.stale;
+            recycle(std::move(chunk));
             return std::nullopt;
         }
         ++stats_.restarts;  // this chunk starts the new numbering
@@ -57,6 +99,7 @@ std::optional<StateFrame> FrameAssembler::add(StateFrame chunk) {
         // firstIndex + count <= frameParticleCount; a whole frame must start at 0 and fill it.
         if (chunk.firstIndex != 0 || chunk.count() != chunk.frameParticleCount) {
             ++stats_.inconsistent;
+            recycle(std::move(chunk));
             return std::nullopt;
         }
         return deliver(seq, std::move(chunk));
@@ -68,67 +111,68 @@ std::optional<StateFrame> FrameAssembler::add(StateFrame chunk) {
     return addChunk(fresh, std::move(chunk));
 }
 
-std::optional<StateFrame> FrameAssembler::addChunk(Iter it, StateFrame chunk) {
-    Partial& p = it->second;
-    if (p.givenUp) return std::nullopt;
+bool FrameAssembler::fits(const Partial& p, const StateFrame& chunk) const {
+    if (!p.spans.empty() && !sameFrame(p.whole, chunk)) return false;
+    if (p.seen[chunk.chunkIndex]) return false;  // chunkIndex < chunkCount = seen.size(), checked in add()
+    // No overlap with the neighbours in frame order: the span starting at or after `first` must
+    // start after it and at or after `end`; the one before must end at or before `first`.
     const std::uint32_t first = chunk.firstIndex;
     const std::uint64_t end = std::uint64_t(first) + chunk.count();
-    bool fits = p.chunks.empty() || sameFrame(p.chunks.begin()->second, chunk);
-    fits = fits && !p.seen[chunk.chunkIndex];  // chunkIndex < chunkCount, checked in add()
-    if (fits) {
-        // No overlap with the neighbours in frame order: the chunk starting at or after `first`
-        // must start after it and at or after `end`; the one before must end at or before `first`.
-        const auto next = p.chunks.lower_bound(first);
-        if (next != p.chunks.end() && (next->first == first || next->first < end)) fits = false;
-        if (next != p.chunks.begin()) {
-            const StateFrame& prev = std::prev(next)->second;
-            if (std::uint64_t(prev.firstIndex) + prev.count() > first) fits = false;
-        }
+    const auto next = p.spans.lower_bound(first);
+    if (next != p.spans.end() && (next->first == first || next->first < end)) return false;
+    if (next != p.spans.begin()) {
+        const auto prev = std::prev(next);
+        if (std::uint64_t(prev->first) + prev->second > first) return false;
     }
-    if (!fits) {
-        ++stats_.inconsistent;
-        giveUp(p);
-        return std::nullopt;
-    }
-    const std::size_t bytes = particleBytes(chunk);
-    p.seen[chunk.chunkIndex] = true;
-    p.bytes += bytes;
-    p.particles += chunk.count();
-    heldBytes_ += bytes;
-    const std::uint32_t chunkCount = chunk.chunkCount;
-    p.chunks.emplace(first, std::move(chunk));
-    if (!makeRoom(it->first)) return std::nullopt;
-    if (p.chunks.size() < chunkCount) return std::nullopt;
-    // Every index arrived, no two overlap and all lie inside [0, frameParticleCount): they cover it
-    // exactly unless they add up to less (a gap).
-    if (p.particles != p.chunks.begin()->second.frameParticleCount) {
-        ++stats_.inconsistent;
-        giveUp(p);
-        return std::nullopt;
-    }
-    StateFrame whole = concatenate(p);
-    const std::uint64_t seq = it->first;
-    erase(it, false);
-    return deliver(seq, std::move(whole));
+    return true;
 }
 
-StateFrame FrameAssembler::concatenate(Partial& p) {
-    StateFrame whole = std::move(p.chunks.begin()->second);
-    const std::size_t n = whole.frameParticleCount;
-    whole.positions.reserve(3 * n);
-    whole.species.reserve(n);
-    if (!whole.normals.empty()) whole.normals.reserve(3 * n);
-    if (!whole.ids.empty()) whole.ids.reserve(n);
-    for (auto c = std::next(p.chunks.begin()); c != p.chunks.end(); ++c) {
-        append(whole.positions, c->second.positions);
-        append(whole.normals, c->second.normals);
-        append(whole.species, c->second.species);
-        append(whole.ids, c->second.ids);
+std::optional<StateFrame> FrameAssembler::addChunk(Iter it, StateFrame chunk) {
+    Partial& p = it->second;
+    const std::uint64_t seq = it->first;
+    if (p.givenUp || !fits(p, chunk)) {
+        if (!p.givenUp) ++stats_.inconsistent, giveUp(p);
+        recycle(std::move(chunk));
+        return std::nullopt;
     }
+    const std::size_t n = chunk.frameParticleCount;
+    if (p.spans.empty()) {  // the first chunk to arrive: room for the whole frame
+        p.bytes = frameBytes(chunk, n);
+        heldBytes_ += p.bytes;
+        if (!makeRoom(seq)) {
+            recycle(std::move(chunk));
+            return std::nullopt;
+        }
+        p.whole = spare();
+        copyHeader(chunk, p.whole);
+        p.whole.positions.resize(3 * n);
+        p.whole.normals.resize(chunk.normals.empty() ? 0 : 3 * n);
+        p.whole.species.resize(n);
+        p.whole.ids.resize(chunk.ids.empty() ? 0 : n);
+    }
+    const std::size_t first = chunk.firstIndex;
+    place(chunk.positions, p.whole.positions, 3 * first);
+    place(chunk.normals, p.whole.normals, 3 * first);
+    place(chunk.species, p.whole.species, first);
+    place(chunk.ids, p.whole.ids, first);
+    p.seen[chunk.chunkIndex] = true;
+    p.spans.emplace(chunk.firstIndex, std::uint32_t(chunk.count()));
+    p.particles += chunk.count();
+    recycle(std::move(chunk));
+    if (p.spans.size() < p.whole.chunkCount) return std::nullopt;
+    // Every index arrived, no two overlap and all lie inside [0, frameParticleCount): they cover it
+    // exactly unless they add up to less (a gap).
+    if (p.particles != n) {
+        ++stats_.inconsistent;
+        giveUp(p);
+        return std::nullopt;
+    }
+    StateFrame whole = std::move(p.whole);
     whole.chunkIndex = 0;
     whole.chunkCount = 1;
     whole.firstIndex = 0;
-    return whole;
+    erase(it, false);
+    return deliver(seq, std::move(whole));
 }
 
 std::optional<StateFrame> FrameAssembler::deliver(std::uint64_t seq, StateFrame frame) {
@@ -141,6 +185,7 @@ std::optional<StateFrame> FrameAssembler::deliver(std::uint64_t seq, StateFrame 
 
 void FrameAssembler::giveUp(Partial& p) {
     heldBytes_ -= p.bytes;
+    recycle(std::move(p.whole));
     p = Partial{};
     p.givenUp = true;
 }
@@ -148,6 +193,7 @@ void FrameAssembler::giveUp(Partial& p) {
 void FrameAssembler::erase(Iter it, bool countLost) {
     if (countLost && !it->second.givenUp) ++stats_.lost;
     heldBytes_ -= it->second.bytes;
+    recycle(std::move(it->second.whole));
     partial_.erase(it);
 }
 

@@ -4,8 +4,11 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <string>
 
 namespace bop::protocol::detail {
@@ -35,10 +38,27 @@ public:
         return v.allFinite() || fail(DecodeError::NotFinite, field, "not a finite vector");
     }
     bool finiteArray(const float* p, std::size_t n, const char* field) {
-        for (std::size_t i = 0; i < n; ++i)
-            if (!std::isfinite(p[i]))
-                return fail(DecodeError::NotFinite, field, "element " + std::to_string(i) + " not finite");
-        return true;
+        // A float is infinite or NaN when its exponent bits are all set. Or-ing that test over
+        // the array has no early exit and vectorises; the element is looked for only on failure.
+        std::uint32_t bad = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            std::uint32_t bits;
+            std::memcpy(&bits, p + i, sizeof bits);
+            bad |= std::uint32_t((bits & 0x7f800000u) == 0x7f800000u);
+        }
+        if (bad == 0) return true;
+        std::size_t i = 0;
+        while (std::isfinite(p[i])) ++i;
+        return fail(DecodeError::NotFinite, field, "element " + std::to_string(i) + " not finite");
+    }
+    // Every byte of a species array in [lowest, highest]; the offender is looked for only on failure.
+    bool speciesArray(const std::uint8_t* s, std::size_t n, int lowest, int highest, const char* field) {
+        std::uint8_t lo = 255, hi = 0;
+        for (std::size_t i = 0; i < n; ++i) lo = std::min(lo, s[i]), hi = std::max(hi, s[i]);
+        if (n == 0 || (lo >= lowest && hi <= highest)) return true;
+        std::size_t i = 0;
+        while (s[i] >= lowest && s[i] <= highest) ++i;
+        return species(s[i], lowest, highest, field);
     }
     bool maxBytes(const std::string& s, std::size_t cap, const char* field) {
         return s.size() <= cap ||

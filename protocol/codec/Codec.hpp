@@ -11,6 +11,7 @@
 // decoder would refuse, so a peer never receives a buffer this side knows to be bad.
 #include "codec/DecodeResult.hpp"
 #include "codec/Messages.hpp"
+#include "codec/Validate.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -18,6 +19,8 @@
 #include <vector>
 
 namespace bop::protocol {
+
+class BufferPool;
 
 using Buffer = std::vector<std::uint8_t>;
 
@@ -53,9 +56,16 @@ Buffer encodeStateFrame(const StateFrame& m);
 // every buffer within maxChunkBytes; each chunk repeats the header fields. Throws EncodeError if
 // maxChunkBytes cannot hold the header and one particle, or the frame needs more chunks than a
 // receiver accepts by default (FrameLimits::maxChunkCount).
-std::vector<Buffer> encodeStateFrameChunks(const StateFrame& m, std::size_t maxChunkBytes = kDefaultMaxFrameChunkBytes);
+// With a pool, the chunks are written into buffers taken from it (BufferPool.hpp).
+std::vector<Buffer> encodeStateFrameChunks(const StateFrame& m, std::size_t maxChunkBytes = kDefaultMaxFrameChunkBytes,
+                                           BufferPool* pool = nullptr);
 
 // Quantised16 chunks come back as float32 arrays (dequantised), with encoding Quantised16.
 Decoded<StateFrame> decodeStateFrame(const std::uint8_t* buf, std::size_t len, const FrameLimits& limits = {});
+// The same into `out`, whose arrays keep their capacity: a receiver that decodes into the same
+// frame again and again allocates no memory once the arrays are large enough. On failure `out`
+// holds unspecified (but valid) contents.
+Validation decodeStateFrameInto(const std::uint8_t* buf, std::size_t len, StateFrame& out,
+                                const FrameLimits& limits = {});
 
 }  // namespace bop::protocol

@@ -1,4 +1,5 @@
 // State frames and their chunks, float32 or 16-bit quantised (Quantise.hpp).
+#include "codec/BufferPool.hpp"
 #include "codec/Checker.hpp"
 #include "codec/Codec.hpp"
 #include "codec/Quantise.hpp"
@@ -27,19 +28,23 @@ std::size_t sizeOf(const V* v) {
     return v ? v->size() : 0;
 }
 
+// Copies a wire array into `out`, reusing its capacity (no allocation when it is large enough).
 template <class T>
 void copyOut(const flatbuffers::Vector<T>* v, std::vector<T>& out) {
     out.resize(sizeOf(v));
     if (!out.empty()) std::memcpy(out.data(), v->Data(), out.size() * sizeof(T));
 }
 
-// Particles [begin, end) of m as chunk `index` of `count`.
-Buffer encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std::uint32_t index, std::uint32_t count,
-                   std::uint32_t firstIndex) {
+// Particles [begin, end) of m as chunk `index` of `count`, into `out` (its capacity reused).
+void encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std::uint32_t index, std::uint32_t count,
+                 std::uint32_t firstIndex, Buffer& out) {
     const std::size_t k = end - begin;
     const bool quantised = m.encoding == FrameEncoding::Quantised16;
     const bool withNormals = !m.normals.empty(), withIds = !m.ids.empty();
-    flatbuffers::FlatBufferBuilder fbb(kChunkOverheadBytes + k * bytesPerParticle(m.encoding, withNormals, withIds));
+    // One builder per thread, cleared for each chunk: its memory stays (as large as the largest
+    // chunk this thread encoded) instead of being taken afresh for every chunk.
+    thread_local flatbuffers::FlatBufferBuilder fbb;
+    fbb.Clear();
     flatbuffers::Offset<flatbuffers::Vector<float>> positions, normals;
     flatbuffers::Offset<flatbuffers::Vector<std::uint16_t>> qpositions, qnormals;
     flatbuffers::Offset<flatbuffers::Vector<std::uint64_t>> ids;
@@ -88,7 +93,7 @@ Buffer encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std:
         if (withNormals) b.add_normals(normals);
     }
     wire::FinishStateFrameBuffer(fbb, b.Finish());
-    return detail::toBuffer(fbb);
+    out.assign(fbb.GetBufferPointer(), fbb.GetBufferPointer() + fbb.GetSize());
 }
 
 // Array lengths of a verified chunk against its particle count (the arrays of the encoding not
@@ -120,10 +125,12 @@ Validation checkWireLengths(const wire::StateFrame& w) {
 
 Buffer encodeStateFrame(const StateFrame& m) {
     detail::requireValid(validate(m));
-    return encodeChunk(m, 0, m.count(), m.chunkIndex, m.chunkCount, m.firstIndex);
+    Buffer out;
+    encodeChunk(m, 0, m.count(), m.chunkIndex, m.chunkCount, m.firstIndex, out);
+    return out;
 }
 
-std::vector<Buffer> encodeStateFrameChunks(const StateFrame& m, std::size_t maxChunkBytes) {
+std::vector<Buffer> encodeStateFrameChunks(const StateFrame& m, std::size_t maxChunkBytes, BufferPool* pool) {
     if (m.chunkIndex != 0 || m.chunkCount != 1 || m.firstIndex != 0 || m.frameParticleCount != m.count())
         throw EncodeError(
             "cannot encode StateFrame chunks: the frame must be whole (chunk 0 of 1, first index 0, "
@@ -144,12 +151,13 @@ std::vector<Buffer> encodeStateFrameChunks(const StateFrame& m, std::size_t maxC
     out.reserve(chunks);
     for (std::size_t c = 0; c < chunks; ++c) {
         const std::size_t begin = c * perChunk, end = std::min(n, begin + perChunk);
-        out.push_back(encodeChunk(m, begin, end, std::uint32_t(c), std::uint32_t(chunks), std::uint32_t(begin)));
+        out.push_back(pool ? pool->take() : Buffer{});
+        encodeChunk(m, begin, end, std::uint32_t(c), std::uint32_t(chunks), std::uint32_t(begin), out.back());
     }
     return out;
 }
 
-Decoded<StateFrame> decodeStateFrame(const std::uint8_t* buf, std::size_t len, const FrameLimits& limits) {
+Validation decodeStateFrameInto(const std::uint8_t* buf, std::size_t len, StateFrame& m, const FrameLimits& limits) {
     // One root table and FrameStats; the cap is the receiver's (FrameLimits).
     const detail::MessageSpec spec{"StateFrame",
                                    wire::StateFrameIdentifier(),
@@ -158,21 +166,20 @@ Decoded<StateFrame> decodeStateFrame(const std::uint8_t* buf, std::size_t len, c
                                    4,
                                    &wire::VerifyStateFrameBuffer};
     const detail::VerifiedBuffer vb(buf, len, spec);
-    if (!vb.ok()) return detail::failed<StateFrame>(vb.error(), vb.message());
+    if (!vb.ok()) return {vb.error(), vb.message()};
     const wire::StateFrame& w = *wire::GetStateFrame(vb.data());
-    if (const Validation lengths = checkWireLengths(w); !lengths.ok())
-        return detail::failed<StateFrame>(lengths.error, lengths.message);
+    if (const Validation lengths = checkWireLengths(w); !lengths.ok()) return lengths;
 
-    StateFrame m;
     m.frameSeq = w.frame_seq();
     m.chunkIndex = w.chunk_index();
     m.chunkCount = w.chunk_count();
     m.step = w.step();
     m.simTime = w.sim_time();
     m.serverTimeNs = w.server_time_ns();
-    if (w.probe_position()) m.probePosition = detail::toEigen(*w.probe_position());
-    if (w.probe_force()) m.probeForce = detail::toEigen(*w.probe_force());
+    m.probePosition = w.probe_position() ? detail::toEigen(*w.probe_position()) : Eigen::Vector3d::Zero();
+    m.probeForce = w.probe_force() ? detail::toEigen(*w.probe_force()) : Eigen::Vector3d::Zero();
     m.probeActive = w.probe_active();
+    m.stats = {};
     if (const wire::FrameStats* s = w.stats())
         m.stats = {s->kinetic_energy(), s->potential_energy(), s->pressure(), s->step_rate_hz(), s->particle_count()};
     m.frameParticleCount = w.frame_particle_count();
@@ -182,20 +189,29 @@ Decoded<StateFrame> decodeStateFrame(const std::uint8_t* buf, std::size_t len, c
     copyOut(w.ids(), m.ids);
     const std::size_t n = m.species.size();
     if (m.encoding == FrameEncoding::Quantised16) {
+        // Decoded straight from the verified buffer: aligned (VerifiedBuffer), its arrays read the
+        // way FlatBuffers' own accessors read them.
+        const auto* qpositions = reinterpret_cast<const std::uint16_t*>(w.qpositions()->Data());
+        const auto* qnormals = w.qnormals() ? reinterpret_cast<const std::uint16_t*>(w.qnormals()->Data()) : nullptr;
         m.quantLo = detail::toEigen(*w.quant_lo());
         m.quantHi = detail::toEigen(*w.quant_hi());
-        std::vector<std::uint16_t> q;
-        copyOut(w.qpositions(), q);
         m.positions.resize(3 * n);
-        dequantisePositions(q.data(), n, m.quantLo, m.quantHi, m.positions.data());
-        copyOut(w.qnormals(), q);
-        m.normals.resize(q.empty() ? 0 : 3 * n);
-        if (!q.empty()) octDecodeNormals(q.data(), n, m.normals.data());
+        dequantisePositions(qpositions, n, m.quantLo, m.quantHi, m.positions.data());
+        const std::size_t normals = sizeOf(w.qnormals()) / 2;
+        m.normals.resize(3 * normals);
+        if (normals > 0) octDecodeNormals(qnormals, n, m.normals.data());
     } else {
+        m.quantLo = Eigen::Vector3d::Zero();
+        m.quantHi = Eigen::Vector3d::Ones();
         copyOut(w.positions(), m.positions);
         copyOut(w.normals(), m.normals);
     }
-    const Validation v = validate(m, limits);
+    return validate(m, limits);
+}
+
+Decoded<StateFrame> decodeStateFrame(const std::uint8_t* buf, std::size_t len, const FrameLimits& limits) {
+    StateFrame m;
+    const Validation v = decodeStateFrameInto(buf, len, m, limits);
     return detail::accept(std::move(m), v);
 }
 

@@ -160,9 +160,8 @@ Validation validate(const StateFrame& m, const FrameLimits& limits) {
         c.finite(m.stats.kinetic, "stats.kinetic_energy") && c.finite(m.stats.potential, "stats.potential_energy") &&
         c.finite(m.stats.pressure, "stats.pressure") && c.finite(m.stats.stepRateHz, "stats.step_rate_hz");
     if (!headerOk) return c.result();
-    for (std::size_t i = 0; i < n; ++i)
-        if (!c.species(m.species[i], 1, maxSpecies, "species")) return c.result();
-    c.finiteArray(m.positions.data(), m.positions.size(), "positions") &&
+    c.speciesArray(m.species.data(), n, 1, maxSpecies, "species") &&
+        c.finiteArray(m.positions.data(), m.positions.size(), "positions") &&
         c.finiteArray(m.normals.data(), m.normals.size(), "normals");
     return c.result();
 }

@@ -53,6 +53,7 @@ bool FrontUdp::anyProbing(Clock::time_point now) const {
 }
 
 void FrontUdp::setFrameClient(const std::string& id, const std::string& address, std::uint16_t port, int tier) {
+    std::lock_guard lock(frameMutex_);
     if (port == 0) {
         frameClients_.erase(id);
         return;
@@ -64,11 +65,20 @@ void FrontUdp::setFrameClient(const std::string& id, const std::string& address,
 }
 
 void FrontUdp::frame(const Buffer& whole, std::uint64_t frameNumber) {
+    std::lock_guard lock(frameMutex_);
     for (auto& [_, c] : frameClients_)
         if (frameNumber % (std::uint64_t(1) << c.tier) == 0) c.sender->send(kFrameStream, whole);
 }
 
+bool FrontUdp::wantsFrame(std::uint64_t frameNumber) const {
+    std::lock_guard lock(frameMutex_);
+    for (const auto& [_, c] : frameClients_)
+        if (frameNumber % (std::uint64_t(1) << c.tier) == 0) return true;
+    return false;
+}
+
 std::uint64_t FrontUdp::datagramsDropped() const {
+    std::lock_guard lock(frameMutex_);
     std::uint64_t n = 0;
     for (const auto& [_, c] : frameClients_) n += c.sender->stats().datagramsDropped;
     return n;

@@ -2,13 +2,15 @@
 // The front's datagram side (the paper's UDP mode, docs/protocol.md): probes arrive as single
 // datagrams on port P+2 and get their feedback back as datagrams; clients that named a UDP
 // frame port in their Hello get every 2^m-th frame (m from their wanted rate) as one
-// fragmented message (transport/UdpStream.hpp). Used by the front's thread only.
+// fragmented message (transport/UdpStream.hpp). The front's control thread calls everything but
+// frame(), which its publisher calls; frame clients are guarded, each has its own socket.
 #include "codec/Codec.hpp"
 #include "transport/UdpStream.hpp"
 
 #include <chrono>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -17,10 +19,11 @@ namespace bop::protocol {
 class FrontUdp {
 public:
     using Clock = std::chrono::steady_clock;
-    static constexpr std::uint8_t kFrameStream = 1;  // stream id of frames in the datagram header
+    static constexpr std::uint8_t kFrameStream = kUdpFrameStream;
 
     FrontUdp(const std::string& bindAddress, int port);  // port 0: ephemeral
     int port() const { return socket_.boundPort(); }
+    int fd() const { return socket_.fd(); }  // readable when probes are queued
 
     struct Inbound {
         std::optional<Probe> newest;  // the newest valid probe that came
@@ -34,6 +37,7 @@ public:
     void setFrameClient(const std::string& id, const std::string& address, std::uint16_t port, int tier);
     // The whole frame (one buffer), the frame's number (from 1) decides which clients get it.
     void frame(const Buffer& whole, std::uint64_t frameNumber);
+    bool wantsFrame(std::uint64_t frameNumber) const;  // some client gets frame `frameNumber`
     std::uint64_t datagramsDropped() const;
 
 private:
@@ -43,6 +47,7 @@ private:
         std::unique_ptr<UdpSender> sender;
         int tier = 0;
     };
+    mutable std::mutex frameMutex_;  // guards frameClients_
     std::map<std::string, FrameClient> frameClients_;
 };
 

@@ -138,20 +138,42 @@ void ServerFront::Impl::publish(StateFrame f) {
     f.encoding = opt.quantised ? FrameEncoding::Quantised16 : FrameEncoding::Float32;
     f.quantLo = scene.boxLo;
     f.quantHi = scene.boxHi;
-    const std::vector<Buffer> chunks = encodeStateFrameChunks(f, opt.chunkBytes);
-    send(chunks);
-    if (udp) udp->frame(chunks.size() == 1 ? chunks.front() : encodeStateFrame(f), frameNumber);
+    std::vector<Buffer> chunks = encodeStateFrameChunks(f, opt.chunkBytes, chunkPool.get());
+    if (udp && udp->wantsFrame(frameNumber + 1))  // one message: the whole frame
+        udp->frame(chunks.size() == 1 ? chunks.front() : encodeStateFrame(f), frameNumber + 1);
+    send(std::move(chunks));
+    std::lock_guard lock(m);
+    spareFrame = std::move(f);
 }
 
-void ServerFront::Impl::send(const std::vector<Buffer>& chunks) {
+namespace {
+
+// A chunk handed to ZeroMQ without a copy; ZeroMQ frees it once every subscriber's copy is out
+// (from its I/O thread, possibly after the front is gone: the pool is held weakly).
+struct HeldChunk {
+    Buffer bytes;
+    std::weak_ptr<BufferPool> pool;
+};
+
+void releaseChunk(void*, void* hint) {
+    std::unique_ptr<HeldChunk> held(static_cast<HeldChunk*>(hint));
+    if (const auto pool = held->pool.lock()) pool->give(std::move(held->bytes));
+}
+
+}  // namespace
+
+void ServerFront::Impl::send(std::vector<Buffer> chunks) {
     const std::uint64_t n = ++frameNumber;
     const std::uint8_t tier = std::uint8_t(std::min(std::countr_zero(n), 7));
     std::size_t bytes = 0;
-    for (const Buffer& chunk : chunks) {
-        pub.send(zmq::buffer(&tier, 1), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
-        pub.send(zmq::buffer(chunk), zmq::send_flags::dontwait);  // PUB drops for a full subscriber
+    for (Buffer& chunk : chunks) {
         bytes += chunk.size();
         record([&] { recorder->frameChunk(chunk); });
+        auto held = std::make_unique<HeldChunk>(HeldChunk{std::move(chunk), chunkPool});
+        zmq::message_t msg(held->bytes.data(), held->bytes.size(), releaseChunk, held.get());
+        held.release();  // the message owns it now
+        pub.send(zmq::buffer(&tier, 1), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
+        pub.send(msg, zmq::send_flags::dontwait);  // PUB drops for a full subscriber
     }
     std::lock_guard lock(m);
     ++stats.framesSent;
@@ -159,15 +181,16 @@ void ServerFront::Impl::send(const std::vector<Buffer>& chunks) {
 }
 
 void ServerFront::Impl::loop() {
-    zmq::pollitem_t items[] = {{router.handle(), 0, ZMQ_POLLIN, 0}, {nullptr, wakeFd, ZMQ_POLLIN, 0}};
+    // Probes over TCP or UDP and the step loop's offers all wake the thread at once.
+    zmq::pollitem_t items[] = {{router.handle(), 0, ZMQ_POLLIN, 0},
+                               {nullptr, wakeFd, ZMQ_POLLIN, 0},
+                               {nullptr, udp ? udp->fd() : -1, ZMQ_POLLIN, 0}};
     while (!stop) {
-        zmq::poll(items, 2, std::chrono::milliseconds(1));
+        zmq::poll(items, udp ? 3 : 2, std::chrono::milliseconds(1));
         if (items[1].revents & ZMQ_POLLIN) {
             std::uint64_t n;
             [[maybe_unused]] const auto r = read(wakeFd, &n, sizeof n);  // clears the count
         }
-        std::optional<StateFrame> f;
-        std::optional<std::vector<Buffer>> encoded;
         std::optional<Feedback> fb;
         std::vector<std::pair<Buffer, Buffer>> inputs;
         {
@@ -187,8 +210,6 @@ void ServerFront::Impl::loop() {
             }
             for (auto& [id, b] : replies) sendTo(id, b);
             replies.clear();
-            f.swap(frame);
-            encoded.swap(encodedFrame);
             fb.swap(feedback);
             inputs.swap(toRecord);
             if (udp) {
@@ -214,8 +235,28 @@ void ServerFront::Impl::loop() {
                 messageKind(in.data(), in.size()) == MessageKind::Command ? recorder->command(in, applied)
                                                                           : recorder->probe(in, applied);
             });
-        if (f) publish(std::move(*f));
-        if (encoded) send(*encoded);
+    }
+}
+
+void ServerFront::Impl::publisherLoop() {
+    for (;;) {
+        std::optional<StateFrame> f;
+        std::optional<std::vector<Buffer>> encoded;
+        {
+            std::unique_lock lock(m);
+            frameOffered.wait(lock, [&] { return stop || frame || encodedFrame; });
+            if (stop) return;
+            f.swap(frame);
+            encoded.swap(encodedFrame);
+        }
+        try {
+            if (f) publish(std::move(*f));
+            if (encoded) send(std::move(*encoded));
+        } catch (const std::exception& e) {  // a frame that cannot be encoded (NaN positions): not sent
+            std::lock_guard lock(m);
+            ++stats.framesDropped;
+            stats.publishError = e.what();
+        }
     }
 }
 
@@ -230,13 +271,16 @@ ServerFront::ServerFront(FrontOptions options, SceneInfo scene) : impl_(std::mak
     d.pub.set(zmq::sockopt::sndhwm, kPubHighWaterMark);
     d.controlPort = d.bind(d.router, d.opt.basePort);
     d.framePort = d.bind(d.pub, d.opt.basePort + 1);
-    if (d.opt.udp) d.udp = std::make_unique<FrontUdp>(d.opt.bindAddress, d.opt.basePort == 0 ? 0 : d.opt.basePort + 2);
+    // Datagrams are neither authenticated nor encrypted: with CURVE on, everything goes over it.
+    if (d.opt.udp && d.opt.curveSecretKey.empty())
+        d.udp = std::make_unique<FrontUdp>(d.opt.bindAddress, d.opt.basePort == 0 ? 0 : d.opt.basePort + 2);
     d.controlEndpoint = "tcp://" + (d.opt.bindAddress == "*" ? std::string("127.0.0.1") : d.opt.bindAddress) + ":" +
                         std::to_string(d.controlPort);
     if (!d.opt.recordPath.empty()) d.recorder = std::make_unique<SessionRecorder>(d.opt.recordPath, d.sceneNow(), d.opt.recordMeta);
     d.wakeFd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     if (d.wakeFd < 0) throw Error("bop-server", std::string("eventfd: ") + std::strerror(errno));
     d.thread = std::thread([&d] { d.loop(); });
+    d.publisher = std::thread([&d] { d.publisherLoop(); });
 }
 
 void ServerFront::Impl::wake() {
@@ -245,8 +289,13 @@ void ServerFront::Impl::wake() {
 }
 
 void ServerFront::finish() {
-    impl_->stop = true;
+    {
+        std::lock_guard lock(impl_->m);  // so that the publisher cannot miss it
+        impl_->stop = true;
+    }
+    impl_->frameOffered.notify_all();
     if (impl_->thread.joinable()) impl_->thread.join();
+    if (impl_->publisher.joinable()) impl_->publisher.join();
     if (impl_->recorder) {
         auto r = std::move(impl_->recorder);
         r->close();

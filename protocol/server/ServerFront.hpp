@@ -27,7 +27,7 @@ struct FrontOptions {
     bool frameIds = false;                  // frames carry particle ids (8 bytes per particle more)
     bool viewersMayCommand = true;          // false: viewers are read-only, only control clients command
     std::string curveSecretKey;             // z85 server secret key; empty = no CURVE
-    bool udp = true;                        // probes on UDP P+2 and frames to clients' UDP ports
+    bool udp = true;                        // probes on UDP P+2 and frames to clients' UDP ports; off with CURVE
     std::string recordPath;                 // MCAP recording of the session (SessionRecorder.hpp); empty = none
     std::map<std::string, std::string> recordMeta;  // scene file, ranks, ...: stored in the recording
 };
@@ -36,11 +36,12 @@ struct FrontStats {
     std::uint64_t malformed = 0;      // inbound buffers refused by a decoder or of an unexpected kind
     std::uint64_t oversized = 0;      // of those, refused for their size
     std::uint64_t framesSent = 0;     // frames published (all chunks)
-    std::uint64_t framesDropped = 0;  // frames replaced before the thread could send them
+    std::uint64_t framesDropped = 0;  // frames replaced before the publisher could send them, or not encodable
     std::uint64_t bytesSent = 0;      // frame bytes handed to the PUB socket
     std::uint64_t commands = 0, probes = 0, hellos = 0;
     std::size_t clients = 0;          // identities that said Hello
     std::string recordError;          // why recording stopped early, if it did
+    std::string publishError;         // why the last frame that could not be encoded was not sent
 };
 
 // A command as the step loop sees it; answer it with ServerFront::reply().
@@ -69,6 +70,8 @@ public:
     void offerFrame(StateFrame frame);  // a whole frame; chunked, encoded and sent by the thread
     void offerEncodedFrame(std::vector<std::vector<std::uint8_t>> chunks);  // sent as they are (replay)
     bool framePending() const;  // an offered frame is not sent yet (a replay waits: every frame counts)
+    // The last frame sent, for its memory: gather the next frame into its arrays. Empty if none.
+    StateFrame takeSpareFrame();
     void offerFeedback(const Feedback& feedback);
     void reply(const PendingCommand& command, const CommandReply& reply);  // also recorded
     void probeApplied(const Probe& probe, std::uint64_t step);               // recorded when recording

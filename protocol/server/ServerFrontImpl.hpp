@@ -3,6 +3,7 @@
 // handshakes, publishing) and the step loop's side (ServerFrontSlots.cpp: the slots).
 #include "server/ServerFront.hpp"
 
+#include "codec/BufferPool.hpp"
 #include "codec/Codec.hpp"
 #include "server/FrontUdp.hpp"
 #include "server/SessionRecorder.hpp"
@@ -21,6 +22,7 @@ using Clock = std::chrono::steady_clock;
 inline constexpr std::size_t kMaxInboundBytes = 64 * 1024;  // ZeroMQ drops larger messages and their peer
 inline constexpr std::size_t kMaxQueuedCommands = 1024;     // beyond: refused as the step loop is behind
 inline constexpr int kPubHighWaterMark = 64;                // messages queued per subscriber before PUB drops
+inline constexpr std::size_t kKeptChunkBuffers = 16;        // frame chunk buffers kept for reuse (BufferPool)
 
 inline std::int64_t nowNs() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
@@ -43,26 +45,31 @@ struct ServerFront::Impl {
     int controlPort = 0, framePort = 0;
     std::string controlEndpoint;
     std::atomic<bool> stop{false};
-    std::thread thread;
-    int wakeFd = -1;  // eventfd: the step loop's offers wake the thread at once (feedback latency)
+    std::thread thread;     // control: handshakes, commands, probes in, feedback out
+    std::thread publisher;  // frames out: encoding a large frame never holds back a feedback
+    int wakeFd = -1;
+    std::shared_ptr<BufferPool> chunkPool = std::make_shared<BufferPool>(front::kKeptChunkBuffers);  // eventfd: the step loop's offers wake the thread at once (feedback latency)
 
     mutable std::mutex m;  // guards everything below
     std::condition_variable helloSeen;
+    std::condition_variable frameOffered;  // wakes the publisher
     std::vector<PendingCommand> commands;
     std::optional<Probe> probe;
     std::optional<StateFrame> frame;
+    StateFrame spareFrame;  // the last frame published, its memory for the next gather
     std::optional<std::vector<Buffer>> encodedFrame;
     std::optional<Feedback> feedback;
     std::vector<std::pair<std::string, Buffer>> replies;
     std::vector<std::pair<Buffer, Buffer>> toRecord;  // (command, reply) or (probe, applied)
-    std::unique_ptr<SessionRecorder> recorder;        // used by the thread only, once it runs
-    std::unique_ptr<FrontUdp> udp;                    // the same
+    std::unique_ptr<SessionRecorder> recorder;        // guarded by recordMutex once the threads run
+    std::unique_ptr<FrontUdp> udp;                    // used by the threads only (FrontUdp.hpp says how)
     std::map<std::string, front::Client> clients;
     FrontStats stats;
     std::atomic<float> rateHz{60};
     std::atomic<bool> haptic{false};
     std::uint64_t particleCount = 0;
-    std::uint64_t frameNumber = 0;   // frames published (tier of the next one)
+    std::uint64_t frameNumber = 0;   // frames published (tier of the next one); the publisher's
+    std::mutex recordMutex;          // the recorder is written by both threads
     Clock::time_point nextTick{};    // step loop's publish clock
 
     int bind(zmq::socket_t& s, int port);
@@ -73,9 +80,10 @@ struct ServerFront::Impl {
     // One inbound message from peer `id` (m held).
     void handle(const std::string& id, zmq::message_t& msg);
     void publish(StateFrame f);
-    void send(const std::vector<Buffer>& chunks);
+    void send(std::vector<Buffer> chunks);
     // Runs a recorder call; a failure (disk full, ...) ends the recording, never the server.
     template <class F> void record(F f) {
+        std::lock_guard recording(recordMutex);
         if (!recorder) return;
         try {
             f();
@@ -86,7 +94,8 @@ struct ServerFront::Impl {
         }
     }
     void loop();
-    void wake();  // from the step loop, after an offer
+    void publisherLoop();
+    void wake();  // from the step loop, after an offer to the control thread
 };
 
 }  // namespace bop::protocol

@@ -30,14 +30,19 @@ void ServerFront::offerFrame(StateFrame frame) {
     std::lock_guard lock(impl_->m);
     if (impl_->frame) ++impl_->stats.framesDropped;
     impl_->frame = std::move(frame);
-    impl_->wake();
+    impl_->frameOffered.notify_one();
 }
 
 void ServerFront::offerEncodedFrame(std::vector<Buffer> chunks) {
     std::lock_guard lock(impl_->m);
     if (impl_->encodedFrame) ++impl_->stats.framesDropped;
     impl_->encodedFrame = std::move(chunks);
-    impl_->wake();
+    impl_->frameOffered.notify_one();
+}
+
+StateFrame ServerFront::takeSpareFrame() {
+    std::lock_guard lock(impl_->m);
+    return std::exchange(impl_->spareFrame, {});
 }
 
 bool ServerFront::framePending() const {

@@ -15,6 +15,9 @@
 
 namespace bop::protocol {
 
+// Stream id of state frames in the datagram header (the server's frames to UDP clients).
+inline constexpr std::uint8_t kUdpFrameStream = 1;
+
 struct UdpSenderOptions {
     std::size_t payloadBytes = kDefaultFragmentPayloadBytes;  // per datagram, header excluded
     // Pacing: after every burstDatagrams datagrams (0: never) sleep burstPause. A 3 MB frame sent

@@ -4,7 +4,7 @@
 #     quantised frames, with the server paused so that the stream alone is measured (the server
 #     keeps publishing the same state at --publish-hz 240);
 #  2. probe -> feedback round trip p50/p99/max at 1 kHz against a running 10k-particle server,
-#     beside its step time (target: p99 <= 2 ms + one step);
+#     over ZeroMQ and as datagrams, beside its step time (target: p99 <= 2 ms + one step);
 #  3. the server's step rate (2 ranks, 10k particles) without and with a subscriber that never
 #     reads, alternating (target: < 5% lower).
 #   scripts/bench/stream.sh            (CSV in out/bench/stream.csv)
@@ -77,13 +77,16 @@ done
 scene_of 10000 "$out/bulk-10000.toml"
 start_server 1 "$out/bulk-10000.toml" "$out/server-probe.log"
 steps=$(field steps_per_s "$("$bench" rate "$endpoint" --seconds 3)")
-line=$("$bench" probe "$endpoint" --seconds 5 --hz 1000)
-stop_server
 step_ms=$(awk -v s="$steps" 'BEGIN {printf "%.3f", 1000 / s}')
 echo
-echo "probe -> feedback at 1 kHz, 10k particles (one step: $step_ms ms): p50 $(field rtt_ms_p50 "$line") ms," \
-  "p99 $(field rtt_ms_p99 "$line") ms, max $(field rtt_ms_max "$line") ms; target p99 <= $(awk -v s="$step_ms" 'BEGIN {print 2 + s}') ms"
-echo "probe,10000,,,,,$(field rtt_ms_p50 "$line"),$(field rtt_ms_p99 "$line"),$(field rtt_ms_max "$line"),$step_ms,$steps" >>"$csv"
+for via in zmq udp; do
+  extra=(); [[ $via == udp ]] && extra=(--udp)
+  line=$("$bench" probe "$endpoint" --seconds 5 --hz 1000 "${extra[@]}")
+  echo "probe -> feedback over $via at 1 kHz, 10k particles (one step: $step_ms ms): p50 $(field rtt_ms_p50 "$line") ms," \
+    "p99 $(field rtt_ms_p99 "$line") ms, max $(field rtt_ms_max "$line") ms; target p99 <= $(awk -v s="$step_ms" 'BEGIN {print 2 + s}') ms"
+  echo "probe-$via,10000,,,,,$(field rtt_ms_p50 "$line"),$(field rtt_ms_p99 "$line"),$(field rtt_ms_max "$line"),$step_ms,$steps" >>"$csv"
+done
+stop_server
 
 start_server 2 "$out/bulk-10000.toml" "$out/server-stuck.log" --publish-hz 60
 without=() with=()

@@ -8,6 +8,7 @@
 #include "client/CurveKeys.hpp"
 #include "codec/Codec.hpp"
 #include "recording/SessionReader.hpp"
+#include "transport/UdpSocket.hpp"
 
 #include <catch2/catch.hpp>
 #include <zmq.hpp>
@@ -240,6 +241,48 @@ TEST_CASE("commands are acknowledged with their step, pause and resume are idemp
     stopCleanly(srv);
 }
 
+TEST_CASE("in datagram mode, frames arrive whole over UDP and probes over UDP come back as a reaction", "[net][udp]") {
+    test::TempDir dir("served-udp");
+    ServerProcess srv(server(2, "bulk-box", {"--publish-hz", "20", "-o", dir.file("out")}));
+    ClientOptions o;
+    o.probeOverUdp = true;
+    o.udpFramePort = UdpSocket("127.0.0.1", 0).boundPort();  // a free port, given back at once
+    ClientSession c(o);
+    const SceneInfo scene = c.connect(srv.endpoint(), 20s);
+    REQUIRE(scene.endpoints.udpProbePort != 0);
+    std::optional<StateFrame> first;
+    for (int k = 0; k < 25 && !first; ++k) first = c.receiveFrame(200ms);
+    REQUIRE(first);
+    CHECK(first->count() == 2048);
+    const ClientStats s0 = c.stats();
+    CHECK(s0.chunksReceived == 0);  // nothing over the SUB socket
+    // 2048 particles x 25 bytes: 42 datagrams of at most 1,222 bytes per frame.
+    CHECK(s0.udpDatagrams >= 42);
+    const Eigen::Vector3d centre = centreOf(scene);
+    const double before = nearestTo(*first, centre);
+    Probe p;
+    p.active = true;
+    p.position = centre;
+    p.k1 = 4.0;
+    std::optional<Feedback> feedback;
+    for (int k = 0; k < 400; ++k) {
+        p.seq = std::uint64_t(k + 1);
+        CHECK(c.sendProbe(p));
+        if (auto fb = c.pollFeedback()) feedback = fb;
+        std::this_thread::sleep_for(5ms);
+    }
+    REQUIRE(feedback);
+    CHECK(feedback->probeSeq > 0);
+    CHECK(feedback->force.norm() > 1e-3);
+    std::optional<StateFrame> after;
+    for (int k = 0; k < 20 && !after; ++k) after = c.receiveFrame(200ms);
+    REQUIRE(after);
+    INFO("nearest particle to the probe: " << before << " before, " << nearestTo(*after, centre) << " after");
+    CHECK(nearestTo(*after, centre) > before + 0.1);
+    CHECK(c.stats().malformed == 0);
+    stopCleanly(srv);
+}
+
 TEST_CASE("with CURVE on, a client without the server's key gets nothing and commands nothing", "[net][curve]") {
     test::TempDir dir("served-curve");
     const CurveKeyPair keys = makeCurveKeyPair();
@@ -252,6 +295,7 @@ TEST_CASE("with CURVE on, a client without the server's key gets nothing and com
     std::optional<StateFrame> f;
     for (int k = 0; k < 20 && !f; ++k) f = good.receiveFrame(200ms);
     CHECK(f);  // encrypted frames arrive
+    CHECK(good.scene().endpoints.udpProbePort == 0);  // datagrams carry no authentication: UDP is off
     ClientSession plain;  // no key: the handshake never completes
     CHECK_THROWS_WITH(plain.connect(srv.endpoint(), 2s), Catch::Contains("no SceneInfo"));
     {

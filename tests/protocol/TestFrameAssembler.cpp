@@ -112,7 +112,7 @@ TEST_CASE("FrameAssembler: a missing chunk holds its frame back; a newer whole f
     const std::vector<StateFrame> five = chunksOf(frameWith(5, 40), 10), six = chunksOf(frameWith(6, 40), 10);
     for (int k : {0, 1, 3}) CHECK_FALSE(a.add(five[k]).has_value());
     CHECK(a.partialFrames() == 1);
-    CHECK(a.partialBytes() == 30 * (12 + 12 + 1 + 8));
+    CHECK(a.partialBytes() == 40 * (12 + 12 + 1 + 8));  // the whole frame's room, taken at its first chunk
     CHECK(a.stats().lost == 0);
     const auto frame = feedAll(a, six);
     REQUIRE(frame.has_value());
@@ -208,8 +208,8 @@ TEST_CASE("FrameAssembler: bounded in partial frames and bytes", "[protocol][cli
     SECTION("a frame larger than the byte cap is given up once") {
         FrameAssembler a(AssemblerLimits{3, 15 * kBytesPerParticle});
         const std::vector<StateFrame> big = chunksOf(frameWith(4, 30), 10);
-        CHECK_FALSE(a.add(big[0]).has_value());
-        CHECK_FALSE(a.add(big[1]).has_value());  // 20 particles held: over the cap
+        CHECK_FALSE(a.add(big[0]).has_value());  // room for 30 particles: over the cap
+        CHECK_FALSE(a.add(big[1]).has_value());
         CHECK_FALSE(a.add(big[2]).has_value());
         CHECK(a.stats().lost == 1);
         CHECK(a.partialBytes() == 0);
@@ -238,4 +238,24 @@ TEST_CASE("FrameAssembler: a run of stale chunks means the sender restarted its 
     REQUIRE(strict.add(decoded(encodeStateFrame(frameWith(100, 5)))).has_value());
     for (std::uint64_t seq = 1; seq < 50; ++seq) CHECK_FALSE(strict.add(decoded(encodeStateFrame(frameWith(seq, 5)))).has_value());
     CHECK(strict.stats().restarts == 0);
+}
+
+TEST_CASE("FrameAssembler: frames given back lend their memory to later frames", "[protocol][client]") {
+    FrameAssembler a;
+    auto first = feedAll(a, chunksOf(frameWith(1, 40), 10));
+    REQUIRE(first.has_value());
+    const float* memory = first->positions.data();
+    a.recycle(std::move(*first));
+    const StateFrame second = frameWith(2, 40);
+    const auto frame = feedAll(a, chunksOf(second, 10));
+    REQUIRE(frame.has_value());
+    CHECK(frame->positions.data() == memory);
+    CHECK(samples::same(*frame, decoded(encodeStateFrame(second))));
+    // A decoder fills a spare in place; what it held before does not show through.
+    StateFrame spare = a.spare();
+    CHECK(spare.positions.capacity() >= 3 * 10);
+    const StateFrame small = frameWith(3, 4, FrameEncoding::Quantised16);
+    const Buffer b = encodeStateFrame(small);
+    REQUIRE(decodeStateFrameInto(b.data(), b.size(), spare).ok());
+    CHECK(samples::same(spare, decoded(b)));
 }
