@@ -269,7 +269,7 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
     std::cout << "served " << done << " steps to " << s.clients << " clients: " << s.framesSent << " frames ("
               << s.bytesSent / 1e6 << " MB, " << s.framesDropped << " replaced before sending), " << s.commands
               << " commands, " << s.probes << " probes, " << s.malformed << " malformed messages refused ("
-              << s.oversized << " oversized)\n";
+              << s.oversized << " oversized), " << s.peersRefused << " peers refused (CURVE key not allowed)\n";
     spdlog::info("final state: {}", finalFile);
     return 0;
 }

@@ -61,11 +61,18 @@ int run(int argc, char** argv) {
     std::string replayInputs, curveSecret;
     app.add_option("--curve-secret", curveSecret, "CURVE secret key file (bop-keys): encrypt every session; clients "
                                                   "need the matching public key");
+    std::vector<std::string> curveClients;
+    app.add_option("--curve-client", curveClients, "a client's CURVE public key file (bop-keys PREFIX.pub); when "
+                                                   "given, only clients holding one of these keys get in")
+        ->check(CLI::ExistingFile);
     app.add_option("--replay-inputs", replayInputs, "apply a recorded session's commands and probes at their steps "
                                                     "instead of clients' (bop-replay check runs this)");
     CLI11_PARSE(app, argc, argv);
     front.quantised = quantised;
     if (!curveSecret.empty()) front.curveSecretKey = protocol::readCurveKey(curveSecret);
+    if (!curveClients.empty() && curveSecret.empty())
+        throw Error("--curve-client", "needs --curve-secret: client keys are checked in CURVE handshakes");
+    for (const std::string& f : curveClients) front.curveClientKeys.push_back(protocol::readCurveKey(f));
     front.viewersMayCommand = !readOnlyViewers;
 
     spdlog::set_pattern("[bop-server] %v");

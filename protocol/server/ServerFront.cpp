@@ -181,12 +181,18 @@ void ServerFront::Impl::send(std::vector<Buffer> chunks) {
 }
 
 void ServerFront::Impl::loop() {
-    // Probes over TCP or UDP and the step loop's offers all wake the thread at once.
-    zmq::pollitem_t items[] = {{router.handle(), 0, ZMQ_POLLIN, 0},
-                               {nullptr, wakeFd, ZMQ_POLLIN, 0},
-                               {nullptr, udp ? udp->fd() : -1, ZMQ_POLLIN, 0}};
+    // Probes over TCP or UDP, the step loop's offers and handshakes to authenticate all wake the
+    // thread at once.
+    std::vector<zmq::pollitem_t> items = {{router.handle(), 0, ZMQ_POLLIN, 0}, {nullptr, wakeFd, ZMQ_POLLIN, 0}};
+    if (udp) items.push_back({nullptr, udp->fd(), ZMQ_POLLIN, 0});
+    if (zap) items.push_back({zap->socket().handle(), 0, ZMQ_POLLIN, 0});
     while (!stop) {
-        zmq::poll(items, udp ? 3 : 2, std::chrono::milliseconds(1));
+        zmq::poll(items, std::chrono::milliseconds(1));
+        if (zap) {
+            const std::uint64_t refused = zap->serve();
+            std::lock_guard lock(m);
+            stats.peersRefused += refused;
+        }
         if (items[1].revents & ZMQ_POLLIN) {
             std::uint64_t n;
             [[maybe_unused]] const auto r = read(wakeFd, &n, sizeof n);  // clears the count
@@ -266,6 +272,11 @@ ServerFront::ServerFront(FrontOptions options, SceneInfo scene) : impl_(std::mak
     d.scene = std::move(scene);
     d.particleCount = d.scene.particleCount;
     d.rateHz = d.opt.publishHz;
+    if (!d.opt.curveClientKeys.empty()) {
+        if (d.opt.curveSecretKey.empty())
+            throw Error("CURVE client keys", "a list of client keys needs the server's CURVE secret key");
+        d.zap = std::make_unique<ZapHandler>(d.ctx, d.opt.curveClientKeys);  // before any CURVE socket binds
+    }
     d.configure(d.router);
     d.configure(d.pub);
     d.pub.set(zmq::sockopt::sndhwm, kPubHighWaterMark);

@@ -27,6 +27,7 @@ struct FrontOptions {
     bool frameIds = false;                  // frames carry particle ids (8 bytes per particle more)
     bool viewersMayCommand = true;          // false: viewers are read-only, only control clients command
     std::string curveSecretKey;             // z85 server secret key; empty = no CURVE
+    std::vector<std::string> curveClientKeys;  // z85 public keys of the clients let in (ZapHandler.hpp); empty = any
     bool udp = true;                        // probes on UDP P+2 and frames to clients' UDP ports; off with CURVE
     std::string recordPath;                 // MCAP recording of the session (SessionRecorder.hpp); empty = none
     std::map<std::string, std::string> recordMeta;  // scene file, ranks, ...: stored in the recording
@@ -39,6 +40,7 @@ struct FrontStats {
     std::uint64_t framesDropped = 0;  // frames replaced before the publisher could send them, or not encodable
     std::uint64_t bytesSent = 0;      // frame bytes handed to the PUB socket
     std::uint64_t commands = 0, probes = 0, hellos = 0;
+    std::uint64_t peersRefused = 0;   // CURVE handshakes refused: the client's key is not on the list
     std::size_t clients = 0;          // identities that said Hello
     std::string recordError;          // why recording stopped early, if it did
     std::string publishError;         // why the last frame that could not be encoded was not sent

@@ -7,6 +7,7 @@
 #include "codec/Codec.hpp"
 #include "server/FrontUdp.hpp"
 #include "server/SessionRecorder.hpp"
+#include "server/ZapHandler.hpp"
 
 #include <zmq.hpp>
 
@@ -62,6 +63,7 @@ struct ServerFront::Impl {
     std::vector<std::pair<std::string, Buffer>> replies;
     std::vector<std::pair<Buffer, Buffer>> toRecord;  // (command, reply) or (probe, applied)
     std::unique_ptr<SessionRecorder> recorder;        // guarded by recordMutex once the threads run
+    std::unique_ptr<ZapHandler> zap;                  // the control thread's, once it runs
     std::unique_ptr<FrontUdp> udp;                    // used by the threads only (FrontUdp.hpp says how)
     std::map<std::string, front::Client> clients;
     FrontStats stats;

@@ -314,6 +314,38 @@ TEST_CASE("with CURVE on, a client without the server's key gets nothing and com
     CHECK(printed(srv.output(), "commands") == 0);  // none reached the server
 }
 
+TEST_CASE("with a list of client keys, only listed clients get in", "[net][curve]") {
+    test::TempDir dir("served-curve-clients");
+    const CurveKeyPair host = makeCurveKeyPair(), alice = makeCurveKeyPair(), mallory = makeCurveKeyPair();
+    writeCurveKeyFiles(dir.file("server"), host);
+    writeCurveKeyFiles(dir.file("alice"), alice);
+    ServerProcess srv(server(2, "bulk-box", {"--curve-secret", dir.file("server.key"), "--curve-client",
+                                             dir.file("alice.pub"), "-o", dir.file("out")}));
+    ClientOptions listed;
+    listed.curveServerKey = host.publicKey;
+    listed.curvePublicKey = alice.publicKey;
+    listed.curveSecretKey = alice.secretKey;
+    ClientSession good(listed);
+    CHECK(good.connect(srv.endpoint(), 20s).particleCount == 2048);
+    std::optional<StateFrame> f;
+    for (int k = 0; k < 20 && !f; ++k) f = good.receiveFrame(200ms);
+    CHECK(f);  // the frame socket let her in too
+    ClientOptions unlisted = listed;  // knows the server's key, holds a key nobody listed
+    unlisted.curvePublicKey = mallory.publicKey;
+    unlisted.curveSecretKey = mallory.secretKey;
+    ClientSession bad(unlisted);
+    CHECK_THROWS_WITH(bad.connect(srv.endpoint(), 2s), Catch::Contains("no SceneInfo"));
+    ClientOptions fresh = listed;  // a throwaway key pair made for the session
+    fresh.curvePublicKey.clear();
+    fresh.curveSecretKey.clear();
+    ClientSession anonymous(fresh);
+    CHECK_THROWS_WITH(anonymous.connect(srv.endpoint(), 2s), Catch::Contains("no SceneInfo"));
+    stopCleanly(srv);
+    INFO(srv.output());
+    CHECK(printed(srv.output(), "peers refused") >= 2);
+    CHECK(printed(srv.output(), "commands") == 0);
+}
+
 TEST_CASE("a subscriber that never reads leaves the server's step rate alone", "[net][slow]") {
     test::TempDir dir("served-slow");
     ServerProcess srv(server(2, "bulk-box", {"--publish-hz", "60", "-o", dir.file("out")}));
