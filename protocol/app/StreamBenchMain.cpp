@@ -74,7 +74,7 @@ int probe(ClientSession& c, double secs, double hz) {
         while (Clock::now() < next) {
             // Only our own probes count: feedback names the probe last applied, which right after
             // connecting may be an earlier client's (sequences are per client).
-            if (auto fb = c.pollFeedback(); fb && fb->probeSeq > answered && sent.count(fb->probeSeq)) {
+            if (auto fb = c.waitFeedback(next); fb && fb->probeSeq > answered && sent.count(fb->probeSeq)) {
                 const auto now = Clock::now();
                 for (auto it = sent.begin(); it != sent.end() && it->first <= fb->probeSeq;) {
                     if (it->first == fb->probeSeq) rtt.push_back(seconds(now - it->second) * 1e3);
@@ -82,11 +82,12 @@ int probe(ClientSession& c, double secs, double hz) {
                 }
                 answered = fb->probeSeq;
             }
-            std::this_thread::sleep_for(std::chrono::microseconds(50));
         }
     }
-    std::printf("probes %zu answered_rtt %zu rtt_ms_p50 %.3f rtt_ms_p99 %.3f rtt_ms_max %.3f\n", std::size_t(answered),
-                rtt.size(), percentile(rtt, 0.5), percentile(rtt, 0.99), percentile(rtt, 1.0));
+    const double first = rtt.empty() ? 0.0 : rtt.front();
+    std::printf("probes %zu answered_rtt %zu rtt_ms_p50 %.3f rtt_ms_p99 %.3f rtt_ms_max %.3f rtt_ms_first %.3f\n",
+                std::size_t(answered), rtt.size(), percentile(rtt, 0.5), percentile(rtt, 0.99), percentile(rtt, 1.0),
+                first);
     return 0;
 }
 

@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include <poll.h>
+
 namespace bop::protocol {
 namespace {
 
@@ -273,6 +275,24 @@ std::optional<Feedback> ClientSession::pollFeedback() {
     });
     if (d.probeSocket) d.takeUdpFeedback();
     return std::exchange(d.feedback, std::nullopt);
+}
+
+std::optional<Feedback> ClientSession::waitFeedback(Clock::time_point deadline) {
+    Impl& d = *impl_;
+    if (!d.dealer) throw std::logic_error("ClientSession::waitFeedback before connect");
+    for (;;) {
+        if (auto fb = pollFeedback()) return fb;
+        const auto left = deadline - Clock::now();
+        if (left <= Clock::duration::zero()) return std::nullopt;
+        // ZeroMQ's descriptor only says that the socket's state may have changed; ZMQ_EVENTS,
+        // read after every drain, says whether a message waits (and re-arms the descriptor).
+        if (d.dealer->get(zmq::sockopt::events) & ZMQ_POLLIN) continue;
+        pollfd fds[2] = {{d.dealer->get(zmq::sockopt::fd), POLLIN, 0},
+                         {d.probeSocket ? d.probeSocket->fd() : -1, POLLIN, 0}};  // -1: ignored
+        const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(left).count();
+        const timespec wait{time_t(ns / 1000000000), long(ns % 1000000000)};
+        ppoll(fds, 2, &wait, nullptr);  // an interrupted wait just goes round again
+    }
 }
 
 ClientStats ClientSession::stats() const {

@@ -105,6 +105,9 @@ public:
     CommandReply sendCommand(const Command& command);
     // The newest feedback since the last call, reading what the DEALER socket holds; never waits.
     std::optional<Feedback> pollFeedback();
+    // The same, waiting until feedback comes or `deadline` passes (to the microsecond, unlike a
+    // ZeroMQ poll's milliseconds: a 1 kHz loop can wait for feedback up to its next tick).
+    std::optional<Feedback> waitFeedback(std::chrono::steady_clock::time_point deadline);
 
     // Waits up to `timeout` for a whole frame, then takes everything already queued without
     // waiting more, and returns the newest whole frame (nothing if none completed in time).
