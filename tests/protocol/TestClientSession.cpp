@@ -171,6 +171,15 @@ TEST_CASE("ClientSession: handshake, command reply, feedback and a reassembled f
         echoed = client.pollFeedback();
     REQUIRE(echoed.has_value());
     CHECK(echoed->probeSeq == 9);
+    // waitFeedback returns the echo when it comes; with nothing coming, at the deadline, not before.
+    probe.seq = 10;
+    REQUIRE(client.sendProbe(probe));
+    const auto waited = client.waitFeedback(Clock::now() + 3s);
+    REQUIRE(waited.has_value());
+    CHECK(waited->probeSeq == 10);
+    const auto t0 = Clock::now();
+    CHECK_FALSE(client.waitFeedback(t0 + 30ms).has_value());
+    CHECK(Clock::now() - t0 >= 30ms);
 
     std::optional<StateFrame> frame;
     REQUIRE(publishUntil(server, [&](std::uint64_t) { return (frame = client.receiveFrame(20ms)).has_value(); }));

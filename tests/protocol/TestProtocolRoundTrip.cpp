@@ -2,6 +2,7 @@
 // the largest valid messages stay within their caps.
 #include "ProtocolSamples.hpp"
 
+#include "codec/BufferPool.hpp"
 #include "codec/Quantise.hpp"
 
 #include <Eigen/Geometry>
@@ -183,4 +184,27 @@ TEST_CASE("message kinds are read from the file identifier", "[protocol]") {
     const std::uint8_t junk[8] = {8, 0, 0, 0, 'X', 'Y', 'Z', 'W'};
     CHECK(messageKind(junk, sizeof junk) == MessageKind::Unknown);
     CHECK(std::string(fileIdentifier(MessageKind::Unknown)).empty());
+}
+
+TEST_CASE("chunks encoded into pooled buffers reuse their memory and carry the same bytes", "[protocol]") {
+    const StateFrame f = sampleFrame(5000, FrameEncoding::Quantised16, true, false);
+    const std::vector<Buffer> plain = encodeStateFrameChunks(f, 16 * 1024);
+    REQUIRE(plain.size() > 2);
+    BufferPool pool(plain.size());
+    std::vector<Buffer> first = encodeStateFrameChunks(f, 16 * 1024, &pool);
+    CHECK(first == plain);
+    std::vector<const std::uint8_t*> memory;
+    for (Buffer& b : first) {
+        memory.push_back(b.data());
+        pool.give(std::move(b));
+    }
+    CHECK(pool.kept() == plain.size());
+    const std::vector<Buffer> again = encodeStateFrameChunks(f, 16 * 1024, &pool);
+    CHECK(again == plain);
+    CHECK(pool.kept() == 0);
+    for (const Buffer& b : again) CHECK(std::find(memory.begin(), memory.end(), b.data()) != memory.end());
+    BufferPool small(1);  // keeps at most one
+    small.give(Buffer(10));
+    small.give(Buffer(20));
+    CHECK(small.kept() == 1);
 }
