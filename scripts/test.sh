@@ -11,7 +11,7 @@ jobs=${BOP_JOBS:-2}
 scripts/install-deps.sh
 
 echo "== build (Release, -Werror) =="
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DBOP_WERROR=ON >/dev/null
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DBOP_WERROR=ON -DBOP_BUILD_VIEWER=ON >/dev/null
 cmake --build build -j "$jobs"
 echo "== tests =="
 ctest --test-dir build -j "$jobs" --output-on-failure

@@ -1,0 +1,194 @@
+// The instance renderer drawn headless (EGL, Mesa llvmpipe): a torus bag — surface particles
+// about r0 apart on a torus, volume particles filling it — rendered to PNG files (kept in
+// build/test-output/viz/ to look at) and checked on their pixels: how much of the picture is
+// bag, that each species' colour shows, and that the surface has no holes (while discs too
+// small for the spacing leave many, so the check can fail).
+#include "app/EglHeadless.hpp"
+#include "render/InstanceRenderer.hpp"
+#include "render/Offscreen.hpp"
+#include "scene/Instances.hpp"
+
+#include "bop/common/Canvas.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+using namespace bop;
+using namespace bop::viz;
+
+namespace {
+
+constexpr int kWidth = 480, kHeight = 360;                  // pixels
+constexpr std::array<float, 3> kBackground{0.1f, 0.1f, 0.12f};  // RGB 0..1
+const std::array<std::uint8_t, 4> kRed{220, 40, 30, 255}, kBlue{30, 60, 200, 255};
+
+protocol::SceneInfo torusScene(double R, double a) {
+    protocol::SceneInfo s;
+    s.species = {{"membrane", protocol::SpeciesKind::Surface, kRed}, {"fill", protocol::SpeciesKind::Volume, kBlue}};
+    s.boxLo = Eigen::Vector3d(-(R + a), -(R + a), -a);
+    s.boxHi = Eigen::Vector3d(R + a, R + a, a);
+    return s;
+}
+
+// A torus of major radius R and tube radius a (length): rings around the tube about r0 apart,
+// each with as many particles as fit at r0 along it, every other ring shifted half a step;
+// volume particles on a cubic grid of spacing r0 inside the tube, 0.8 r0 within the surface.
+protocol::StateFrame torusBag(double R, double a, double r0) {
+    protocol::StateFrame f;
+    const double pi = std::numbers::pi;
+    const int rings = int(std::round(2 * pi * a / r0));
+    for (int j = 0; j < rings; ++j) {
+        const double v = 2 * pi * j / rings;
+        const int around = int(std::round(2 * pi * (R + a * std::cos(v)) / r0));
+        for (int k = 0; k < around; ++k) {
+            const double u = 2 * pi * (k + 0.5 * (j % 2)) / around;
+            const Eigen::Vector3d n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v));
+            const Eigen::Vector3d x = Eigen::Vector3d(R * std::cos(u), R * std::sin(u), 0) + a * n;
+            f.positions.insert(f.positions.end(), {float(x.x()), float(x.y()), float(x.z())});
+            f.normals.insert(f.normals.end(), {float(n.x()), float(n.y()), float(n.z())});
+            f.species.push_back(1);
+        }
+    }
+    const int half = int(std::ceil((R + a) / r0));
+    for (int i = -half; i <= half; ++i)
+        for (int j = -half; j <= half; ++j)
+            for (int k = -half; k <= half; ++k) {
+                const Eigen::Vector3d x = r0 * Eigen::Vector3d(i, j, k);
+                const double ring = std::hypot(x.x(), x.y()) - R;
+                if (std::hypot(ring, x.z()) > a - 0.8 * r0) continue;
+                f.positions.insert(f.positions.end(), {float(x.x()), float(x.y()), float(x.z())});
+                f.normals.insert(f.normals.end(), {0.0f, 0.0f, 1.0f});
+                f.species.push_back(2);
+            }
+    f.frameParticleCount = std::uint32_t(f.species.size());
+    return f;
+}
+
+struct Picture {
+    std::vector<std::uint8_t> rgb;
+    bool background(std::size_t p) const {
+        const auto near = [](std::uint8_t v, float c) { return std::abs(int(v) - int(std::lround(c * 255))) <= 1; };
+        return near(rgb[3 * p], kBackground[0]) && near(rgb[3 * p + 1], kBackground[1]) && near(rgb[3 * p + 2], kBackground[2]);
+    }
+    std::size_t size() const { return rgb.size() / 3; }
+};
+
+Picture render(const Instances& in, const OrbitCamera& cam, const std::string& png) {
+    Offscreen target(kWidth, kHeight);
+    InstanceRenderer renderer;
+    renderer.draw(in, cam, kWidth, kHeight, kBackground);
+    Picture p{target.readRgb()};
+    const std::filesystem::path dir = std::filesystem::path(BOP_BINARY_DIR) / "test-output" / "viz";
+    std::filesystem::create_directories(dir);
+    Canvas c(kWidth, kHeight, Rgb{0, 0, 0});
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x) {
+            const std::size_t i = 3 * (std::size_t(y) * kWidth + std::size_t(x));
+            c.set(x, y, Rgb{p.rgb[i], p.rgb[i + 1], p.rgb[i + 2]});
+        }
+    c.writePng((dir / png).string());
+    return p;
+}
+
+// Pixels whose colour is a shade of `c` (the shader scales a species colour by 0.35..1).
+std::size_t shadesOf(const Picture& p, const std::array<std::uint8_t, 4>& c) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.background(i)) continue;
+        const double k = double(p.rgb[3 * i]) + p.rgb[3 * i + 1] + p.rgb[3 * i + 2];
+        const double kc = double(c[0]) + c[1] + c[2];
+        bool same = k > 0;
+        for (int a = 0; a < 3 && same; ++a) same = std::abs(p.rgb[3 * i + a] / k - c[a] / kc) < 0.03;
+        n += same;
+    }
+    return n;
+}
+
+// Background pixels of `p` inside the bag's silhouette: where `reference` (the same bag drawn
+// with discs large enough to close any gap) shows bag even `erode` pixels away in every
+// direction, so that the reference's wider outline does not count.
+std::size_t holesInside(const Picture& p, const Picture& reference, int erode) {
+    std::size_t holes = 0;
+    for (int y = erode; y < kHeight - erode; ++y)
+        for (int x = erode; x < kWidth - erode; ++x) {
+            if (!p.background(std::size_t(y) * kWidth + std::size_t(x))) continue;
+            bool inside = true;
+            for (int dy = -erode; dy <= erode && inside; ++dy)
+                for (int dx = -erode; dx <= erode && inside; ++dx)
+                    inside = !reference.background(std::size_t(y + dy) * kWidth + std::size_t(x + dx));
+            holes += inside;
+        }
+    return holes;
+}
+
+std::size_t bagPixels(const Picture& p) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) n += !p.background(i);
+    return n;
+}
+
+}  // namespace
+
+TEST_CASE("headless: a torus bag fills the picture, shows its surface colour, and has no holes", "[gui]") {
+    EglHeadless gl;
+    INFO("OpenGL " << gl.version() << " on " << gl.renderer());
+    const double r0 = std::sqrt(3.0), R = 8 * r0, a = 3 * r0;
+    const protocol::SceneInfo scene = torusScene(R, a);
+    const protocol::StateFrame frame = torusBag(R, a, r0);
+    OrbitCamera cam;
+    cam.fit(Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), double(kWidth) / kHeight);
+    Instances in;
+    buildInstances(frame, scene, {}, in);
+    REQUIRE(in.surfels.size() > 900);
+    REQUIRE(in.spheres.size() > 700);
+    const Picture whole = render(in, cam, "torus.png");
+    const std::size_t object = bagPixels(whole);
+    const double coverage = double(object) / double(whole.size());
+    INFO("coverage " << coverage);
+    CHECK(coverage > 0.1);  // 0.15 with this camera
+    CHECK(coverage < 0.8);
+    CHECK(shadesOf(whole, kRed) > object * 9 / 10);  // the closed surface hides the fill
+    CHECK(shadesOf(whole, kBlue) < object / 100);
+
+    // The surface alone: discs of 0.76 r0 close it; discs of 0.3 r0 leave it full of holes.
+    // The silhouette comes from discs of 1.2 r0, about 5 pixels wider here, eroded by 6.
+    ViewFilter surfaceOnly;
+    surfaceOnly.showVolume = false;
+    surfaceOnly.surfelRadiusR0 = 1.2;
+    buildInstances(frame, scene, surfaceOnly, in);
+    const Picture silhouette = render(in, cam, "torus-silhouette.png");
+    surfaceOnly.surfelRadiusR0 = kSurfelRadiusR0;
+    buildInstances(frame, scene, surfaceOnly, in);
+    const Picture closed = render(in, cam, "torus-surface.png");
+    const std::size_t bag = bagPixels(closed), holes = holesInside(closed, silhouette, 6);
+    INFO("holes " << holes << " of " << bag << " bag pixels");
+    CHECK(double(holes) < 0.01 * double(bag));
+    surfaceOnly.surfelRadiusR0 = 0.3;
+    buildInstances(frame, scene, surfaceOnly, in);
+    const Picture sparse = render(in, cam, "torus-surface-small-discs.png");
+    const std::size_t sparseHoles = holesInside(sparse, silhouette, 6);
+    INFO("with discs of 0.3 r0: " << sparseHoles << " holes");
+    CHECK(double(sparseHoles) > 0.2 * double(bag));
+}
+
+TEST_CASE("headless: a cut plane through the bag shows the volume particles inside", "[gui]") {
+    EglHeadless gl;
+    const double r0 = std::sqrt(3.0), R = 8 * r0, a = 3 * r0;
+    const protocol::SceneInfo scene = torusScene(R, a);
+    const protocol::StateFrame frame = torusBag(R, a, r0);
+    OrbitCamera cam;
+    cam.fit(Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), double(kWidth) / kHeight);
+    ViewFilter cut;
+    cut.cut = CutPlane{cam.target(), -cam.forward()};  // removes the half towards the eye
+    Instances in;
+    buildInstances(frame, scene, cut, in);
+    CHECK(in.cut > 0);
+    const Picture p = render(in, cam, "torus-cut.png");
+    const std::size_t object = bagPixels(p);
+    INFO(object << " bag pixels");
+    CHECK(shadesOf(p, kBlue) > object / 10);  // the fill shows in the cut
+    CHECK(shadesOf(p, kRed) > object / 10);   // and the far half of the surface around it
+}
