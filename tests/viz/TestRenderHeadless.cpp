@@ -11,8 +11,10 @@
 #include "bop/common/Canvas.hpp"
 
 #include <catch2/catch.hpp>
+#include <stb/stb_image.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <numbers>
 
@@ -172,6 +174,55 @@ TEST_CASE("headless: a torus bag fills the picture, shows its surface colour, an
     const std::size_t sparseHoles = holesInside(sparse, silhouette, 6);
     INFO("with discs of 0.3 r0: " << sparseHoles << " holes");
     CHECK(double(sparseHoles) > 0.2 * double(bag));
+}
+
+TEST_CASE("headless: the torus bag matches its reference picture", "[gui]") {
+    // tests/viz/reference/torus.png was drawn by this renderer on Mesa 22.3 llvmpipe (Debian 12);
+    // BOP_UPDATE_REFERENCE=1 draws it again. Another rasteriser may differ along edges: at most
+    // 1% of the pixels may differ by more than 24 levels in a channel, and the mean difference
+    // stays under 2 levels.
+    EglHeadless gl;
+    const double r0 = std::sqrt(3.0), R = 8 * r0, a = 3 * r0;
+    const protocol::SceneInfo scene = torusScene(R, a);
+    OrbitCamera cam;
+    cam.fit(Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), double(kWidth) / kHeight);
+    Instances in;
+    buildInstances(torusBag(R, a, r0), scene, {}, in);
+    const Picture p = render(in, cam, "torus-reference-check.png");
+    const std::string reference = std::string(BOP_SOURCE_DIR) + "/tests/viz/reference/torus.png";
+    if (const char* update = std::getenv("BOP_UPDATE_REFERENCE"); update && std::string(update) == "1")
+        std::filesystem::copy_file(std::filesystem::path(BOP_BINARY_DIR) / "test-output/viz/torus-reference-check.png",
+                                   reference, std::filesystem::copy_options::overwrite_existing);
+    int w = 0, h = 0, channels = 0;
+    unsigned char* loaded = stbi_load(reference.c_str(), &w, &h, &channels, 3);
+    REQUIRE(loaded != nullptr);
+    const std::vector<std::uint8_t> ref(loaded, loaded + std::size_t(3) * std::size_t(w) * std::size_t(h));
+    stbi_image_free(loaded);
+    REQUIRE(w == kWidth);
+    REQUIRE(h == kHeight);
+    // Pixels differing by more than 24 levels in a channel, and the mean difference in levels.
+    const auto compare = [&ref](const Picture& q) {
+        std::size_t differing = 0;
+        double total = 0;
+        for (std::size_t i = 0; i < q.rgb.size(); i += 3) {
+            int worst = 0;
+            for (std::size_t c = 0; c < 3; ++c) {
+                const int d = std::abs(int(q.rgb[i + c]) - int(ref[i + c]));
+                worst = std::max(worst, d);
+                total += d;
+            }
+            differing += worst > 24;
+        }
+        return std::pair{differing, total / double(q.rgb.size())};
+    };
+    const auto [differing, mean] = compare(p);
+    INFO(differing << " pixels differ by more than 24 levels; mean difference " << mean);
+    CHECK(differing <= p.size() / 100);
+    CHECK(mean < 2.0);
+    cam.orbit(0.0, 0.1);  // the same bag tilted by 6 degrees is not the reference
+    const auto [tilted, tiltedMean] = compare(render(in, cam, "torus-tilted.png"));
+    INFO(tilted << " pixels differ when tilted; mean " << tiltedMean);
+    CHECK(tilted > p.size() / 100);
 }
 
 TEST_CASE("headless: a cut plane through the bag shows the volume particles inside", "[gui]") {
