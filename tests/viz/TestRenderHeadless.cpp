@@ -1,5 +1,5 @@
-// The instance renderer drawn headless (EGL, Mesa llvmpipe): a torus bag — surface particles
-// about r0 apart on a torus, volume particles filling it — rendered to PNG files (kept in
+// The instance renderer drawn headless (EGL, Mesa llvmpipe): a torus bag (scene/SyntheticBag.hpp:
+// surface particles about r0 apart on a torus, volume particles filling it) rendered to PNG files (kept in
 // build/test-output/viz/ to look at) and checked on their pixels: how much of the picture is
 // bag, that each species' colour shows, and that the surface has no holes (while discs too
 // small for the spacing leave many, so the check can fail).
@@ -7,6 +7,7 @@
 #include "render/InstanceRenderer.hpp"
 #include "render/Offscreen.hpp"
 #include "scene/Instances.hpp"
+#include "scene/SyntheticBag.hpp"
 
 #include "bop/common/Canvas.hpp"
 
@@ -16,7 +17,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <numbers>
 
 using namespace bop;
 using namespace bop::viz;
@@ -27,47 +27,7 @@ constexpr int kWidth = 480, kHeight = 360;                  // pixels
 constexpr std::array<float, 3> kBackground{0.1f, 0.1f, 0.12f};  // RGB 0..1
 const std::array<std::uint8_t, 4> kRed{220, 40, 30, 255}, kBlue{30, 60, 200, 255};
 
-protocol::SceneInfo torusScene(double R, double a) {
-    protocol::SceneInfo s;
-    s.species = {{"membrane", protocol::SpeciesKind::Surface, kRed}, {"fill", protocol::SpeciesKind::Volume, kBlue}};
-    s.boxLo = Eigen::Vector3d(-(R + a), -(R + a), -a);
-    s.boxHi = Eigen::Vector3d(R + a, R + a, a);
-    return s;
-}
-
-// A torus of major radius R and tube radius a (length): rings around the tube about r0 apart,
-// each with as many particles as fit at r0 along it, every other ring shifted half a step;
-// volume particles on a cubic grid of spacing r0 inside the tube, 0.8 r0 within the surface.
-protocol::StateFrame torusBag(double R, double a, double r0) {
-    protocol::StateFrame f;
-    const double pi = std::numbers::pi;
-    const int rings = int(std::round(2 * pi * a / r0));
-    for (int j = 0; j < rings; ++j) {
-        const double v = 2 * pi * j / rings;
-        const int around = int(std::round(2 * pi * (R + a * std::cos(v)) / r0));
-        for (int k = 0; k < around; ++k) {
-            const double u = 2 * pi * (k + 0.5 * (j % 2)) / around;
-            const Eigen::Vector3d n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v));
-            const Eigen::Vector3d x = Eigen::Vector3d(R * std::cos(u), R * std::sin(u), 0) + a * n;
-            f.positions.insert(f.positions.end(), {float(x.x()), float(x.y()), float(x.z())});
-            f.normals.insert(f.normals.end(), {float(n.x()), float(n.y()), float(n.z())});
-            f.species.push_back(1);
-        }
-    }
-    const int half = int(std::ceil((R + a) / r0));
-    for (int i = -half; i <= half; ++i)
-        for (int j = -half; j <= half; ++j)
-            for (int k = -half; k <= half; ++k) {
-                const Eigen::Vector3d x = r0 * Eigen::Vector3d(i, j, k);
-                const double ring = std::hypot(x.x(), x.y()) - R;
-                if (std::hypot(ring, x.z()) > a - 0.8 * r0) continue;
-                f.positions.insert(f.positions.end(), {float(x.x()), float(x.y()), float(x.z())});
-                f.normals.insert(f.normals.end(), {0.0f, 0.0f, 1.0f});
-                f.species.push_back(2);
-            }
-    f.frameParticleCount = std::uint32_t(f.species.size());
-    return f;
-}
+protocol::SceneInfo torusScene(double R, double a) { return torusBagScene(R, a, std::sqrt(3.0), kRed, kBlue); }
 
 struct Picture {
     std::vector<std::uint8_t> rgb;

@@ -6,6 +6,8 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
+#include <cstdio>
+
 namespace bop::viz {
 namespace {
 
@@ -17,14 +19,28 @@ std::string eglError(const char* what) {
     }() + ")";
 }
 
-}  // namespace
-
-EglHeadless::EglHeadless() {
+// Mesa's surfaceless platform, else the first EGL device (NVIDIA's driver offers devices, not
+// Mesa's platform; that path is not tested on this project's machines, which have no GPU).
+EGLDisplay headlessDisplay() {
     const auto getPlatformDisplay =
         reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
     if (!getPlatformDisplay) throw Error("EGL", "no eglGetPlatformDisplayEXT (is Mesa's libegl-mesa0 installed?)");
     EGLDisplay d = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (d == EGL_NO_DISPLAY) throw Error("EGL", "no surfaceless display (Mesa's EGL_MESA_platform_surfaceless)");
+    if (d != EGL_NO_DISPLAY) return d;
+    const auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+    EGLDeviceEXT device = nullptr;
+    EGLint devices = 0;
+    if (queryDevices && queryDevices(1, &device, &devices) && devices > 0)
+        d = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
+    if (d == EGL_NO_DISPLAY)
+        throw Error("EGL", "no headless display: neither Mesa's surfaceless platform nor an EGL device");
+    return d;
+}
+
+}  // namespace
+
+EglHeadless::EglHeadless() {
+    EGLDisplay d = headlessDisplay();
     EGLint major = 0, minor = 0;
     if (!eglInitialize(d, &major, &minor)) throw Error("EGL", eglError("eglInitialize"));
     display_ = d;
