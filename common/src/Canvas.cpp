@@ -65,6 +65,15 @@ void appendBytes(void* context, void* data, int size) {
 
 }  // namespace
 
+Canvas Canvas::fromRgb(int width, int height, std::vector<std::uint8_t> rgb) {
+    Canvas c(width, height, Rgb{0, 0, 0});
+    if (rgb.size() != c.pixels_.size())
+        throw std::invalid_argument("Canvas: " + std::to_string(rgb.size()) + " bytes for " + std::to_string(width) +
+                                    " x " + std::to_string(height) + " RGB pixels");
+    c.pixels_ = std::move(rgb);
+    return c;
+}
+
 Canvas::Canvas(int width, int height, Rgb fill) : width_(width), height_(height) {
     if (width < 0 || height < 0)
         throw std::invalid_argument("Canvas: negative size " + std::to_string(width) + " x " +

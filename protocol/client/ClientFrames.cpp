@@ -95,15 +95,9 @@ std::optional<StateFrame> ClientSession::Impl::drainUdp() {
     return newest;
 }
 
-// The newest whole frame from the SUB socket and the UDP receiver, if either completed one.
-std::optional<StateFrame> ClientSession::Impl::drainAll() {
-    std::optional<StateFrame> tcp = drainSub(), udp = drainUdp();
-    if (!tcp) return udp;
-    if (!udp) return tcp;
-    // The assembler took them in this order, so the UDP one is newer.
-    assembler.recycle(std::move(*tcp));
-    return udp;
-}
+// Frames come over UDP when a UDP frame port is set (the SUB socket then subscribes to nothing),
+// else over the SUB socket.
+std::optional<StateFrame> ClientSession::Impl::drainFrames() { return udpFrames ? drainUdp() : drainSub(); }
 
 std::optional<StateFrame> ClientSession::receiveFrame(std::chrono::milliseconds timeout) {
     Impl& d = *impl_;
@@ -113,7 +107,7 @@ std::optional<StateFrame> ClientSession::receiveFrame(std::chrono::milliseconds 
     const auto deadline = Clock::now() + timeout;
     std::optional<StateFrame> newest;
     for (;;) {
-        if (auto whole = d.drainAll()) {
+        if (auto whole = d.drainFrames()) {
             if (newest) d.assembler.recycle(std::move(*newest));
             newest = std::move(whole);
         }
@@ -125,7 +119,7 @@ std::optional<StateFrame> ClientSession::receiveFrame(std::chrono::milliseconds 
 void ClientSession::Impl::receiverLoop() noexcept {
     try {
         while (!stopReceiver) {
-            if (auto whole = drainAll()) {
+            if (auto whole = drainFrames()) {
                 std::shared_ptr<const StateFrame> frame = std::make_shared<StateFrame>(std::move(*whole));
                 {
                     std::lock_guard lock(m);

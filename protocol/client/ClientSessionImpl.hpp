@@ -63,7 +63,7 @@ struct ClientSession::Impl {
     // whole frame they completed, if any.
     std::optional<StateFrame> drainSub();
     std::optional<StateFrame> drainUdp();  // the same for frames over UDP
-    std::optional<StateFrame> drainAll();  // both
+    std::optional<StateFrame> drainFrames();  // from whichever of the two carries frames
     int udpFrameFd() { return udpFrames ? udpFrames->socket().fd() : -1; }
     // One frame chunk, from whatever transport carried it (the SUB socket, or a whole frame from
     // the UDP receiver): decoded, counted, fed to the assembler.

@@ -86,8 +86,8 @@ Eigen::Vector3d positionErrorBound(const Eigen::Vector3d& lo, const Eigen::Vecto
     return (hi - lo) / kQuantLevels / 2.0 + magnitude * floatEps;
 }
 
-BOP_BATCH_KERNEL std::size_t quantisePositions(const float* xyz, std::size_t n, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                              std::uint16_t* out) {
+BOP_BATCH_KERNEL std::size_t quantisePositions(const float* xyz, std::size_t n, const Eigen::Vector3d& lo,
+                                               const Eigen::Vector3d& hi, std::uint16_t* out) {
     // quantiseCoord() per value, with the division by the range hoisted out of the loop.
     std::size_t clamped = 0;
     const double l[3] = {lo.x(), lo.y(), lo.z()}, h[3] = {hi.x(), hi.y(), hi.z()};
@@ -103,8 +103,8 @@ BOP_BATCH_KERNEL std::size_t quantisePositions(const float* xyz, std::size_t n, 
     return clamped;
 }
 
-BOP_BATCH_KERNEL void dequantisePositions(const std::uint16_t* q, std::size_t n, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                         float* xyz) {
+BOP_BATCH_KERNEL void dequantisePositions(const std::uint16_t* q, std::size_t n, const Eigen::Vector3d& lo,
+                                          const Eigen::Vector3d& hi, float* xyz) {
     const double l[3] = {lo.x(), lo.y(), lo.z()};
     double step[3];
     for (int a = 0; a < 3; ++a) step[a] = (hi[a] - lo[a]) / kQuantLevels;

@@ -48,8 +48,9 @@ struct ServerFront::Impl {
     std::atomic<bool> stop{false};
     std::thread thread;     // control: handshakes, commands, probes in, feedback out
     std::thread publisher;  // frames out: encoding a large frame never holds back a feedback
-    int wakeFd = -1;
-    std::shared_ptr<BufferPool> chunkPool = std::make_shared<BufferPool>(front::kKeptChunkBuffers);  // eventfd: the step loop's offers wake the thread at once (feedback latency)
+    int wakeFd = -1;  // eventfd: the step loop's offers wake the control thread at once (feedback latency)
+    // Chunk buffers ZeroMQ has sent, for the next frames; held weakly by messages in flight.
+    std::shared_ptr<BufferPool> chunkPool = std::make_shared<BufferPool>(front::kKeptChunkBuffers);
 
     mutable std::mutex m;  // guards everything below
     std::condition_variable helloSeen;

@@ -41,6 +41,17 @@ TEST_CASE("Canvas fill, set, get and clipping", "[canvas]") {
     CHECK_THROWS_AS(bop::Canvas(-1, 2, kBlack), std::invalid_argument);
 }
 
+TEST_CASE("a Canvas made from RGB bytes has them row by row, top row first", "[canvas]") {
+    std::vector<std::uint8_t> rgb(3 * 3 * 2);
+    for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = std::uint8_t(10 * i);
+    const bop::Canvas c = bop::Canvas::fromRgb(3, 2, rgb);
+    CHECK(c.get(0, 0) == bop::Rgb{0, 10, 20});
+    CHECK(c.get(2, 0) == bop::Rgb{60, 70, 80});
+    CHECK(c.get(1, 1) == bop::Rgb{120, 130, 140});
+    CHECK(c.pixels() == rgb);
+    CHECK_THROWS_AS(bop::Canvas::fromRgb(3, 3, rgb), std::invalid_argument);
+}
+
 TEST_CASE("fillRect colours exactly the pixels of the rectangle", "[canvas]") {
     bop::Canvas c(10, 8, kBlack);
     const bop::Rgb red{200, 10, 20};

@@ -62,6 +62,35 @@ double nearestTo(const StateFrame& f, const Eigen::Vector3d& x) {
     return best;
 }
 
+// Probes the centre of the box every 5 ms for 2 s with strength k1 = 4: the feedback reports a
+// reaction force, and the particle nearest the centre in the next frame is further away than in
+// `before`.
+void pokeCentre(ClientSession& c, const SceneInfo& scene, const StateFrame& before) {
+    const Eigen::Vector3d centre = centreOf(scene);
+    Probe p;
+    p.active = true;
+    p.position = centre;
+    p.k0 = 1.0;
+    p.k1 = 4.0;
+    std::optional<Feedback> feedback;
+    for (int k = 0; k < 400; ++k) {
+        p.seq = std::uint64_t(k + 1);
+        CHECK(c.sendProbe(p));
+        if (auto fb = c.pollFeedback()) feedback = fb;
+        std::this_thread::sleep_for(5ms);
+    }
+    REQUIRE(feedback);
+    CHECK(feedback->probeSeq > 0);
+    CHECK(feedback->force.norm() > 1e-3);
+    std::optional<StateFrame> after;
+    for (int k = 0; k < 20 && !after; ++k) after = c.receiveFrame(200ms);
+    REQUIRE(after);
+    CHECK(after->probeActive);
+    INFO("nearest particle to the probe: " << nearestTo(before, centre) << " before, " << nearestTo(*after, centre)
+                                           << " after");
+    CHECK(nearestTo(*after, centre) > nearestTo(before, centre) + 0.1);
+}
+
 }  // namespace
 
 TEST_CASE("a client of a 2-rank server gets the scene, frames at the set rate, and a probe's reaction", "[net]") {
@@ -86,31 +115,9 @@ TEST_CASE("a client of a 2-rank server gets the scene, frames at the set rate, a
     CHECK(frames <= 75);
     REQUIRE(first);
     CHECK(first->count() == 2048);
-    // A probe at the centre of the box, sent every 5 ms for 2 s: the particles give way and the
-    // feedback carries their force on the probe.
-    const Eigen::Vector3d centre = centreOf(scene);
-    const double before = nearestTo(*first, centre);
-    Probe p;
-    p.active = true;
-    p.position = centre;
-    p.k0 = 1.0;
-    p.k1 = 4.0;
-    std::optional<Feedback> feedback;
-    for (int k = 0; k < 400; ++k) {
-        p.seq = std::uint64_t(k + 1);
-        c.sendProbe(p);
-        if (auto fb = c.pollFeedback()) feedback = fb;
-        std::this_thread::sleep_for(5ms);
-    }
-    REQUIRE(feedback);
-    CHECK(feedback->probeSeq > 0);
-    CHECK(feedback->force.norm() > 1e-3);
-    std::optional<StateFrame> after;
-    for (int k = 0; k < 20 && !after; ++k) after = c.receiveFrame(200ms);
-    REQUIRE(after);
-    CHECK(after->probeActive);
-    INFO("nearest particle to the probe: " << before << " before, " << nearestTo(*after, centre) << " after");
-    CHECK(nearestTo(*after, centre) > before + 0.1);
+    // A probe at the centre of the box: the particles give way and the feedback carries their
+    // force on the probe.
+    pokeCentre(c, scene, *first);
     stopCleanly(srv);
 }
 
@@ -258,27 +265,7 @@ TEST_CASE("in datagram mode, frames arrive whole over UDP and probes over UDP co
     CHECK(s0.chunksReceived == 0);  // nothing over the SUB socket
     // 2048 particles x 25 bytes: 42 datagrams of at most 1,222 bytes per frame.
     CHECK(s0.udpDatagrams >= 42);
-    const Eigen::Vector3d centre = centreOf(scene);
-    const double before = nearestTo(*first, centre);
-    Probe p;
-    p.active = true;
-    p.position = centre;
-    p.k1 = 4.0;
-    std::optional<Feedback> feedback;
-    for (int k = 0; k < 400; ++k) {
-        p.seq = std::uint64_t(k + 1);
-        CHECK(c.sendProbe(p));
-        if (auto fb = c.pollFeedback()) feedback = fb;
-        std::this_thread::sleep_for(5ms);
-    }
-    REQUIRE(feedback);
-    CHECK(feedback->probeSeq > 0);
-    CHECK(feedback->force.norm() > 1e-3);
-    std::optional<StateFrame> after;
-    for (int k = 0; k < 20 && !after; ++k) after = c.receiveFrame(200ms);
-    REQUIRE(after);
-    INFO("nearest particle to the probe: " << before << " before, " << nearestTo(*after, centre) << " after");
-    CHECK(nearestTo(*after, centre) > before + 0.1);
+    pokeCentre(c, scene, *first);  // probes as datagrams, feedback back as datagrams
     CHECK(c.stats().malformed == 0);
     stopCleanly(srv);
 }

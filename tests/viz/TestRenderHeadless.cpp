@@ -27,7 +27,14 @@ constexpr int kWidth = 480, kHeight = 360;                  // pixels
 constexpr std::array<float, 3> kBackground{0.1f, 0.1f, 0.12f};  // RGB 0..1
 const std::array<std::uint8_t, 4> kRed{220, 40, 30, 255}, kBlue{30, 60, 200, 255};
 
-protocol::SceneInfo torusScene(double R, double a) { return torusBagScene(R, a, std::sqrt(3.0), kRed, kBlue); }
+// The torus bag every test draws (major radius 8 r0, tube 3 r0), framed by the camera.
+struct TorusView {
+    static constexpr double r0 = 1.7320508075688772, R = 8 * r0, a = 3 * r0;  // length
+    protocol::SceneInfo scene = torusBagScene(R, a, r0, kRed, kBlue);
+    protocol::StateFrame frame = torusBag(R, a, r0);
+    OrbitCamera cam;
+    TorusView() { cam.fit(Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), double(kWidth) / kHeight); }
+};
 
 struct Picture {
     std::vector<std::uint8_t> rgb;
@@ -45,13 +52,7 @@ Picture render(const Instances& in, const OrbitCamera& cam, const std::string& p
     Picture p{target.readRgb()};
     const std::filesystem::path dir = std::filesystem::path(BOP_BINARY_DIR) / "test-output" / "viz";
     std::filesystem::create_directories(dir);
-    Canvas c(kWidth, kHeight, Rgb{0, 0, 0});
-    for (int y = 0; y < kHeight; ++y)
-        for (int x = 0; x < kWidth; ++x) {
-            const std::size_t i = 3 * (std::size_t(y) * kWidth + std::size_t(x));
-            c.set(x, y, Rgb{p.rgb[i], p.rgb[i + 1], p.rgb[i + 2]});
-        }
-    c.writePng((dir / png).string());
+    Canvas::fromRgb(kWidth, kHeight, p.rgb).writePng((dir / png).string());
     return p;
 }
 
@@ -97,11 +98,10 @@ std::size_t bagPixels(const Picture& p) {
 TEST_CASE("headless: a torus bag fills the picture, shows its surface colour, and has no holes", "[gui]") {
     EglHeadless gl;
     INFO("OpenGL " << gl.version() << " on " << gl.renderer());
-    const double r0 = std::sqrt(3.0), R = 8 * r0, a = 3 * r0;
-    const protocol::SceneInfo scene = torusScene(R, a);
-    const protocol::StateFrame frame = torusBag(R, a, r0);
-    OrbitCamera cam;
-    cam.fit(Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), double(kWidth) / kHeight);
+    TorusView t;
+    const protocol::SceneInfo& scene = t.scene;
+    const protocol::StateFrame& frame = t.frame;
+    const OrbitCamera& cam = t.cam;
     Instances in;
     buildInstances(frame, scene, {}, in);
     REQUIRE(in.surfels.size() > 900);
@@ -142,12 +142,10 @@ TEST_CASE("headless: the torus bag matches its reference picture", "[gui]") {
     // 1% of the pixels may differ by more than 24 levels in a channel, and the mean difference
     // stays under 2 levels.
     EglHeadless gl;
-    const double r0 = std::sqrt(3.0), R = 8 * r0, a = 3 * r0;
-    const protocol::SceneInfo scene = torusScene(R, a);
-    OrbitCamera cam;
-    cam.fit(Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), double(kWidth) / kHeight);
+    TorusView t;
+    OrbitCamera& cam = t.cam;
     Instances in;
-    buildInstances(torusBag(R, a, r0), scene, {}, in);
+    buildInstances(t.frame, t.scene, {}, in);
     const Picture p = render(in, cam, "torus-reference-check.png");
     const std::string reference = std::string(BOP_SOURCE_DIR) + "/tests/viz/reference/torus.png";
     if (const char* update = std::getenv("BOP_UPDATE_REFERENCE"); update && std::string(update) == "1")
@@ -187,11 +185,10 @@ TEST_CASE("headless: the torus bag matches its reference picture", "[gui]") {
 
 TEST_CASE("headless: a cut plane through the bag shows the volume particles inside", "[gui]") {
     EglHeadless gl;
-    const double r0 = std::sqrt(3.0), R = 8 * r0, a = 3 * r0;
-    const protocol::SceneInfo scene = torusScene(R, a);
-    const protocol::StateFrame frame = torusBag(R, a, r0);
-    OrbitCamera cam;
-    cam.fit(Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), double(kWidth) / kHeight);
+    TorusView t;
+    const protocol::SceneInfo& scene = t.scene;
+    const protocol::StateFrame& frame = t.frame;
+    const OrbitCamera& cam = t.cam;
     ViewFilter cut;
     cut.cut = CutPlane{cam.target(), -cam.forward()};  // removes the half towards the eye
     Instances in;

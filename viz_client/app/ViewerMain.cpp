@@ -27,16 +27,6 @@ using namespace std::chrono_literals;
 constexpr std::array<float, 3> kBackground{0.1f, 0.1f, 0.12f};  // RGB 0..1
 constexpr auto kLostAfter = 10s;  // no frame for this long: the server is taken as lost
 
-void writePng(const std::string& path, int w, int h, const std::vector<std::uint8_t>& rgb) {
-    Canvas c(w, h, Rgb{0, 0, 0});
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const std::size_t i = 3 * (std::size_t(y) * std::size_t(w) + std::size_t(x));
-            c.set(x, y, Rgb{rgb[i], rgb[i + 1], rgb[i + 2]});
-        }
-    c.writePng(path);
-}
-
 // Connects, retrying with a doubling wait (1 s, 2 s, ... at most 8 s) until `limit` has passed.
 protocol::SceneInfo connectWithBackoff(protocol::ClientSession& c, const std::string& endpoint, double limitS) {
     const auto end = Clock::now() + std::chrono::duration<double>(limitS);
@@ -115,7 +105,7 @@ int main(int argc, char** argv) {
             renderer.draw(instances, camera, width, height, kBackground);
             char name[32];
             std::snprintf(name, sizeof name, "frame-%06d.png", ++written);
-            writePng((std::filesystem::path(outDir) / name).string(), width, height, target.readRgb());
+            Canvas::fromRgb(width, height, target.readRgb()).writePng((std::filesystem::path(outDir) / name).string());
             const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
             std::printf("frame %d: step %llu, %zu particles, drawn and written in %.1f ms\n", written,
                         (unsigned long long)latest.frame->step, latest.frame->count(), ms);

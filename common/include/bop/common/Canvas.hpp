@@ -18,6 +18,9 @@ class Canvas {
 public:
     // width, height: pixels (>= 0; std::invalid_argument if negative).
     Canvas(int width, int height, Rgb fill);
+    // A picture from row-major RGB bytes, the top row first (std::invalid_argument unless there
+    // are 3 * width * height of them).
+    static Canvas fromRgb(int width, int height, std::vector<std::uint8_t> rgb);
 
     int width() const { return width_; }
     int height() const { return height_; }
