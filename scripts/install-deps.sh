@@ -19,6 +19,9 @@ packages=(
   # the viewer's renderer (viz_client/): OpenGL and EGL headers and libraries (libglvnd), Mesa's
   # EGL and its llvmpipe software driver for headless rendering without a GPU
   libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
+  # the viewer's window and panel: GLFW 3.3, Dear ImGui 1.86 with its GLFW and OpenGL3 backends;
+  # Xvfb and Mesa's GLX so the window path is tested without a display
+  libglfw3-dev libimgui-dev xvfb xauth libglx-mesa0
   # tests
   catch2 python3 python3-numpy
 )

@@ -1,7 +1,8 @@
 #include "ServedRun.hpp"
 
+#include "ServedCommands.hpp"
+
 #include "ExtendedXyz.hpp"
-#include "codec/DecodeResult.hpp"
 #include "parallel/DecomposedRun.hpp"
 
 #include <spdlog/spdlog.h>
@@ -20,83 +21,6 @@ void onSignal(int) { gStop = 1; }
 
 std::int64_t nowNs() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
-}
-
-// Rank 0's state between passes: what clients asked for and what the run is doing.
-struct Desk {
-    bool paused = false;
-    long long singleSteps = 0;  // steps still to do while paused
-    core::ProbeState probe;
-    std::uint64_t probeSeq = 0;
-    std::vector<std::pair<double, double>> drags;  // per species: beta_v, beta_tau
-};
-
-protocol::CommandReply answer(const protocol::Command& c, protocol::ReplyStatus s, long long step, std::string why = {}) {
-    protocol::CommandReply r;
-    r.requestId = c.requestId;
-    r.status = s;
-    r.step = std::uint64_t(std::max(0LL, step));
-    r.message = why.substr(0, protocol::kMaxTextBytes);  // a reply may not exceed its cap
-    return r;
-}
-
-// One client command on rank 0: run commands submitted, or the desk changed. The reply says
-// the step at which it takes effect (the next step to run) or why not.
-protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::DecomposedRun& run, int speciesCount) {
-    using protocol::ReplyStatus;
-    const long long next = run.stepNumber();
-    parallel::Command rc;
-    try {
-        if (const auto* seed = std::get_if<protocol::SeedParticle>(&c.body)) {
-            rc.kind = parallel::Command::Kind::Seed;
-            rc.species = seed->species;
-            rc.position = seed->position;
-        } else if (const auto* birth = std::get_if<protocol::SetBirth>(&c.body)) {
-            rc.kind = parallel::Command::Kind::Birth;
-            rc.species = birth->species;
-            rc.on = birth->enabled;
-        } else if (const auto* p = std::get_if<protocol::SetParameter>(&c.body)) {
-            const std::string& n = p->name;
-            if (n == "lj" || n == "co_normal" || n == "co_planar") {
-                rc.kind = parallel::Command::Kind::Weight;
-                rc.table = n == "lj" ? parallel::Command::Table::Lj
-                         : n == "co_normal" ? parallel::Command::Table::CoNormal : parallel::Command::Table::CoPlanar;
-                rc.species = p->speciesA;
-                rc.other = p->speciesB;
-                rc.value = p->value;
-            } else if (n == "k0" || n == "k1") {
-                if (!(p->value > 0)) return answer(c, ReplyStatus::Rejected, next, n + " must be > 0");
-                (n == "k0" ? desk.probe.params.k0 : desk.probe.params.k1) = p->value;
-                rc.kind = parallel::Command::Kind::Probe;
-                rc.probe = desk.probe;
-            } else if (n == "drag_v" || n == "drag_w") {
-                if (p->speciesA < 1 || p->speciesA > speciesCount)
-                    return answer(c, ReplyStatus::Rejected, next, "no species " + std::to_string(p->speciesA));
-                auto& d = desk.drags[std::size_t(p->speciesA)];
-                (n == "drag_v" ? d.first : d.second) = p->value;
-                rc.kind = parallel::Command::Kind::Drag;
-                rc.species = p->speciesA;
-                rc.dragV = d.first;
-                rc.dragW = d.second;
-            } else {
-                return answer(c, ReplyStatus::Unsupported, next, "unknown parameter '" + n + "'");
-            }
-        } else if (const auto* r = std::get_if<protocol::RunControl>(&c.body)) {
-            if (r->action == protocol::RunAction::Pause) desk.paused = true;
-            else if (r->action == protocol::RunAction::Resume) desk.paused = false, desk.singleSteps = 0;
-            else desk.singleSteps += r->steps;
-            return answer(c, ReplyStatus::Ok, next);
-        } else {
-            return answer(c, ReplyStatus::Unsupported, next, "not supported by this server yet");
-        }
-        if (rc.kind == parallel::Command::Kind::Seed || rc.kind == parallel::Command::Kind::Birth)
-            if (rc.species < 1 || rc.species > speciesCount)
-                return answer(c, ReplyStatus::Rejected, next, "no species " + std::to_string(rc.species));
-        run.submit(rc);
-    } catch (const std::invalid_argument& e) {
-        return answer(c, ReplyStatus::Rejected, next, e.what());
-    }
-    return answer(c, ReplyStatus::Ok, next);
 }
 
 protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t, const Desk& desk, long long step,
@@ -140,6 +64,22 @@ protocol::SceneInfo sceneInfoOf(const Scene& scene, const GradientMap* map) {
         s.r0Voxels = map->r0Voxels;
     }
     s.dt = m.integration.dt;
+    s.probeReach = m.ljParams.rCutR0 * s.r0;
+    const int n = m.speciesCount();
+    const auto matrix = [&](const core::WeightMatrix& w) {
+        std::vector<double> v;
+        for (int a = 1; a <= n; ++a)
+            for (int b = 1; b <= n; ++b) v.push_back(w(a, b));
+        return v;
+    };
+    s.tunables.k0 = scene.probe.params.k0;
+    s.tunables.k1 = scene.probe.params.k1;
+    if (std::size_t(n) <= protocol::kMaxTunedSpecies)  // SceneInfo has a size cap
+        s.tunables = {matrix(m.lj), matrix(m.coNormal), matrix(m.coPlanar), {}, {}, s.tunables.k0, s.tunables.k1};
+    for (int k = 1; k <= n && std::size_t(n) <= protocol::kMaxTunedSpecies; ++k) {
+        s.tunables.dragV.push_back(m.species[std::size_t(k)].dragV);
+        s.tunables.dragW.push_back(m.species[std::size_t(k)].dragW);
+    }
     s.units = "length: simulation units (r0 = sqrt 3); time: simulation units; force: simulation units; mass 1";
     return s;
 }
@@ -211,7 +151,11 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
         if (root && o.replay) {
             ctl = replayInputs();
         } else if (root) {
-            for (const auto& pc : front->takeCommands()) front->reply(pc, apply(pc.command, desk, run, model.speciesCount()));
+            for (const auto& pc : front->takeCommands()) {
+                const auto* rec = std::get_if<protocol::Record>(&pc.command.body);
+                front->reply(pc, rec ? record(pc.command, *rec, *front, o.outDir, run.stepNumber())
+                                     : apply(pc.command, desk, run, model.speciesCount()));
+            }
             if (const auto p = front->takeProbe()) takeProbe(*p);
             const bool step = !desk.paused || desk.singleSteps > 0;
             if (desk.paused && desk.singleSteps > 0) --desk.singleSteps;

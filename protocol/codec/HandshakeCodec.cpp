@@ -60,6 +60,10 @@ Buffer encodeSceneInfo(const SceneInfo& m) {
     const auto endpoints =
         wire::CreateEndpoints(fbb, frameEndpoint, m.endpoints.udpFramePort, m.endpoints.udpProbePort);
     const auto units = fbb.CreateString(m.units);
+    const Tunables& t = m.tunables;
+    const auto tunables = wire::CreateTunables(fbb, fbb.CreateVector(t.lj), fbb.CreateVector(t.coNormal),
+                                               fbb.CreateVector(t.coPlanar), fbb.CreateVector(t.dragV),
+                                               fbb.CreateVector(t.dragW), t.k0, t.k1);
     const wire::Vec3 lo = detail::toWire(m.boxLo), hi = detail::toWire(m.boxHi);
     const wire::Vec3 origin = detail::toWire(m.gridOriginMm);
     const wire::Int3 dims(m.gridDims[0], m.gridDims[1], m.gridDims[2]);
@@ -78,6 +82,8 @@ Buffer encodeSceneInfo(const SceneInfo& m) {
     b.add_particle_count(m.particleCount);
     b.add_units(units);
     b.add_publish_rate_hz(m.publishRateHz);
+    b.add_probe_reach(m.probeReach);
+    b.add_tunables(tunables);
     wire::FinishSceneInfoBuffer(fbb, b.Finish());
     return detail::toBuffer(fbb);
 }
@@ -117,6 +123,14 @@ Decoded<SceneInfo> decodeSceneInfo(const std::uint8_t* buf, std::size_t len) {
     m.particleCount = w.particle_count();
     m.units = detail::str(w.units());
     m.publishRateHz = w.publish_rate_hz();
+    m.probeReach = w.probe_reach();
+    if (const wire::Tunables* t = w.tunables()) {
+        const auto doubles = [](const flatbuffers::Vector<double>* v) {
+            return v ? std::vector<double>(v->begin(), v->end()) : std::vector<double>{};
+        };
+        m.tunables = {doubles(t->lj()), doubles(t->co_normal()), doubles(t->co_planar()),
+                      doubles(t->drag_v()), doubles(t->drag_w()), t->k0(), t->k1()};
+    }
     const Validation v = validate(m);
     return detail::accept(std::move(m), v);
 }

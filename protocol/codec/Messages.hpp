@@ -43,6 +43,17 @@ struct Endpoints {
     std::uint16_t udpProbePort = 0;  // 0 = none
 };
 
+// The values a viewer's sliders start from (scene.fbs Tunables). Matrices are n x n row-major
+// over the n species, row a = the receiving species; all empty when the server did not send them,
+// and sent only for at most kMaxTunedSpecies species (so that SceneInfo stays within its cap).
+inline constexpr std::size_t kMaxTunedSpecies = 16;
+struct Tunables {
+    std::vector<double> lj, coNormal, coPlanar;  // interspecies weights, dimensionless
+    std::vector<double> dragV;                   // per species, mass / time
+    std::vector<double> dragW;                   // per species, inertia / time
+    double k0 = 1, k1 = 1;                       // probe (paper eq. 9), dimensionless
+};
+
 struct SceneInfo {
     std::uint16_t protocolVersion = kProtocolVersion;
     std::vector<SpeciesInfo> species;                 // entry k describes species k + 1; at most 255
@@ -58,6 +69,8 @@ struct SceneInfo {
     std::uint64_t particleCount = 0;  // at the time of the handshake
     std::string units;                // the units in words, at most kMaxTextBytes
     float publishRateHz = 0;          // the server's state-frame rate, wall Hz (0 = not sent)
+    double probeReach = 0;            // the probe's reach at k0 = 1 (LJ cutoff), length; scales with k0; 0 = not sent
+    Tunables tunables;
 };
 
 // ---- state frames ----

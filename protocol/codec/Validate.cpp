@@ -75,6 +75,28 @@ Validation validate(const Hello& m) {
     return c.result();
 }
 
+namespace {
+
+// Matrices empty or n x n, per-species arrays empty or n, every value finite, dampings >= 0, k0 > 0.
+bool validTunables(Checker& c, const Tunables& t, std::size_t n) {
+    const auto sized = [&](const std::vector<double>& v, std::size_t want, const char* field) {
+        bool ok = c.require(v.empty() || (v.size() == want && n <= kMaxTunedSpecies), DecodeError::BadLength, field,
+                            std::to_string(v.size()) + " values, expected 0 or " + std::to_string(want) +
+                                " (and at most " + std::to_string(kMaxTunedSpecies) + " species)");
+        for (double x : v) ok = ok && c.finite(x, field);
+        return ok;
+    };
+    bool ok = sized(t.lj, n * n, "tunables.lj") && sized(t.coNormal, n * n, "tunables.co_normal") &&
+              sized(t.coPlanar, n * n, "tunables.co_planar") && sized(t.dragV, n, "tunables.drag_v") &&
+              sized(t.dragW, n, "tunables.drag_w");
+    for (double x : t.dragV) ok = ok && c.require(x >= 0, DecodeError::OutOfRange, "tunables.drag_v", "negative");
+    for (double x : t.dragW) ok = ok && c.require(x >= 0, DecodeError::OutOfRange, "tunables.drag_w", "negative");
+    return ok && c.finite(t.k0, "tunables.k0") && c.finite(t.k1, "tunables.k1") &&
+           c.require(t.k0 > 0, DecodeError::OutOfRange, "tunables.k0", "not > 0");
+}
+
+}  // namespace
+
 Validation validate(const SceneInfo& m) {
     Checker c("SceneInfo");
     if (!c.require(m.protocolVersion >= 1, DecodeError::MissingField, "protocol_version", "absent (0)") ||
@@ -100,6 +122,8 @@ Validation validate(const SceneInfo& m) {
         c.require(m.dt > 0, DecodeError::OutOfRange, "dt", "not > 0") && c.finite(m.publishRateHz, "publish_rate_hz") &&
         c.require(m.publishRateHz >= 0 && m.publishRateHz <= kMaxFrameRateHz, DecodeError::OutOfRange, "publish_rate_hz",
                   "outside 0.." + std::to_string(int(kMaxFrameRateHz)) + " Hz") &&
+        c.finite(m.probeReach, "probe_reach") && validTunables(c, m.tunables, m.species.size()) &&
+        c.require(m.probeReach >= 0, DecodeError::OutOfRange, "probe_reach", "negative") &&
         c.maxBytes(m.endpoints.frameEndpoint, kMaxEndpointBytes, "endpoints.frame_endpoint") &&
         c.maxBytes(m.units, kMaxTextBytes, "units");
     return c.result();

@@ -251,7 +251,9 @@ void ServerFront::Impl::publisherLoop() {
         {
             std::unique_lock lock(m);
             frameOffered.wait(lock, [&] { return stop || frame || encodedFrame; });
-            if (stop) return;
+            // A frame offered just before the stop is still sent (and recorded): a replay
+            // compares every frame, the last one too.
+            if (stop && !frame && !encodedFrame) return;
             f.swap(frame);
             encoded.swap(encodedFrame);
         }

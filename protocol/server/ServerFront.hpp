@@ -77,6 +77,12 @@ public:
     void offerFeedback(const Feedback& feedback);
     void reply(const PendingCommand& command, const CommandReply& reply);  // also recorded
     void probeApplied(const Probe& probe, std::uint64_t step);               // recorded when recording
+    // Recording on request (the Record command): starts recording into `path`, finishing one
+    // already running first (bop::Error naming the file if it cannot be created); stops and
+    // finishes it, returning its file (empty when none was recording; bop::Error if the file
+    // cannot be finished).
+    void startRecording(const std::string& path);
+    std::string stopRecording();
     // Stops the thread and finishes the recording (bop::Error if the file cannot be finished).
     void finish();
     void setParticleCount(std::uint64_t n);  // for SceneInfo of later handshakes

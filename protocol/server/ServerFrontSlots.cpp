@@ -69,6 +69,32 @@ void ServerFront::probeApplied(const Probe& probe, std::uint64_t step) {
     if (impl_->recorder) impl_->toRecord.emplace_back(encodeProbe(probe), encodeFeedback({probe.seq, step, {}, nowNs()}));
 }
 
+void ServerFront::startRecording(const std::string& path) {
+    stopRecording();
+    SceneInfo scene;
+    {
+        std::lock_guard lock(impl_->m);
+        scene = impl_->sceneNow();
+    }
+    auto r = std::make_unique<SessionRecorder>(path, scene, impl_->opt.recordMeta);
+    std::lock_guard recording(impl_->recordMutex);  // writers hold both locks, readers either
+    std::lock_guard lock(impl_->m);
+    impl_->recorder = std::move(r);
+}
+
+std::string ServerFront::stopRecording() {
+    std::unique_ptr<SessionRecorder> r;
+    {
+        std::lock_guard recording(impl_->recordMutex);
+        std::lock_guard lock(impl_->m);
+        r = std::move(impl_->recorder);
+    }
+    if (!r) return {};
+    const std::string path = r->path();
+    r->close();
+    return path;
+}
+
 void ServerFront::setParticleCount(std::uint64_t n) {
     std::lock_guard lock(impl_->m);
     impl_->particleCount = n;

@@ -200,13 +200,18 @@ TEST_CASE("a recorded session replayed at the same rank count reproduces every f
     CHECK(std::stoi(m[2]) >= 10);  // frames after the drag command too: the replay applied it at its step
 }
 
-TEST_CASE("commands are acknowledged with their step, pause and resume are idempotent, read-only viewers are refused", "[net]") {
+TEST_CASE("commands are acknowledged with their step, pause and resume are idempotent, recording starts and stops, read-only viewers are refused", "[net]") {
     test::TempDir dir("served-commands");
     ServerProcess srv(server(2, "bulk-box", {"--read-only-viewers", "--publish-hz", "50", "-o", dir.file("out")}));
     ClientOptions control;
     control.role = Role::Control;
     ClientSession c(control);
-    c.connect(srv.endpoint(), 20s);
+    const SceneInfo scene = c.connect(srv.endpoint(), 20s);
+    // The sliders' starting values and the probe's reach come with the scene.
+    const std::size_t n = scene.species.size();
+    CHECK(scene.tunables.lj.size() == n * n);
+    CHECK(scene.tunables.dragV.size() == n);
+    CHECK(scene.probeReach > scene.r0);
     const auto send = [&](CommandBody body) {
         static std::uint64_t id = 0;
         Command cmd;
@@ -238,6 +243,19 @@ TEST_CASE("commands are acknowledged with their step, pause and resume are idemp
     CHECK(stepOf() > a + 5);
     CHECK(send(SetParameter{"no_such_thing", 0, 0, 1}).status == ReplyStatus::Unsupported);
     CHECK(send(SetParameter{"lj", 1, 5, 1}).status == ReplyStatus::Rejected);  // species 5 does not exist
+    // Recording on request, into the server's output folder and nowhere else.
+    const CommandReply rec = send(Record{true, "take.mcap"});
+    INFO(rec.message);
+    CHECK(rec.status == ReplyStatus::Ok);
+    std::this_thread::sleep_for(500ms);
+    const CommandReply done = send(Record{false, ""});
+    CHECK(done.message == "recorded " + dir.file("out") + "/take.mcap");
+    const RecordedSession taken = readSession(dir.file("out") + "/take.mcap");
+    CHECK(taken.chunks.size() >= 5);  // 50 frames a second for half a second
+    CHECK(taken.scene.species.size() == n);
+    CHECK(send(Record{false, ""}).message == "not recording");
+    CHECK(send(Record{true, "../elsewhere.mcap"}).status == ReplyStatus::Rejected);
+    CHECK(send(Record{true, "/tmp/elsewhere.mcap"}).status == ReplyStatus::Rejected);
     // A viewer of a server with read-only viewers may watch, not command.
     ClientSession viewer;
     viewer.connect(srv.endpoint(), 20s);

@@ -72,6 +72,15 @@ SceneInfo sampleScene(int speciesCount) {
     s.endpoints = {"tcp://127.0.0.1:7701", 7702, 7703};
     s.particleCount = 123456;
     s.publishRateHz = 60;
+    s.probeReach = 2.77;
+    if (std::size_t(speciesCount) <= kMaxTunedSpecies) {
+        const std::size_t n = std::size_t(speciesCount);
+        for (std::size_t k = 0; k < n * n; ++k)
+            s.tunables.lj.push_back(1 + 0.1 * double(k)), s.tunables.coNormal.push_back(0.3), s.tunables.coPlanar.push_back(0.2 * double(k));
+        for (std::size_t k = 0; k < n; ++k) s.tunables.dragV.push_back(1.5), s.tunables.dragW.push_back(0.25 * double(k));
+        s.tunables.k0 = 1.25;
+        s.tunables.k1 = 3;
+    }
     s.units = "length: r0 = sqrt(3); time: simulation units; force: simulation units";
     return s;
 }
@@ -138,7 +147,10 @@ bool same(const SceneInfo& a, const SceneInfo& b) {
            a.endpoints.frameEndpoint == b.endpoints.frameEndpoint &&
            a.endpoints.udpFramePort == b.endpoints.udpFramePort &&
            a.endpoints.udpProbePort == b.endpoints.udpProbePort && a.particleCount == b.particleCount &&
-           a.units == b.units && a.publishRateHz == b.publishRateHz;
+           a.units == b.units && a.publishRateHz == b.publishRateHz && a.probeReach == b.probeReach &&
+           a.tunables.lj == b.tunables.lj && a.tunables.coNormal == b.tunables.coNormal &&
+           a.tunables.coPlanar == b.tunables.coPlanar && a.tunables.dragV == b.tunables.dragV &&
+           a.tunables.dragW == b.tunables.dragW && a.tunables.k0 == b.tunables.k0 && a.tunables.k1 == b.tunables.k1;
 }
 
 bool same(const Probe& a, const Probe& b) {

@@ -1,6 +1,7 @@
 // Buffers that pass the FlatBuffers verifier but break a rule of the protocol (built here with
 // the generated code, since the encoders refuse such values), and encoders refusing bad values.
 #include "ProtocolSamples.hpp"
+#include "codec/Validate.hpp"
 
 #include "command_generated.h"
 #include "frame_generated.h"
@@ -10,6 +11,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -212,6 +214,38 @@ TEST_CASE("scene info beyond its limits is refused", "[protocol]") {
     bop::protocol::SceneInfo s = sampleScene();
     s.boxHi.y() = s.boxLo.y();
     CHECK_THROWS_AS(encodeSceneInfo(s), EncodeError);
+}
+
+TEST_CASE("scene tunables of the wrong size, negative damping or k0 <= 0 are refused, naming the field", "[protocol]") {
+    const bop::protocol::SceneInfo good = sampleScene(3);
+    REQUIRE(validate(good).ok());
+    const auto refused = [](bop::protocol::SceneInfo s, DecodeError e, const std::string& field) {
+        const Validation v = validate(s);
+        INFO(v.message);
+        CHECK(v.error == e);
+        CHECK(v.message.find(field) != std::string::npos);
+    };
+    bop::protocol::SceneInfo s = good;
+    s.tunables.coPlanar.pop_back();  // 8 values for 3 species
+    refused(s, DecodeError::BadLength, "tunables.co_planar");
+    s = good;
+    s.tunables.dragW.push_back(1);
+    refused(s, DecodeError::BadLength, "tunables.drag_w");
+    s = good;
+    s.tunables.dragV[1] = -0.5;
+    refused(s, DecodeError::OutOfRange, "tunables.drag_v");
+    s = good;
+    s.tunables.k0 = 0;
+    refused(s, DecodeError::OutOfRange, "tunables.k0");
+    s = good;
+    s.tunables.lj[4] = std::nan("");
+    refused(s, DecodeError::NotFinite, "tunables.lj");
+    s = good;
+    s.probeReach = -1;
+    refused(s, DecodeError::OutOfRange, "probe_reach");
+    s = sampleScene(17);  // matrices only up to 16 species, so that SceneInfo stays under its cap
+    s.tunables.dragV.assign(17, 1.0);
+    refused(s, DecodeError::BadLength, "tunables.drag_v");
 }
 
 TEST_CASE("encoders refuse values a decoder would refuse", "[protocol]") {

@@ -66,8 +66,8 @@ TEST_CASE("instances: surface particles become discs facing their normals, volum
         CHECK(b.radius == Approx(kSphereRadiusR0 * s.r0));
     }
     // Discs of this radius leave no hole between neighbours of a triangulated sheet stretched to
-    // 1.3 r0: the circumradius of such a triangle is 1.3 r0 / sqrt 3.
-    CHECK(kSurfelRadiusR0 >= 1.3 / std::sqrt(3.0));
+    // 1.5 r0: the circumradius of such a triangle is 1.5 r0 / sqrt 3.
+    CHECK(kSurfelRadiusR0 >= 1.5 / std::sqrt(3.0));
 }
 
 TEST_CASE("instances: kinds and species can be hidden, and unknown species are drawn grey", "[viz]") {

@@ -4,6 +4,8 @@
 // bag, that each species' colour shows, and that the surface has no holes (while discs too
 // small for the spacing leave many, so the check can fail).
 #include "app/EglHeadless.hpp"
+#include "client/FrameAssembler.hpp"
+#include "recording/SessionReader.hpp"
 #include "render/InstanceRenderer.hpp"
 #include "render/Offscreen.hpp"
 #include "scene/Instances.hpp"
@@ -87,6 +89,36 @@ std::size_t holesInside(const Picture& p, const Picture& reference, int erode) {
     return holes;
 }
 
+// The picture against a committed reference in tests/viz/reference/ (BOP_UPDATE_REFERENCE=1
+// writes it first, unless `expect` says this picture is one that must differ): (pixels
+// differing by more than 24 levels in a channel, mean difference in levels).
+enum class Expect { Match, Differ };
+std::pair<std::size_t, double> compareWithReference(const Picture& q, const std::string& name, Expect expect = Expect::Match) {
+    const std::string reference = std::string(BOP_SOURCE_DIR) + "/tests/viz/reference/" + name;
+    if (const char* update = std::getenv("BOP_UPDATE_REFERENCE");
+        expect == Expect::Match && update && std::string(update) == "1")
+        Canvas::fromRgb(kWidth, kHeight, q.rgb).writePng(reference);
+    int w = 0, h = 0, channels = 0;
+    unsigned char* loaded = stbi_load(reference.c_str(), &w, &h, &channels, 3);
+    REQUIRE(loaded != nullptr);
+    const std::vector<std::uint8_t> ref(loaded, loaded + std::size_t(3) * std::size_t(w) * std::size_t(h));
+    stbi_image_free(loaded);
+    REQUIRE(w == kWidth);
+    REQUIRE(h == kHeight);
+    std::size_t differing = 0;
+    double total = 0;
+    for (std::size_t i = 0; i < q.rgb.size(); i += 3) {
+        int worst = 0;
+        for (std::size_t c = 0; c < 3; ++c) {
+            const int d = std::abs(int(q.rgb[i + c]) - int(ref[i + c]));
+            worst = std::max(worst, d);
+            total += d;
+        }
+        differing += worst > 24;
+    }
+    return {differing, total / double(q.rgb.size())};
+}
+
 std::size_t bagPixels(const Picture& p) {
     std::size_t n = 0;
     for (std::size_t i = 0; i < p.size(); ++i) n += !p.background(i);
@@ -115,7 +147,7 @@ TEST_CASE("headless: a torus bag fills the picture, shows its surface colour, an
     CHECK(shadesOf(whole, kRed) > object * 9 / 10);  // the closed surface hides the fill
     CHECK(shadesOf(whole, kBlue) < object / 100);
 
-    // The surface alone: discs of 0.76 r0 close it; discs of 0.3 r0 leave it full of holes.
+    // The surface alone: discs of 0.9 r0 close it; discs of 0.3 r0 leave it full of holes.
     // The silhouette comes from discs of 1.2 r0, about 5 pixels wider here, eroded by 6.
     ViewFilter surfaceOnly;
     surfaceOnly.showVolume = false;
@@ -147,38 +179,12 @@ TEST_CASE("headless: the torus bag matches its reference picture", "[gui]") {
     Instances in;
     buildInstances(t.frame, t.scene, {}, in);
     const Picture p = render(in, cam, "torus-reference-check.png");
-    const std::string reference = std::string(BOP_SOURCE_DIR) + "/tests/viz/reference/torus.png";
-    if (const char* update = std::getenv("BOP_UPDATE_REFERENCE"); update && std::string(update) == "1")
-        std::filesystem::copy_file(std::filesystem::path(BOP_BINARY_DIR) / "test-output/viz/torus-reference-check.png",
-                                   reference, std::filesystem::copy_options::overwrite_existing);
-    int w = 0, h = 0, channels = 0;
-    unsigned char* loaded = stbi_load(reference.c_str(), &w, &h, &channels, 3);
-    REQUIRE(loaded != nullptr);
-    const std::vector<std::uint8_t> ref(loaded, loaded + std::size_t(3) * std::size_t(w) * std::size_t(h));
-    stbi_image_free(loaded);
-    REQUIRE(w == kWidth);
-    REQUIRE(h == kHeight);
-    // Pixels differing by more than 24 levels in a channel, and the mean difference in levels.
-    const auto compare = [&ref](const Picture& q) {
-        std::size_t differing = 0;
-        double total = 0;
-        for (std::size_t i = 0; i < q.rgb.size(); i += 3) {
-            int worst = 0;
-            for (std::size_t c = 0; c < 3; ++c) {
-                const int d = std::abs(int(q.rgb[i + c]) - int(ref[i + c]));
-                worst = std::max(worst, d);
-                total += d;
-            }
-            differing += worst > 24;
-        }
-        return std::pair{differing, total / double(q.rgb.size())};
-    };
-    const auto [differing, mean] = compare(p);
+    const auto [differing, mean] = compareWithReference(p, "torus.png");
     INFO(differing << " pixels differ by more than 24 levels; mean difference " << mean);
     CHECK(differing <= p.size() / 100);
     CHECK(mean < 2.0);
     cam.orbit(0.0, 0.1);  // the same bag tilted by 6 degrees is not the reference
-    const auto [tilted, tiltedMean] = compare(render(in, cam, "torus-tilted.png"));
+    const auto [tilted, tiltedMean] = compareWithReference(render(in, cam, "torus-tilted.png"), "torus.png", Expect::Differ);
     INFO(tilted << " pixels differ when tilted; mean " << tiltedMean);
     CHECK(tilted > p.size() / 100);
 }
@@ -199,4 +205,71 @@ TEST_CASE("headless: a cut plane through the bag shows the volume particles insi
     INFO(object << " bag pixels");
     CHECK(shadesOf(p, kBlue) > object / 10);  // the fill shows in the cut
     CHECK(shadesOf(p, kRed) > object / 10);   // and the far half of the surface around it
+}
+
+// The torus scene as bop-server built it (its construction timeline, 4,000 steps) and served it:
+// the last frame of tests/viz/data/torus-served.mcap, recorded with 16-bit quantised frames
+// (docs/viewer.md has the commands that record it again). The camera frames its particles.
+struct RecordedTorus {
+    protocol::SceneInfo scene;
+    protocol::StateFrame frame;
+    OrbitCamera cam;
+    RecordedTorus() {
+        protocol::RecordedSession s = protocol::readSession(std::string(BOP_SOURCE_DIR) + "/tests/viz/data/torus-served.mcap");
+        scene = s.scene;
+        protocol::FrameAssembler assembler;
+        for (protocol::RecordedChunk& c : s.chunks)
+            if (auto f = assembler.add(std::move(c.frame))) frame = std::move(*f);
+        Eigen::AlignedBox3d box;
+        for (std::size_t i = 0; i < frame.count(); ++i)
+            box.extend(Eigen::Vector3d(frame.positions[3 * i], frame.positions[3 * i + 1], frame.positions[3 * i + 2]));
+        cam.fit(box, double(kWidth) / kHeight);
+    }
+};
+
+TEST_CASE("headless: a recorded frame of the served torus bag shows both species, no holes, and matches its reference", "[gui]") {
+    EglHeadless gl;
+    RecordedTorus t;
+    REQUIRE(t.scene.species.size() == 2);
+    const auto surface = t.scene.species[0].rgba, volume = t.scene.species[1].rgba;
+    Instances in;
+    buildInstances(t.frame, t.scene, {}, in);
+    INFO(in.surfels.size() << " surfels, " << in.spheres.size() << " spheres");
+    REQUIRE(in.surfels.size() > 500);
+    REQUIRE(in.spheres.size() > 500);
+    const Picture whole = render(in, t.cam, "torus-served.png");
+    const std::size_t object = bagPixels(whole);
+    const double coverage = double(object) / double(whole.size());
+    const std::size_t fillSeen = shadesOf(whole, volume);
+    INFO("coverage " << coverage << ", fill seen through the surface in " << fillSeen << " of " << object << " pixels");
+    CHECK(coverage > 0.1);
+    CHECK(coverage < 0.8);
+    CHECK(shadesOf(whole, surface) > object * 9 / 10);
+    CHECK(fillSeen < object / 100);  // 1.6% with discs of 0.76 r0, 0.1% with 0.9 r0
+
+    // Every species colour: the fill shows in a cut through the centre.
+    ViewFilter cut;
+    cut.cut = CutPlane{t.cam.target(), -t.cam.forward()};
+    buildInstances(t.frame, t.scene, cut, in);
+    const Picture halved = render(in, t.cam, "torus-served-cut.png");
+    INFO(shadesOf(halved, volume) << " fill pixels of " << bagPixels(halved) << " in the cut");
+    CHECK(shadesOf(halved, volume) > bagPixels(halved) / 10);
+
+    // No holes in the surface as built: background inside the silhouette under 1% of it.
+    ViewFilter surfaceOnly;
+    surfaceOnly.showVolume = false;
+    surfaceOnly.surfelRadiusR0 = 1.2;
+    buildInstances(t.frame, t.scene, surfaceOnly, in);
+    const Picture silhouette = render(in, t.cam, "torus-served-silhouette.png");
+    surfaceOnly.surfelRadiusR0 = kSurfelRadiusR0;
+    buildInstances(t.frame, t.scene, surfaceOnly, in);
+    const Picture closed = render(in, t.cam, "torus-served-surface.png");
+    const std::size_t bag = bagPixels(closed), holes = holesInside(closed, silhouette, 6);
+    INFO("holes " << holes << " of " << bag << " bag pixels");
+    CHECK(double(holes) < 0.01 * double(bag));
+
+    const auto [differing, mean] = compareWithReference(whole, "torus-served.png");
+    INFO(differing << " pixels differ from the reference by more than 24 levels; mean difference " << mean);
+    CHECK(differing <= whole.size() / 100);
+    CHECK(mean < 2.0);
 }

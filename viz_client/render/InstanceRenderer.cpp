@@ -84,14 +84,29 @@ void InstanceRenderer::draw(const Instances& in, const OrbitCamera& camera, int 
         glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(in.surfels.size() * sizeof(Surfel)), in.surfels.data(), GL_STREAM_DRAW);
         glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(in.surfels.size()));
     }
-    if (!in.spheres.empty()) {
-        setCamera(sphereProgram_, camera, aspect);
-        glBindVertexArray(sphereVao_);
-        glBindBuffer(GL_ARRAY_BUFFER, sphereBuffer_);
-        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(in.spheres.size() * sizeof(Sphere)), in.spheres.data(), GL_STREAM_DRAW);
-        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(in.spheres.size()));
-    }
+    drawSpheres(in.spheres, camera, aspect);
+}
+
+void InstanceRenderer::drawSpheres(const std::vector<Sphere>& spheres, const OrbitCamera& camera, double aspect) {
+    if (spheres.empty()) return;
+    setCamera(sphereProgram_, camera, aspect);
+    glBindVertexArray(sphereVao_);
+    glBindBuffer(GL_ARRAY_BUFFER, sphereBuffer_);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(spheres.size() * sizeof(Sphere)), spheres.data(), GL_STREAM_DRAW);
+    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(spheres.size()));
     glBindVertexArray(0);
+}
+
+void InstanceRenderer::drawTranslucent(const std::vector<Sphere>& spheres, const OrbitCamera& camera, int width,
+                                       int height) {
+    glViewport(0, 0, width, height);
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);  // what lies behind still shows through
+    drawSpheres(spheres, camera, double(width) / double(height));
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
 }
 
 }  // namespace bop::viz

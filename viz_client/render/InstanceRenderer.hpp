@@ -23,8 +23,12 @@ public:
     // by the camera in a viewport of width x height pixels.
     void draw(const Instances& instances, const OrbitCamera& camera, int width, int height,
               const std::array<float, 3>& background);
+    // Draws translucent spheres (their colours' alpha) over what is drawn, blended, without
+    // hiding what lies behind them: the probe's reach.
+    void drawTranslucent(const std::vector<Sphere>& spheres, const OrbitCamera& camera, int width, int height);
 
 private:
+    void drawSpheres(const std::vector<Sphere>& spheres, const OrbitCamera& camera, double aspect);
     unsigned surfelProgram_ = 0, sphereProgram_ = 0;
     unsigned quad_ = 0;                     // the four corners, shared
     unsigned surfelVao_ = 0, surfelBuffer_ = 0;

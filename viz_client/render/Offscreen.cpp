@@ -38,14 +38,18 @@ void Offscreen::bind() const {
 
 std::vector<std::uint8_t> Offscreen::readRgb() const {
     bind();
-    std::vector<std::uint8_t> rgb(std::size_t(3) * width_ * height_);
+    return readBoundRgb(width_, height_);
+}
+
+std::vector<std::uint8_t> readBoundRgb(int width, int height) {
+    std::vector<std::uint8_t> rgb(std::size_t(3) * width * height);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+    glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
     // OpenGL's first row is the bottom one.
-    const std::size_t row = std::size_t(3) * width_;
+    const std::size_t row = std::size_t(3) * width;
     std::vector<std::uint8_t> flipped(rgb.size());
-    for (int y = 0; y < height_; ++y)
-        std::memcpy(&flipped[std::size_t(y) * row], &rgb[std::size_t(height_ - 1 - y) * row], row);
+    for (int y = 0; y < height; ++y)
+        std::memcpy(&flipped[std::size_t(y) * row], &rgb[std::size_t(height - 1 - y) * row], row);
     return flipped;
 }
 

@@ -24,4 +24,7 @@ private:
     unsigned framebuffer_ = 0, colour_ = 0, depth_ = 0;
 };
 
+// RGB bytes of the bound read framebuffer (a window's back buffer, say), top row first.
+std::vector<std::uint8_t> readBoundRgb(int width, int height);
+
 }  // namespace bop::viz

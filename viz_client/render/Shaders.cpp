@@ -85,7 +85,7 @@ void main() {
     vec4 clip = projection * vec4(hit, 1.0);
     gl_FragDepth = 0.5 * clip.z / clip.w + 0.5;
     float light = max(dot(n, -d), 0.0);
-    fragColour = vec4(vColour.rgb * (0.35 + 0.65 * light), 1.0);
+    fragColour = vec4(vColour.rgb * (0.35 + 0.65 * light), vColour.a);
 }
 )";
 

@@ -54,3 +54,17 @@ void buildInstances(const protocol::StateFrame& f, const protocol::SceneInfo& s,
 }
 
 }  // namespace bop::viz
+
+namespace bop::viz {
+
+ProbeMarker probeMarker(const Eigen::Vector3d& p, double reach, double r0, bool active) {
+    // Active: warm yellow; off: grey, so that the user sees the probe is not acting.
+    const std::uint32_t core = packRgba(active ? std::array<std::uint8_t, 4>{255, 210, 60, 255}
+                                               : std::array<std::uint8_t, 4>{150, 150, 150, 255});
+    const std::uint32_t halo = packRgba(active ? std::array<std::uint8_t, 4>{255, 210, 60, 64}
+                                               : std::array<std::uint8_t, 4>{150, 150, 150, 40});
+    const float x = float(p.x()), y = float(p.y()), z = float(p.z());
+    return {{{x, y, z}, float(0.3 * r0), core}, {{x, y, z}, float(reach), halo}};
+}
+
+}  // namespace bop::viz

@@ -1,0 +1,34 @@
+#pragma once
+// Rank 0 of a served run turns clients' commands into run commands (parallel/Commands.hpp) or
+// changes of its desk (pause, single steps, the probe, damping), and starts or stops recording.
+// Each answer names the step at which the command takes effect, or why it was refused.
+#include "codec/DecodeResult.hpp"
+#include "codec/Messages.hpp"
+#include "core/ForceField.hpp"
+#include "parallel/DecomposedRun.hpp"
+#include "server/ServerFront.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bop::app {
+
+// Rank 0's state between passes: what clients asked for and what the run is doing.
+struct Desk {
+    bool paused = false;
+    long long singleSteps = 0;  // steps still to do while paused
+    core::ProbeState probe;
+    std::uint64_t probeSeq = 0;
+    std::vector<std::pair<double, double>> drags;  // per species: beta_v, beta_tau
+};
+
+// One client command (not Record): run commands submitted, or the desk changed.
+protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::DecomposedRun& run, int speciesCount);
+
+// Record start/stop. A client names at most a plain file name: the recording goes into the
+// server's output folder `outDir`, never elsewhere on the server's disk.
+protocol::CommandReply record(const protocol::Command& c, const protocol::Record& r, protocol::ServerFront& front,
+                              const std::string& outDir, long long step);
+
+}  // namespace bop::app

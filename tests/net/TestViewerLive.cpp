@@ -1,0 +1,211 @@
+// bop-viewer against served runs (2 ranks): headless pictures of a running server, a scripted
+// probe pressed into the torus bag (the frames show it; the server's state and the reaction
+// force say it indented the surface), and the window under Xvfb with its panel. Pictures stay
+// in build/test-output/viewer/ to look at.
+#include "ServerProcess.hpp"
+#include "TestUtil.hpp"
+
+#include <catch2/catch.hpp>
+#include <stb/stb_image.h>
+
+#include <Eigen/Core>
+
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+using namespace bop;
+using namespace std::chrono_literals;
+
+namespace {
+
+std::string outputDir(const std::string& name) {
+    const std::filesystem::path d = std::filesystem::path(test::buildDir()) / "test-output" / "viewer" / name;
+    std::filesystem::remove_all(d);
+    std::filesystem::create_directories(d);
+    return d.string();
+}
+
+std::vector<std::string> server(const std::string& scene, std::vector<std::string> extra) {
+    std::vector<std::string> a{test::mpiexec(), "-np", "2", "--oversubscribe", test::buildDir() + "/dynamics_server/bop-server",
+                               test::sourceDir() + "/config/scenes/" + scene + ".toml", "--port", "0"};
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+}
+
+struct Rgb {
+    std::vector<unsigned char> px;
+    int w = 0, h = 0;
+    explicit Rgb(const std::string& png) {
+        int channels = 0;
+        unsigned char* data = stbi_load(png.c_str(), &w, &h, &channels, 3);
+        REQUIRE(data != nullptr);
+        px.assign(data, data + std::size_t(3) * std::size_t(w) * std::size_t(h));
+        stbi_image_free(data);
+    }
+    // Pixels within `tol` levels of a colour, in columns [x0, x1).
+    std::size_t near(int r, int g, int b, int tol, int x0 = 0, int x1 = -1) const {
+        std::size_t n = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = x0; x < (x1 < 0 ? w : x1); ++x) {
+                const unsigned char* p = &px[3 * (std::size_t(y) * std::size_t(w) + std::size_t(x))];
+                n += std::abs(p[0] - r) <= tol && std::abs(p[1] - g) <= tol && std::abs(p[2] - b) <= tol;
+            }
+        return n;
+    }
+};
+
+// The background is (0.1, 0.1, 0.12) x 255.
+std::size_t particlePixels(const Rgb& p, int x0 = 0) {
+    const int cols = p.w - x0;
+    return std::size_t(cols) * std::size_t(p.h) - p.near(26, 26, 31, 2, x0);
+}
+
+// Positions of one species in the last frame of an extended XYZ file (name in the first column).
+std::vector<Eigen::Vector3d> positionsOf(const std::string& xyz, const std::string& species) {
+    std::ifstream in(xyz);
+    std::string line;
+    std::vector<Eigen::Vector3d> all, last;
+    while (std::getline(in, line)) {
+        const std::size_t n = std::stoul(line);
+        std::getline(in, line);  // the comment line
+        all.clear();
+        for (std::size_t i = 0; i < n && std::getline(in, line); ++i) {
+            std::istringstream row(line);
+            std::string name;
+            Eigen::Vector3d p;
+            row >> name >> p.x() >> p.y() >> p.z();
+            if (name == species) all.push_back(p);
+        }
+        last = all;
+    }
+    return last;
+}
+
+double nearest(const std::vector<Eigen::Vector3d>& ps, const Eigen::Vector3d& x) {
+    double best = 1e300;
+    for (const auto& p : ps) best = std::min(best, (p - x).norm());
+    return best;
+}
+
+}  // namespace
+
+TEST_CASE("bop-viewer --headless writes the frames of a 2-rank server as pictures of its particles", "[net][gui]") {
+    test::TempDir dir("viewer-headless");
+    test::ServerProcess srv(server("bulk-box", {"--publish-hz", "20", "-o", dir.file("run")}));
+    const std::string out = outputDir("headless");
+    const auto [code, printed] = test::runCommand(test::buildDir() + "/viz_client/bop-viewer " + srv.endpoint() +
+                                                  " --headless --no-panel --frames 4 --width 320 --height 240 --out " +
+                                                  out + " 2>&1");
+    INFO(printed);
+    REQUIRE(code == 0);
+    // Steps advance from frame to frame: the pictures are of a running server.
+    std::vector<long long> steps;
+    const std::regex line("frame [0-9]+: step ([0-9]+), 2048 particles");
+    for (auto it = std::sregex_iterator(printed.begin(), printed.end(), line); it != std::sregex_iterator(); ++it)
+        steps.push_back(std::stoll((*it)[1]));
+    REQUIRE(steps.size() == 4);
+    for (std::size_t k = 1; k < steps.size(); ++k) CHECK(steps[k] > steps[k - 1]);
+    for (int k = 1; k <= 4; ++k) {
+        const Rgb p(out + "/frame-00000" + std::to_string(k) + ".png");
+        CHECK(p.w == 320);
+        CHECK(p.h == 240);
+        INFO("frame " << k << ": " << particlePixels(p) << " particle pixels");
+        CHECK(particlePixels(p) > std::size_t(p.w * p.h) / 10);
+    }
+    srv.stop(SIGINT);
+}
+
+TEST_CASE("a probe scripted in bop-viewer --headless indents the served torus bag and feels it push back", "[net][gui]") {
+    test::TempDir dir("viewer-probe");
+    // The torus as its construction timeline builds it (4,000 steps, one rank), then served.
+    const auto [built, buildOut] = test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + test::sourceDir() +
+                                                    "/config/scenes/torus.toml --no-listen -o " + dir.file("build") + " 2>&1");
+    INFO(buildOut);
+    REQUIRE(built == 0);
+    const std::string start = dir.file("build") + "/final.xyz";
+    const std::vector<Eigen::Vector3d> before = positionsOf(start, "torus-surface");
+    REQUIRE(before.size() > 500);
+    Eigen::Vector3d top = before.front();
+    for (const auto& p : before)
+        if (p.z() > top.z()) top = p;
+    // k0 = 2.5: the probe's own r0 is 2.5 r0 = 4.3 and its reach 1.6 times that, 6.9 (length).
+    // From beyond its reach above the top of the tube down to 1.2 above the surface, in 2 s.
+    const Eigen::Vector3d from = top + Eigen::Vector3d(0, 0, 8.5), to = top + Eigen::Vector3d(0, 0, 1.2);
+    test::ServerProcess srv(server("torus", {"--restart", start, "--publish-hz", "10", "-o", dir.file("run")}));
+    const std::string out = outputDir("probe");
+    const auto point = [](const Eigen::Vector3d& p) {
+        std::ostringstream s;
+        s << p.x() << ',' << p.y() << ',' << p.z();
+        return s.str();
+    };
+    const auto [code, printed] = test::runCommand(
+        test::buildDir() + "/viz_client/bop-viewer " + srv.endpoint() + " --headless --frames 30 --out " + out +
+        " --probe-from " + point(from) + " --probe-to " + point(to) + " --probe-seconds 2 --probe-k0 2.5 2>&1");
+    INFO(printed);
+    REQUIRE(code == 0);
+    srv.stop(SIGINT);  // holds the probe where it ended until the state is written
+    INFO(srv.output());
+    REQUIRE(srv.output().find("final state:") != std::string::npos);
+
+    // The reaction force from frames.csv: nothing while out of reach, then the surface pushes
+    // the probe back up, against its motion, by more than a unit force.
+    std::ifstream csv(out + "/frames.csv");
+    std::string row;
+    std::getline(csv, row);
+    double firstForce = -1, peakUp = 0;
+    while (std::getline(csv, row)) {
+        std::vector<double> v;
+        std::istringstream s(row.substr(row.find(',') + 1));
+        for (std::string cell; std::getline(s, cell, ',');) v.push_back(std::stod(cell));
+        REQUIRE(v.size() == 14);  // step .. probe_fz after the picture's name
+        const bool active = v[7] != 0;
+        const Eigen::Vector3d force(v[11], v[12], v[13]);
+        if (active && firstForce < 0) firstForce = force.norm();
+        if (active) peakUp = std::max(peakUp, force.z());
+    }
+    INFO("first force " << firstForce << ", largest upward force " << peakUp);
+    CHECK(firstForce >= 0);
+    CHECK(firstForce < 0.05);
+    CHECK(peakUp > 1.0);
+
+    // The surface moved away from the probe: where it ended (1.2 above the old top) the nearest
+    // surface particle was 1.2 away or closer; after the press none is within 2.
+    const std::vector<Eigen::Vector3d> after = positionsOf(dir.file("run") + "/final.xyz", "torus-surface");
+    INFO("nearest surface particle to the probe: " << nearest(before, to) << " before, " << nearest(after, to) << " after");
+    CHECK(nearest(before, to) <= 1.25);
+    CHECK(nearest(after, to) > 2.0);
+    // The last picture shows the probe (its yellow core) and the bag.
+    const Rgb last(out + "/frame-000030.png");
+    CHECK(last.near(255, 210, 60, 60) > 10);
+    CHECK(particlePixels(last, int(0.4 * last.w)) > std::size_t(last.w * last.h) / 20);
+}
+
+TEST_CASE("the window viewer under Xvfb draws the served particles and its panel, and takes a screenshot", "[net][gui]") {
+    if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) {
+        WARN("xvfb-run is not installed (scripts/install-deps.sh installs it): the window is not tested here");
+        return;
+    }
+    test::TempDir dir("viewer-window");
+    test::ServerProcess srv(server("bulk-box", {"--publish-hz", "20", "-o", dir.file("run")}));
+    const std::string shot = outputDir("window") + "/window.png";
+    const auto [code, printed] = test::runCommand(
+        "xvfb-run -a -s '-screen 0 1280x800x24' " + test::buildDir() + "/viz_client/bop-viewer " + srv.endpoint() +
+        " --frames 5 --width 800 --height 500 --screenshot " + shot + " 2>&1");
+    INFO(printed);
+    REQUIRE(code == 0);
+    CHECK(printed.find("drew 5 new frames") != std::string::npos);
+    const Rgb p(shot);
+    CHECK(p.w == 800);
+    CHECK(p.h == 500);
+    // The panel's title bar (Dear ImGui's dark style, active title (41, 74, 122)) on the left,
+    // particles right of the panel.
+    const std::size_t title = p.near(41, 74, 122, 3, 0, 360);
+    INFO(title << " title-bar pixels, " << particlePixels(p, 360) << " particle pixels right of the panel");
+    CHECK(title > 2000);
+    CHECK(particlePixels(p, 360) > std::size_t((800 - 360) * 500) / 10);
+    srv.stop(SIGINT);
+}

@@ -1,0 +1,164 @@
+#include "app/ViewerPanel.hpp"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace bop::viz {
+namespace {
+
+bool sliderDouble(const char* label, double* v, double lo, double hi, const char* format = "%.3f") {
+    return ImGui::SliderScalar(label, ImGuiDataType_Double, v, &lo, &hi, format);
+}
+
+std::string speciesLabel(const protocol::SceneInfo& s, int k) {
+    const std::size_t i = std::size_t(k - 1);
+    return i < s.species.size() ? s.species[i].name : "species " + std::to_string(k);
+}
+
+void status(const PanelFigures& f) {
+    const LinkStatus& l = *f.link;
+    const ImVec4 colour = l.state == LinkState::Connected ? ImVec4(0.4f, 0.9f, 0.4f, 1) : ImVec4(1, 0.6f, 0.3f, 1);
+    ImGui::TextColored(colour, "%s", linkStateName(l.state));
+    ImGui::SameLine();
+    ImGui::TextWrapped("%s", l.message.c_str());
+    if (l.state != LinkState::Connected && l.attempt > 0) ImGui::Text("attempt %d", l.attempt + 1);
+    if (f.frame) {
+        ImGui::Text("step %llu, t = %.2f", (unsigned long long)f.frame->step, f.frame->simTime);
+        ImGui::Text("server %.1f steps/s", f.frame->stats.stepRateHz);
+    }
+    ImGui::Text("frames: %.1f/s received, %.1f/s drawn", f.receivedHz, f.drawnHz);
+    ImGui::Text("frame age %.0f ms; %llu lost", 1000 * f.frameAgeS,
+                (unsigned long long)(l.client.framesLost + l.client.udpFramesLost));
+    if (l.rttCount > 0)
+        ImGui::Text("probe round trip %.1f ms (p50 %.1f, p99 %.1f)", l.rttLastMs, l.rttP50Ms, l.rttP99Ms);
+    else
+        ImGui::TextDisabled("probe round trip: no probe yet");
+    if (f.scene)
+        for (int k = 1; k < int(f.perSpecies.size()); ++k)
+            ImGui::Text("%-12s %zu particles", speciesLabel(*f.scene, k).c_str(), f.perSpecies[std::size_t(k)]);
+}
+
+void view(PanelState& s, const PanelFigures& f) {
+    ImGui::Checkbox("surface", &s.filter.showSurface);
+    ImGui::SameLine();
+    ImGui::Checkbox("volume", &s.filter.showVolume);
+    if (f.scene) {
+        s.filter.hiddenSpecies.resize(f.scene->species.size() + 1, false);
+        for (int k = 1; k <= int(f.scene->species.size()); ++k) {
+            bool shown = !s.filter.hiddenSpecies[std::size_t(k)];
+            ImGui::PushID(k);
+            if (ImGui::Checkbox(speciesLabel(*f.scene, k).c_str(), &shown)) s.filter.hiddenSpecies[std::size_t(k)] = !shown;
+            ImGui::PopID();
+            if (k < int(f.scene->species.size())) ImGui::SameLine();
+        }
+    }
+    ImGui::Checkbox("cut plane", &s.cutOn);
+    if (s.cutOn) ImGui::SliderFloat("cut offset, r0", &s.cutOffsetR0, -20, 20);
+    s.fitRequested = ImGui::Button("fit (F)") || s.fitRequested;
+    ImGui::SameLine();
+    s.resetRequested = ImGui::Button("reset (R)") || s.resetRequested;
+    ImGui::SameLine();
+    s.screenshotRequested = s.screenshotRequested || ImGui::Button("screenshot (S)");
+    int tool = int(s.tool);
+    ImGui::Text("mouse:");
+    ImGui::SameLine();
+    ImGui::RadioButton("view", &tool, int(MouseTool::View));
+    ImGui::SameLine();
+    ImGui::RadioButton("probe", &tool, int(MouseTool::Probe));
+    ImGui::SameLine();
+    ImGui::RadioButton("seed", &tool, int(MouseTool::Seed));
+    s.tool = MouseTool(tool);
+}
+
+void construction(PanelState& s, ViewerLink& link, const protocol::SceneInfo& scene) {
+    const int n = int(scene.species.size());
+    s.birthOn.resize(std::size_t(n) + 1, false);
+    s.seedSpecies = std::clamp(s.seedSpecies, 1, std::max(1, n));
+    if (ImGui::BeginCombo("seed species", speciesLabel(scene, s.seedSpecies).c_str())) {
+        for (int k = 1; k <= n; ++k)
+            if (ImGui::Selectable(speciesLabel(scene, k).c_str(), k == s.seedSpecies)) s.seedSpecies = k;
+        ImGui::EndCombo();
+    }
+    ImGui::TextDisabled("seed tool: click in the scene to seed at the 3D cursor");
+    for (int k = 1; k <= n; ++k) {
+        bool on = s.birthOn[std::size_t(k)];
+        if (ImGui::Checkbox(("births of " + speciesLabel(scene, k)).c_str(), &on)) {
+            s.birthOn[std::size_t(k)] = on;
+            link.submit(birthCommand(k, on));
+        }
+    }
+}
+
+void run(PanelState& s, ViewerLink& link) {
+    if (ImGui::Button(s.paused ? "resume (P)" : "pause (P)")) {
+        s.paused = !s.paused;
+        link.submit(runCommand(s.paused ? protocol::RunAction::Pause : protocol::RunAction::Resume));
+    }
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!s.paused);
+    if (ImGui::Button("step (N)")) link.submit(runCommand(protocol::RunAction::SingleStep, std::uint32_t(s.singleSteps)));
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(90);
+    ImGui::InputInt("steps", &s.singleSteps);
+    s.singleSteps = std::clamp(s.singleSteps, 1, 100000);
+    ImGui::EndDisabled();
+    char name[128];
+    std::snprintf(name, sizeof name, "%s", s.recordName.c_str());
+    ImGui::SetNextItemWidth(160);
+    if (ImGui::InputTextWithHint("##record", "file on the server", name, sizeof name)) s.recordName = name;
+    ImGui::SameLine();
+    if (ImGui::Button(s.recording ? "stop recording" : "record")) {
+        s.recording = !s.recording;
+        link.submit(recordCommand(s.recording, s.recordName));
+    }
+}
+
+void tune(Controls& c, const protocol::SceneInfo& scene) {
+    const int n = c.species();
+    static const char* const tables[] = {"LJ", "co-normal", "co-planar"};
+    std::vector<double>* const matrices[] = {&c.now.lj, &c.now.coNormal, &c.now.coPlanar};
+    for (int t = 0; t < 3; ++t)
+        for (int a = 1; a <= n; ++a)
+            for (int b = 1; b <= n; ++b) {
+                const std::string label = std::string(tables[t]) + " " + speciesLabel(scene, a) + " <- " + speciesLabel(scene, b);
+                sliderDouble(label.c_str(), &(*matrices[t])[std::size_t((a - 1) * n + (b - 1))], 0, 5);
+            }
+    for (int a = 1; a <= n; ++a) {
+        sliderDouble(("drag v " + speciesLabel(scene, a) + ", mass/time").c_str(), &c.now.dragV[std::size_t(a - 1)], 0, 10);
+        sliderDouble(("drag w " + speciesLabel(scene, a) + ", inertia/time").c_str(), &c.now.dragW[std::size_t(a - 1)], 0, 10);
+    }
+    sliderDouble("probe k0 (range)", &c.now.k0, 0.2, 5);
+    sliderDouble("probe k1 (strength)", &c.now.k1, 0, 20);
+}
+
+void plot(const PlotHistory& h, double PlotSample::*member, const char* label) {
+    const std::vector<float> v = h.series(member);
+    char overlay[64];
+    std::snprintf(overlay, sizeof overlay, "%.4g", v.empty() ? 0.0 : double(v.back()));
+    ImGui::PlotLines(label, v.data(), int(v.size()), 0, overlay, FLT_MAX, FLT_MAX, ImVec2(0, 60));
+}
+
+}  // namespace
+
+void drawPanel(PanelState& s, Controls& controls, ViewerLink& link, const PanelFigures& f) {
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(kPanelWidthPx, 0), ImGuiCond_FirstUseEver);
+    ImGui::Begin("BoP viewer");
+    status(f);
+    if (ImGui::CollapsingHeader("view", ImGuiTreeNodeFlags_DefaultOpen)) view(s, f);
+    if (f.scene && ImGui::CollapsingHeader("construction")) construction(s, link, *f.scene);
+    if (ImGui::CollapsingHeader("run", ImGuiTreeNodeFlags_DefaultOpen)) run(s, link);
+    if (f.scene && ImGui::CollapsingHeader("parameters")) tune(controls, *f.scene);
+    if (f.plots && ImGui::CollapsingHeader("plots", ImGuiTreeNodeFlags_DefaultOpen)) {
+        // Against simulation time, the newest on the right; simulation units.
+        plot(*f.plots, &PlotSample::energy, "energy");
+        plot(*f.plots, &PlotSample::pressure, "pressure");
+        plot(*f.plots, &PlotSample::probeForce, "probe force");
+    }
+    for (const std::string& r : f.link->replies) ImGui::TextDisabled("%s", r.c_str());
+    ImGui::End();
+}
+
+}  // namespace bop::viz

@@ -1,0 +1,69 @@
+#pragma once
+// What the viewer's panel shows over time, GL-free and clock-free (callers pass times in seconds
+// on one steady clock): event rates (frames received, frames drawn), the probe's round trip
+// (probe sent -> feedback naming it), and the histories behind the live plots (energy, pressure,
+// probe force against simulation time).
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <utility>
+#include <vector>
+
+namespace bop::viz {
+
+// Events per second over a sliding window: (n - 1) / (newest - oldest) of the events within the
+// window, so the first seconds read right too; 0 when fewer than two events are in the window.
+class RateMeter {
+public:
+    explicit RateMeter(double windowS = 2.0) : window_(windowS) {}
+    void tick(double tS);
+    double rateHz(double nowS);
+
+private:
+    void expire(double nowS);
+    double window_;  // s
+    std::deque<double> ticks_;
+};
+
+// Probe round trips: the time from sending probe `seq` to the first feedback that names it.
+// Feedback repeats a sequence number every step until a newer probe is applied; only the first
+// counts. Keeps the newest `capacity` round trips for percentiles.
+class RoundTrip {
+public:
+    explicit RoundTrip(std::size_t capacity = 512) : capacity_(capacity) {}
+    void sent(std::uint64_t seq, double tS);
+    void feedback(std::uint64_t seq, double tS);
+    std::size_t count() const { return samples_.size(); }
+    double percentileMs(double p) const;  // p in 0..100; 0 when there are none
+    double lastMs() const { return samples_.empty() ? 0 : samples_.back(); }
+
+private:
+    std::size_t capacity_;
+    std::deque<std::pair<std::uint64_t, double>> pending_;  // (seq, sent at), oldest first
+    std::deque<double> samples_;                             // ms
+};
+
+// Histories for the live plots, one sample per new frame. A simulation time below the newest
+// one means the server started again: the histories start again too.
+struct PlotSample {
+    double simTime = 0;     // time
+    double energy = 0;      // kinetic + potential, energy
+    double pressure = 0;    // energy / length^3
+    double probeForce = 0;  // magnitude of the reaction on the probe, force
+};
+
+class PlotHistory {
+public:
+    explicit PlotHistory(std::size_t capacity = 600) : capacity_(capacity) {}
+    void push(const PlotSample& s);
+    std::size_t size() const { return samples_.size(); }
+    const std::deque<PlotSample>& samples() const { return samples_; }
+    // One member as floats, oldest first (for a line plot), and its range.
+    std::vector<float> series(double PlotSample::*member) const;
+
+private:
+    std::size_t capacity_;
+    std::deque<PlotSample> samples_;
+};
+
+}  // namespace bop::viz
