@@ -10,12 +10,15 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <regex>
 #include <sstream>
+#include <thread>
 
 using namespace bop;
 using namespace std::chrono_literals;
@@ -182,6 +185,45 @@ TEST_CASE("a probe scripted in bop-viewer --headless indents the served torus ba
     const Rgb last(out + "/frame-000030.png");
     CHECK(last.near(255, 210, 60, 60) > 10);
     CHECK(particlePixels(last, int(0.4 * last.w)) > std::size_t(last.w * last.h) / 20);
+}
+
+TEST_CASE("bop-viewer reconnects on its own when the server is lost and another comes up on its port", "[net][gui]") {
+    test::TempDir dir("viewer-reconnect");
+    auto first = std::make_unique<test::ServerProcess>(server("bulk-box", {"--publish-hz", "2", "-o", dir.file("a")}));
+    const std::string endpoint = first->endpoint();
+    const std::string port = endpoint.substr(endpoint.rfind(':') + 1);
+    const std::string out = outputDir("reconnect");
+    std::pair<int, std::string> viewer;
+    std::thread run([&] {
+        viewer = test::runCommand(test::buildDir() + "/viz_client/bop-viewer " + endpoint + " --headless --no-panel --frames 6 " +
+                                  "--width 160 --height 120 --lost-after 2 --out " + out + " 2>&1");
+    });
+    // Frames from the first server, then it stops; a second one starts on the same port.
+    const auto lines = [&] {
+        std::ifstream csv(out + "/frames.csv");
+        std::size_t n = 0;
+        for (std::string l; std::getline(csv, l);) ++n;
+        return n == 0 ? 0 : n - 1;
+    };
+    for (int k = 0; k < 300 && lines() < 2; ++k) std::this_thread::sleep_for(50ms);
+    first->stop(SIGINT);
+    first.reset();
+    std::vector<std::string> again = server("bulk-box", {"--publish-hz", "2", "-o", dir.file("b")});
+    again[7] = port;  // "--port", "0" -> the first server's port
+    test::ServerProcess second(again);
+    run.join();
+    INFO(viewer.second);
+    REQUIRE(viewer.first == 0);
+    CHECK(viewer.second.find("reconnecting") != std::string::npos);
+    // The steps start again after the reconnection: the second server's pictures follow the first's.
+    std::vector<long long> steps;
+    const std::regex line("frame [0-9]+: step ([0-9]+)");
+    for (auto it = std::sregex_iterator(viewer.second.begin(), viewer.second.end(), line); it != std::sregex_iterator(); ++it)
+        steps.push_back(std::stoll((*it)[1]));
+    REQUIRE(steps.size() == 6);
+    CHECK(std::is_sorted(steps.begin(), steps.end()) == false);
+    CHECK(steps.back() > steps[steps.size() - 2]);  // and go on from there
+    second.stop(SIGINT);
 }
 
 TEST_CASE("the window viewer under Xvfb draws the served particles and its panel, and takes a screenshot", "[net][gui]") {

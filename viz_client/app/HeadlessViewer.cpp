@@ -44,9 +44,16 @@ int runHeadless(ViewerLink& link, const LoopOptions& o) {
         std::optional<double> firstFrameS;
         double lastS = 0;
         std::printf("bop-viewer: drawing headless with %s\n", gl.renderer().c_str());
+        LinkState shown = LinkState::Connecting;
         for (int written = 0; written < o.frames;) {
             const double now = secondsSince(t0);
-            if (link.status().state == LinkState::GaveUp) throw Error("bop-viewer", link.status().message);
+            const LinkStatus st = link.status();
+            if (st.state == LinkState::GaveUp) throw Error("bop-viewer", st.message);
+            if (st.state != shown) {  // what the window's panel shows, on the console
+                shown = st.state;
+                std::printf("bop-viewer: %s: %s\n", linkStateName(st.state), st.message.c_str());
+                std::fflush(stdout);
+            }
             if (!core.poll(now)) {
                 std::this_thread::sleep_for(std::chrono::milliseconds(5));
                 continue;
@@ -77,7 +84,7 @@ int runHeadless(ViewerLink& link, const LoopOptions& o) {
                 << f.stats.potential << ',' << f.stats.pressure << ',' << f.stats.stepRateHz << ',' << f.count()
                 << ',' << int(f.probeActive) << ',' << f.probePosition.x() << ',' << f.probePosition.y() << ','
                 << f.probePosition.z() << ',' << f.probeForce.x() << ',' << f.probeForce.y() << ','
-                << f.probeForce.z() << '\n';
+                << f.probeForce.z() << std::endl;  // whole lines for whoever follows the file
             std::printf("frame %d: step %llu, %zu particles, probe force %.4g, drawn and written in %.1f ms\n", written,
                         (unsigned long long)f.step, f.count(), f.probeForce.norm(),
                         1000 * std::chrono::duration<double>(Clock::now() - t1).count());

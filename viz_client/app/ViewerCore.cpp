@@ -36,8 +36,7 @@ bool ViewerCore::poll(double nowS) {
     if (st.sceneVersion != sceneVersion_) {
         sceneVersion_ = st.sceneVersion;
         scene_ = link_.scene();
-        if (scene_) newScene(*scene_);
-        seenFrames_ = 0;
+        if (scene_) newScene(*scene_);  // frame counts go on across connections: nothing to reset
     }
     if (nowS - lastCommandsS_ > 0.1) {
         lastCommandsS_ = nowS;

@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
             ->check(CLI::Range(0.0, 1000.0));
         app.add_option("--connect-timeout", connectS, "give up when not connected for this long, s (0 = never; "
                                                       "headless default 30)")->check(CLI::NonNegativeNumber);
+        double lostAfterS = 10;
+        app.add_option("--lost-after", lostAfterS, "no frame for this long: the server is taken as lost and connected "
+                                                   "to again, s")->check(CLI::Range(1.0, 3600.0));
         app.add_option("--probe-from", probeFrom, "headless: a scripted probe starts here, x,y,z (length)");
         app.add_option("--probe-to", probeTo, "headless: ... and moves here (length)");
         app.add_option("--probe-seconds", probeSeconds, "headless: ... over this long from the first frame, s")
@@ -72,6 +75,7 @@ int main(int argc, char** argv) {
         client.frameRateHz = float(wantedHz);
         viz::LinkOptions link;
         link.giveUpAfter = std::chrono::seconds(long(connectS + 0.5));
+        link.lostAfter = std::chrono::seconds(long(lostAfterS + 0.5));
         viz::ViewerLink session(endpoint, client, link);
         return headless ? viz::runHeadless(session, o) : viz::runWindow(session, o);
     });
