@@ -3,7 +3,7 @@
 # builds the unit tests with AddressSanitizer + UndefinedBehaviorSanitizer and runs them.
 #   scripts/test.sh                 everything (what CI runs)
 #   scripts/test.sh --no-sanitize   skip the sanitizer build and the fuzzing
-# Last, every decoder of untrusted input is fuzzed for BOP_FUZZ_SECONDS (default 10) each.
+# Last, every decoder of untrusted input is fuzzed for BOP_FUZZ_SECONDS (default 5) each.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=${BOP_JOBS:-2}
@@ -25,6 +25,6 @@ if [[ "${1:-}" != "--no-sanitize" ]]; then
   # Open MPI keeps its allocations until exit by design: leak checks off for the MPI tests only.
   ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan -R '^mpi[.]np' --output-on-failure
-  echo "== fuzzing the decoders (libFuzzer, ${BOP_FUZZ_SECONDS:-10} s each) =="
-  BOP_FUZZ_SECONDS=${BOP_FUZZ_SECONDS:-10} scripts/fuzz.sh
+  echo "== fuzzing the decoders (libFuzzer, ${BOP_FUZZ_SECONDS:-5} s each) =="
+  BOP_FUZZ_SECONDS=${BOP_FUZZ_SECONDS:-5} scripts/fuzz.sh
 fi

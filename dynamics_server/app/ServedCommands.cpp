@@ -1,5 +1,7 @@
 #include "ServedCommands.hpp"
 
+#include <filesystem>
+
 namespace bop::app {
 namespace {
 
@@ -72,23 +74,31 @@ protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::D
 }
 
 protocol::CommandReply record(const protocol::Command& c, const protocol::Record& r, protocol::ServerFront& front,
-                              const std::string& outDir, long long step) {
+                              const std::string& outDir, const std::string& operatorRecording, long long step) {
     using protocol::ReplyStatus;
+    if (!operatorRecording.empty())
+        return answer(c, ReplyStatus::Rejected, step, "the server records the whole session to " + operatorRecording +
+                                                          " (--record); clients cannot start or stop it");
     try {
         if (!r.start) {
             const std::string file = front.stopRecording();
             return answer(c, ReplyStatus::Ok, step, file.empty() ? "not recording" : "recorded " + file);
         }
         std::string name = r.path.empty() ? "session-step" + std::to_string(step) + ".mcap" : r.path;
-        if (name.find('/') != std::string::npos || name.front() == '.')
-            return answer(c, ReplyStatus::Rejected, step, "a plain file name is expected (it goes into " + outDir + ")");
+        const auto endsWith = [&](const std::string& tail) {
+            return name.size() > tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+        };
+        if (name.find('/') != std::string::npos || name.front() == '.' || !endsWith(".mcap"))
+            return answer(c, ReplyStatus::Rejected, step,
+                          "a plain file name ending in .mcap is expected (it goes into " + outDir + ")");
         const std::string path = outDir + "/" + name;
+        if (std::filesystem::exists(path) || std::filesystem::exists(path + ".partial"))
+            return answer(c, ReplyStatus::Rejected, step, path + " exists; recordings never replace a file");
         front.startRecording(path);
         return answer(c, ReplyStatus::Ok, step, "recording to " + path);
     } catch (const std::exception& e) {
         return answer(c, ReplyStatus::Failed, step, e.what());
     }
 }
-
 
 }  // namespace bop::app

@@ -26,9 +26,10 @@ struct Desk {
 // One client command (not Record): run commands submitted, or the desk changed.
 protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::DecomposedRun& run, int speciesCount);
 
-// Record start/stop. A client names at most a plain file name: the recording goes into the
-// server's output folder `outDir`, never elsewhere on the server's disk.
+// Record start/stop. A client names at most a plain file name ending in .mcap: the recording
+// goes into the server's output folder `outDir`, never elsewhere, and never replaces a file.
+// Refused while the operator records the whole session (`operatorRecording`, --record).
 protocol::CommandReply record(const protocol::Command& c, const protocol::Record& r, protocol::ServerFront& front,
-                              const std::string& outDir, long long step);
+                              const std::string& outDir, const std::string& operatorRecording, long long step);
 
 }  // namespace bop::app

@@ -153,7 +153,7 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
         } else if (root) {
             for (const auto& pc : front->takeCommands()) {
                 const auto* rec = std::get_if<protocol::Record>(&pc.command.body);
-                front->reply(pc, rec ? record(pc.command, *rec, *front, o.outDir, run.stepNumber())
+                front->reply(pc, rec ? record(pc.command, *rec, *front, o.outDir, o.front.recordPath, run.stepNumber())
                                      : apply(pc.command, desk, run, model.speciesCount()));
             }
             if (const auto p = front->takeProbe()) takeProbe(*p);

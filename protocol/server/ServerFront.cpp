@@ -166,9 +166,12 @@ void ServerFront::Impl::send(std::vector<Buffer> chunks) {
     const std::uint64_t n = ++frameNumber;
     const std::uint8_t tier = std::uint8_t(std::min(std::countr_zero(n), 7));
     std::size_t bytes = 0;
+    {
+        std::lock_guard recording(recordMutex);  // a recording starts and stops between whole frames
+        for (const Buffer& chunk : chunks) recordLocked([&] { recorder->frameChunk(chunk); });
+    }
     for (Buffer& chunk : chunks) {
         bytes += chunk.size();
-        record([&] { recorder->frameChunk(chunk); });
         auto held = std::make_unique<HeldChunk>(HeldChunk{std::move(chunk), chunkPool});
         zmq::message_t msg(held->bytes.data(), held->bytes.size(), releaseChunk, held.get());
         held.release();  // the message owns it now

@@ -87,6 +87,9 @@ struct ServerFront::Impl {
     // Runs a recorder call; a failure (disk full, ...) ends the recording, never the server.
     template <class F> void record(F f) {
         std::lock_guard recording(recordMutex);
+        recordLocked(f);
+    }
+    template <class F> void recordLocked(F f) {  // recordMutex held
         if (!recorder) return;
         try {
             f();

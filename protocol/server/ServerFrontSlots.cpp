@@ -1,6 +1,8 @@
 // The step loop's side of the front: slots guarded by the front's mutex, never a socket call.
 #include "server/ServerFrontImpl.hpp"
 
+#include "codec/MessageKind.hpp"
+
 #include <utility>
 
 namespace bop::protocol {
@@ -86,6 +88,16 @@ std::string ServerFront::stopRecording() {
     std::unique_ptr<SessionRecorder> r;
     {
         std::lock_guard recording(impl_->recordMutex);
+        std::vector<std::pair<Buffer, Buffer>> answered;  // inputs applied before the stop: this recording's
+        {
+            std::lock_guard lock(impl_->m);
+            answered.swap(impl_->toRecord);
+        }
+        for (const auto& [in, applied] : answered)
+            impl_->recordLocked([&] {
+                messageKind(in.data(), in.size()) == MessageKind::Command ? impl_->recorder->command(in, applied)
+                                                                          : impl_->recorder->probe(in, applied);
+            });
         std::lock_guard lock(impl_->m);
         r = std::move(impl_->recorder);
     }

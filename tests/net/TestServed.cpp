@@ -256,6 +256,8 @@ TEST_CASE("commands are acknowledged with their step, pause and resume are idemp
     CHECK(send(Record{false, ""}).message == "not recording");
     CHECK(send(Record{true, "../elsewhere.mcap"}).status == ReplyStatus::Rejected);
     CHECK(send(Record{true, "/tmp/elsewhere.mcap"}).status == ReplyStatus::Rejected);
+    CHECK(send(Record{true, "final.xyz"}).status == ReplyStatus::Rejected);  // recordings are .mcap
+    CHECK(send(Record{true, "take.mcap"}).status == ReplyStatus::Rejected);  // and never replace a file
     // A viewer of a server with read-only viewers may watch, not command.
     ClientSession viewer;
     viewer.connect(srv.endpoint(), 20s);

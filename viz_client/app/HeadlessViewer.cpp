@@ -33,7 +33,6 @@ int runHeadless(ViewerLink& link, const LoopOptions& o) {
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the pictures
     ImGui_ImplOpenGL3_Init("#version 330 core");
-    int code = 0;
     {
         ViewerCore core(link);
         std::filesystem::create_directories(o.outDir);
@@ -45,13 +44,16 @@ int runHeadless(ViewerLink& link, const LoopOptions& o) {
         double lastS = 0;
         std::printf("bop-viewer: drawing headless with %s\n", gl.renderer().c_str());
         LinkState shown = LinkState::Connecting;
+        std::uint64_t connections = 0;
         for (int written = 0; written < o.frames;) {
             const double now = secondsSince(t0);
             const LinkStatus st = link.status();
             if (st.state == LinkState::GaveUp) throw Error("bop-viewer", st.message);
-            if (st.state != shown) {  // what the window's panel shows, on the console
+            if (st.state != shown || st.sceneVersion != connections) {  // what the panel shows, on the console
                 shown = st.state;
-                std::printf("bop-viewer: %s: %s\n", linkStateName(st.state), st.message.c_str());
+                connections = st.sceneVersion;
+                std::printf("bop-viewer: %s (connection %llu): %s\n", linkStateName(st.state),
+                            (unsigned long long)connections, st.message.c_str());
                 std::fflush(stdout);
             }
             if (!core.poll(now)) {
@@ -94,7 +96,7 @@ int runHeadless(ViewerLink& link, const LoopOptions& o) {
     }
     ImGui_ImplOpenGL3_Shutdown();
     ImGui::DestroyContext();
-    return code;
+    return 0;
 }
 
 }  // namespace bop::viz

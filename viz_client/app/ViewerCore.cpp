@@ -77,7 +77,12 @@ void ViewerCore::draw(int width, int height, double nowS, bool showPanel, const 
     panel.filter.cut.reset();
     if (panel.cutOn && scene_)
         panel.filter.cut = CutPlane{camera.target() + panel.cutOffsetR0 * scene_->r0 * camera.forward(), -camera.forward()};
-    if (frame_ && scene_) buildInstances(*frame_, *scene_, panel.filter, instances_);
+    if (frame_ && scene_) {
+        buildInstances(*frame_, *scene_, panel.filter, instances_);
+    } else {
+        instances_.surfels.clear();
+        instances_.spheres.clear();
+    }
     std::optional<ProbeMarker> marker;
     if (scene_ && (probe.active() || (frame_ && frame_->probeActive))) {
         // The server's probe when it has one (a haptic client's, or ours as applied), else ours.

@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
         client.clientName = "bop-viewer";
         client.frameRateHz = float(wantedHz);
         viz::LinkOptions link;
-        link.giveUpAfter = std::chrono::seconds(long(connectS + 0.5));
+        link.giveUpAfter = std::chrono::milliseconds(long(1000 * connectS));
         link.lostAfter = std::chrono::seconds(long(lostAfterS + 0.5));
         viz::ViewerLink session(endpoint, client, link);
         return headless ? viz::runHeadless(session, o) : viz::runWindow(session, o);

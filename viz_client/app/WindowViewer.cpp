@@ -99,11 +99,15 @@ int runWindow(ViewerLink& link, const LoopOptions& o) {
             const bool fresh = core.poll(now);
             int width = 0, height = 0;
             glfwGetFramebufferSize(window, &width, &height);
-            if (width == 0 || height == 0) continue;  // minimised
+            if (width == 0 || height == 0) {  // minimised: wait for events instead of spinning
+                glfwWaitEventsTimeout(0.1);
+                continue;
+            }
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             core.draw(width, height, now, o.panel, [] { ImGui_ImplGlfw_NewFrame(); });
             drawnNew += fresh;
-            const bool last = o.frames > 0 && drawnNew >= o.frames;
+            // The picture drawn after a close request (or the --frames-th new frame) is the last.
+            const bool last = (o.frames > 0 && drawnNew >= o.frames) || glfwWindowShouldClose(window);
             if (core.takeScreenshotRequest() || (last && !o.screenshot.empty())) {
                 char name[40];
                 std::snprintf(name, sizeof name, "screenshot-%03d.png", ++shots);

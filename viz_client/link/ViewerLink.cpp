@@ -46,7 +46,10 @@ ViewerLink::ViewerLink(std::string endpoint, protocol::ClientOptions client, Lin
 }
 
 ViewerLink::~ViewerLink() {
-    stop_ = true;
+    {
+        std::lock_guard lock(m_);  // so that a waiting thread cannot miss it
+        stop_ = true;
+    }
     wake_.notify_all();
     if (thread_.joinable()) thread_.join();
 }
@@ -98,15 +101,31 @@ bool ViewerLink::connect() {
 }
 
 void ViewerLink::run() {
+    try {
+        loop();
+    } catch (const std::exception& e) {  // nothing leaves the thread: the drawing loop sees why it ended
+        std::lock_guard lock(m_);
+        status_.state = LinkState::GaveUp;
+        status_.message = e.what();
+    }
+}
+
+void ViewerLink::loop() {
     auto wait = 1s;
     auto since = Clock::now();
     while (!stop_) {
         if (connect()) {
-            serve();
+            std::string why = "no frame for " + std::to_string(options_.lostAfter.count()) + " s";
+            try {
+                serve();
+            } catch (const std::exception& e) {  // a socket failing: the link is lost, not the viewer
+                why = e.what();
+            }
             if (stop_) return;
+            if (const std::string e = session_.receiverError(); !e.empty()) why = e;
             std::lock_guard lock(m_);
             status_.state = LinkState::Reconnecting;
-            status_.message = "no frame for " + std::to_string(options_.lostAfter.count()) + " s; reconnecting";
+            status_.message = why + "; reconnecting";
             wait = 1s;
             since = Clock::now();
             continue;

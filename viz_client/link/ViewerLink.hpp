@@ -26,7 +26,7 @@ const char* linkStateName(LinkState s);
 
 struct LinkOptions {
     std::chrono::seconds lostAfter{10};       // no frame for this long: connect again
-    std::chrono::seconds giveUpAfter{0};      // stop trying after this long without a connection; 0 = never
+    std::chrono::milliseconds giveUpAfter{0};  // stop trying after this long without a connection; 0 = never
     std::chrono::milliseconds commandTimeout{2000};  // wait for a command's reply
 };
 
@@ -45,7 +45,7 @@ struct LinkStatus {
 class ViewerLink {
 public:
     ViewerLink(std::string endpoint, protocol::ClientOptions client, LinkOptions options = {});
-    ~ViewerLink();  // stops the thread (within about 50 ms)
+    ~ViewerLink();  // stops the thread: at once, or after a connection attempt (1 s) or a command (2 s) under way
     ViewerLink(const ViewerLink&) = delete;
     ViewerLink& operator=(const ViewerLink&) = delete;
 
@@ -57,6 +57,7 @@ public:
 
 private:
     void run();
+    void loop();     // connect, serve, connect again; until stopped or given up
     bool connect();  // one attempt; false on failure (the status says why)
     void serve();    // while connected: commands, probe, feedback, lost detection
 

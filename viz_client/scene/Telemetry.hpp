@@ -58,7 +58,7 @@ public:
     void push(const PlotSample& s);
     std::size_t size() const { return samples_.size(); }
     const std::deque<PlotSample>& samples() const { return samples_; }
-    // One member as floats, oldest first (for a line plot), and its range.
+    // One member as floats, oldest first (for a line plot).
     std::vector<float> series(double PlotSample::*member) const;
 
 private:

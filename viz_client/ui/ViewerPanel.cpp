@@ -1,4 +1,4 @@
-#include "app/ViewerPanel.hpp"
+#include "ui/ViewerPanel.hpp"
 
 #include <imgui.h>
 
@@ -9,7 +9,8 @@ namespace bop::viz {
 namespace {
 
 bool sliderDouble(const char* label, double* v, double lo, double hi, const char* format = "%.3f") {
-    return ImGui::SliderScalar(label, ImGuiDataType_Double, v, &lo, &hi, format);
+    // Clamped also when typed (ctrl+click): the server refuses k0, k1 <= 0 and negative damping.
+    return ImGui::SliderScalar(label, ImGuiDataType_Double, v, &lo, &hi, format, ImGuiSliderFlags_AlwaysClamp);
 }
 
 std::string speciesLabel(const protocol::SceneInfo& s, int k) {
@@ -130,7 +131,7 @@ void tune(Controls& c, const protocol::SceneInfo& scene) {
         sliderDouble(("drag w " + speciesLabel(scene, a) + ", inertia/time").c_str(), &c.now.dragW[std::size_t(a - 1)], 0, 10);
     }
     sliderDouble("probe k0 (range)", &c.now.k0, 0.2, 5);
-    sliderDouble("probe k1 (strength)", &c.now.k1, 0, 20);
+    sliderDouble("probe k1 (strength)", &c.now.k1, 0.05, 20);
 }
 
 void plot(const PlotHistory& h, double PlotSample::*member, const char* label) {
