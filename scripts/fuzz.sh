@@ -6,7 +6,8 @@
 # target crashed (sanitizer report, broken round trip, timeout, out of memory or leak); the
 # reproducer is build-fuzz/fuzz/artifacts/<target>-crash-<sha1> (also leak-, timeout-, oom-).
 #   scripts/fuzz.sh                      every target
-#   scripts/fuzz.sh frame mcap           only these (hello scene frame probe feedback command reply mcap)
+#   scripts/fuzz.sh frame mcap           only these (hello scene frame probe feedback command reply maprequest
+#                                        mapchunk mcap)
 # Environment:
 #   BOP_FUZZ_SECONDS   seconds per target (default 30)
 #   BOP_FUZZ_TIMEOUT   seconds one input may take before it counts as a hang (default 10)
@@ -20,7 +21,7 @@ jobs=${BOP_JOBS:-2}
 seconds=${BOP_FUZZ_SECONDS:-30}
 timeout=${BOP_FUZZ_TIMEOUT:-10}
 cxx=${BOP_FUZZ_CXX:-clang++}
-all_targets=(hello scene frame probe feedback command reply mcap)
+all_targets=(hello scene frame probe feedback command reply maprequest mapchunk mcap)
 targets=("$@")
 [[ ${#targets[@]} -gt 0 ]] || targets=("${all_targets[@]}")
 for t in "${targets[@]}"; do

@@ -22,6 +22,8 @@ packages=(
   # the viewer's window and panel: GLFW 3.3, Dear ImGui 1.86 with its GLFW and OpenGL3 backends;
   # Xvfb and Mesa's GLX so the window path is tested without a display
   libglfw3-dev libimgui-dev xvfb xauth libglx-mesa0
+  # the haptic client's 3Dconnexion adapter (spacenavd's client library)
+  libspnav-dev
   # tests
   catch2 python3 python3-numpy
 )

@@ -18,7 +18,9 @@ ctest --test-dir build -j "$jobs" --output-on-failure
 
 if [[ "${1:-}" != "--no-sanitize" ]]; then
   echo "== unit and MPI tests under AddressSanitizer + UndefinedBehaviorSanitizer =="
-  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBOP_SANITIZE=ON -DBOP_WERROR=ON >/dev/null
+  # -O1 and line tables only: half the compile time of -O2 -g, stack traces still name the lines.
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+    -DBOP_SANITIZE=ON -DBOP_WERROR=ON >/dev/null
   cmake --build build-asan -j "$jobs" --target bop_unit_tests bop_mpi_tests
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan -L unit -j "$jobs" --output-on-failure

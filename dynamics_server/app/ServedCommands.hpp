@@ -20,6 +20,7 @@ struct Desk {
     long long singleSteps = 0;  // steps still to do while paused
     core::ProbeState probe;
     std::uint64_t probeSeq = 0;
+    protocol::LoopStats loop;  // the newest probe's device loop (haptic clients), shown in frames
     std::vector<std::pair<double, double>> drags;  // per species: beta_v, beta_tau
 };
 

@@ -3,6 +3,7 @@
 #include "ServedCommands.hpp"
 
 #include "ExtendedXyz.hpp"
+#include "shape/GradientMapFile.hpp"
 #include "parallel/DecomposedRun.hpp"
 
 #include <spdlog/spdlog.h>
@@ -33,7 +34,7 @@ protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t,
     f.probeForce = t.probeReaction;
     f.probeActive = desk.probe.active;
     f.stats = {t.kinetic, t.pairEnergy + t.probeEnergy, (2 * t.kinetic + t.virial) / (3 * volume), stepRate,
-               std::uint64_t(n)};
+               std::uint64_t(n), desk.loop};
     f.frameParticleCount = std::uint32_t(n);
     f.positions = std::move(a.positions);
     f.normals = std::move(a.normals);
@@ -102,6 +103,11 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
     for (const auto& s : model.species) desk.drags.emplace_back(s.dragV, s.dragW);
     if (root) {
         info.particleCount = start.particles.size();
+        std::error_code ec;  // the gradient-map cache, for haptic clients to download
+        if (scene.shape && !o.front.mapFile.empty() && std::filesystem::is_regular_file(o.front.mapFile, ec)) {
+            info.mapBytes = std::filesystem::file_size(o.front.mapFile, ec);
+            info.mapKey = shape::hashText(scene.shape->canonical);
+        }
         front = std::make_unique<protocol::ServerFront>(o.front, info);
         // Tests and scripts read this line for the ports.
         std::cout << "listening on " << front->controlEndpoint() << " (frames on port " << front->framePort() << ")"
@@ -122,6 +128,7 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
         desk.probe.position = p.position;
         desk.probe.params = {p.k0, p.k1};
         desk.probeSeq = p.seq;
+        desk.loop = p.loop;
         front->probeApplied(p, std::uint64_t(run.stepNumber()));
         parallel::Command c;
         c.probe = desk.probe;
@@ -157,6 +164,7 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
                                      : apply(pc.command, desk, run, model.speciesCount()));
             }
             if (const auto p = front->takeProbe()) takeProbe(*p);
+            if (!front->anyHaptic()) desk.loop = {};  // no device loop probing now
             const bool step = !desk.paused || desk.singleSteps > 0;
             if (desk.paused && desk.singleSteps > 0) --desk.singleSteps;
             // No gather while the front still holds a frame: it would only replace it.

@@ -66,24 +66,6 @@ bool ClientSession::Impl::waitReadable(zmq::socket_t& s, Clock::time_point deadl
     }
 }
 
-// Multi-part messages are not ours: counted as malformed.
-template <class Take>
-bool ClientSession::Impl::pumpControl(Clock::time_point deadline, Take take) {
-    for (;;) {
-        zmq::message_t msg;
-        while (dealer->recv(msg, zmq::recv_flags::dontwait)) {
-            if (!msg.more()) {
-                if (take(msg)) return true;
-                continue;
-            }
-            for (zmq::message_t part; msg.more() && dealer->recv(part, zmq::recv_flags::dontwait);) msg = std::move(part);
-            countMalformed();
-        }
-        if (Clock::now() >= deadline) return false;
-        waitReadable(*dealer, deadline);
-    }
-}
-
 void ClientSession::Impl::countMalformed() {
     std::lock_guard lock(m);
     ++stats.malformed;

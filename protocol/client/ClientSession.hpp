@@ -14,6 +14,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -37,8 +38,9 @@ struct ClientOptions {
     // Largest message ZeroMQ accepts on the SUB socket, bytes: one frame chunk (the server's
     // --chunk-bytes, 4 MiB by default) with room to spare; larger ones drop the connection.
     std::size_t maxFrameChunkBytes = std::size_t(64) << 20;
-    // The same on the DEALER socket: SceneInfo (64 KiB cap) is the largest control message.
-    std::size_t maxControlBytes = kMaxSceneInfoBytes;
+    // The same on the DEALER socket: a gradient-map piece (MapChunk, 1 MiB + 256 bytes) is the
+    // largest control message.
+    std::size_t maxControlBytes = kMaxMapChunkBytes;
     // Frame messages queued in the SUB socket before ZeroMQ drops newer ones, messages. Small, so
     // that a slow client sees recent frames rather than a backlog; a chunk is one message.
     int frameHighWaterMark = 16;
@@ -103,6 +105,12 @@ public:
     // arrive meanwhile are kept. bop::Error when no reply comes within `timeout`.
     CommandReply sendCommand(const Command& command, std::chrono::milliseconds timeout);
     CommandReply sendCommand(const Command& command);
+    // Downloads the server's gradient-map file (SceneInfo::mapBytes; the bytes of a .bopgm file,
+    // dynamics_server/shape/GradientMapFile.hpp) in pieces of 1 MiB, each waited for up to
+    // `timeout`, calling `progress(bytes so far, total)` after each. bop::Error naming the
+    // endpoint when the server has no map, the map is over `maxBytes`, or a piece does not come.
+    std::vector<std::uint8_t> downloadMap(std::uint64_t maxBytes, std::chrono::milliseconds timeout,
+                                          const std::function<void(std::uint64_t, std::uint64_t)>& progress = {});
     // The newest feedback since the last call, reading what the DEALER socket holds; never waits.
     std::optional<Feedback> pollFeedback();
     // The same, waiting until feedback comes or `deadline` passes (to the microsecond, unlike a

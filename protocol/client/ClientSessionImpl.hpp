@@ -50,7 +50,7 @@ struct ClientSession::Impl {
     MessageKind takeControl(const zmq::message_t& msg, CommandReply* reply);
     void countMalformed();
     // Reads DEALER messages, handing each to `take`, until it returns true (then true) or
-    // `deadline` passes (then false, having read everything queued). Defined in ClientSession.cpp.
+    // `deadline` passes (then false, having read everything queued).
     template <class Take> bool pumpControl(Clock::time_point deadline, Take take);
     // Waits until `s` (or file descriptor `fd`, if not -1) has something to read or `deadline`
     // passes; false at the deadline or when a signal interrupted the wait (callers look at the
@@ -72,5 +72,23 @@ struct ClientSession::Impl {
     void joinReceiver();
     void syncAssemblerStats();  // m held
 };
+
+// Multi-part messages are not ours: counted as malformed.
+template <class Take>
+bool ClientSession::Impl::pumpControl(Clock::time_point deadline, Take take) {
+    for (;;) {
+        zmq::message_t msg;
+        while (dealer->recv(msg, zmq::recv_flags::dontwait)) {
+            if (!msg.more()) {
+                if (take(msg)) return true;
+                continue;
+            }
+            for (zmq::message_t part; msg.more() && dealer->recv(part, zmq::recv_flags::dontwait);) msg = std::move(part);
+            countMalformed();
+        }
+        if (Clock::now() >= deadline) return false;
+        waitReadable(*dealer, deadline);
+    }
+}
 
 }  // namespace bop::protocol

@@ -41,6 +41,12 @@ Decoded<Probe> decodeProbe(const std::uint8_t* buf, std::size_t len);
 Buffer encodeFeedback(const Feedback& m);
 Decoded<Feedback> decodeFeedback(const std::uint8_t* buf, std::size_t len);
 
+Buffer encodeMapRequest(const MapRequest& m);
+Decoded<MapRequest> decodeMapRequest(const std::uint8_t* buf, std::size_t len);
+
+Buffer encodeMapChunk(const MapChunk& m);
+Decoded<MapChunk> decodeMapChunk(const std::uint8_t* buf, std::size_t len);
+
 Buffer encodeCommand(const Command& m);
 Decoded<Command> decodeCommand(const std::uint8_t* buf, std::size_t len);
 

@@ -41,6 +41,9 @@ inline constexpr std::size_t kMaxProbeBytes = 256;
 inline constexpr std::size_t kMaxFeedbackBytes = 256;
 inline constexpr std::size_t kMaxCommandBytes = 4 * 1024;
 inline constexpr std::size_t kMaxReplyBytes = 4 * 1024;
+inline constexpr std::size_t kMaxMapRequestBytes = 256;
+inline constexpr std::size_t kMaxMapPieceBytes = 1 << 20;                  // data of one MapChunk
+inline constexpr std::size_t kMaxMapChunkBytes = kMaxMapPieceBytes + 256;  // the whole MapChunk
 inline constexpr std::size_t kDefaultMaxFrameChunkBytes = 8u << 20;
 // FlatBuffers addresses less than 2 GiB; FrameLimits::maxChunkBytes is clamped to 1 GiB.
 inline constexpr std::size_t kAbsoluteMaxBytes = std::size_t(1) << 30;

@@ -63,7 +63,9 @@ void encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std::u
     if (withIds) ids = fbb.CreateVector(m.ids.data() + begin, k);
     const auto species = fbb.CreateVector(m.species.data() + begin, k);
     const FrameStats& s = m.stats;
-    const auto stats = wire::CreateFrameStats(fbb, s.kinetic, s.potential, s.pressure, s.stepRateHz, s.particleCount);
+    const wire::LoopStats haptic = detail::toWire(s.haptic);
+    const auto stats =
+        wire::CreateFrameStats(fbb, s.kinetic, s.potential, s.pressure, s.stepRateHz, s.particleCount, &haptic);
     const wire::Vec3 probePos = detail::toWire(m.probePosition), probeForce = detail::toWire(m.probeForce);
     const wire::Vec3 lo = detail::toWire(m.quantLo), hi = detail::toWire(m.quantHi);
 
@@ -181,7 +183,8 @@ Validation decodeStateFrameInto(const std::uint8_t* buf, std::size_t len, StateF
     m.probeActive = w.probe_active();
     m.stats = {};
     if (const wire::FrameStats* s = w.stats())
-        m.stats = {s->kinetic_energy(), s->potential_energy(), s->pressure(), s->step_rate_hz(), s->particle_count()};
+        m.stats = {s->kinetic_energy(), s->potential_energy(), s->pressure(), s->step_rate_hz(), s->particle_count(),
+                   s->haptic() ? detail::toLoopStats(*s->haptic()) : LoopStats{}};
     m.frameParticleCount = w.frame_particle_count();
     m.firstIndex = w.first_index();
     m.encoding = FrameEncoding(w.encoding());

@@ -5,6 +5,11 @@
 #include "hello_generated.h"
 #include "scene_generated.h"
 
+#include <bit>
+#include <cstring>
+
+static_assert(std::endian::native == std::endian::little, "FlatBuffers vectors are copied as they lie");
+
 namespace bop::protocol {
 
 namespace {
@@ -84,6 +89,8 @@ Buffer encodeSceneInfo(const SceneInfo& m) {
     b.add_publish_rate_hz(m.publishRateHz);
     b.add_probe_reach(m.probeReach);
     b.add_tunables(tunables);
+    b.add_map_bytes(m.mapBytes);
+    b.add_map_key(m.mapKey);
     wire::FinishSceneInfoBuffer(fbb, b.Finish());
     return detail::toBuffer(fbb);
 }
@@ -124,9 +131,15 @@ Decoded<SceneInfo> decodeSceneInfo(const std::uint8_t* buf, std::size_t len) {
     m.units = detail::str(w.units());
     m.publishRateHz = w.publish_rate_hz();
     m.probeReach = w.probe_reach();
+    m.mapBytes = w.map_bytes();
+    m.mapKey = w.map_key();
     if (const wire::Tunables* t = w.tunables()) {
+        // Copied byte-wise: the verifier checks a vector's length field, not that its doubles are
+        // 8-byte aligned, and a hostile buffer may misalign them (little-endian, as on the wire).
         const auto doubles = [](const flatbuffers::Vector<double>* v) {
-            return v ? std::vector<double>(v->begin(), v->end()) : std::vector<double>{};
+            std::vector<double> out(v ? v->size() : 0);
+            if (!out.empty()) std::memcpy(out.data(), v->Data(), out.size() * sizeof(double));
+            return out;
         };
         m.tunables = {doubles(t->lj()), doubles(t->co_normal()), doubles(t->co_planar()),
                       doubles(t->drag_v()), doubles(t->drag_w()), t->k0(), t->k1()};

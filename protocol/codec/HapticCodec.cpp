@@ -23,7 +23,10 @@ Buffer encodeProbe(const Probe& m) {
     // force_defaults: k0 and k1 are written even when they equal the schema default, so the
     // size of a probe does not depend on its values.
     fbb.ForceDefaults(true);
-    wire::FinishProbeBuffer(fbb, wire::CreateProbe(fbb, m.seq, m.clientTimeNs, &position, m.active, m.k0, m.k1));
+    const wire::LoopStats loop = detail::toWire(m.loop);
+    const wire::Vec3 rendered = detail::toWire(m.renderedForce);
+    wire::FinishProbeBuffer(
+        fbb, wire::CreateProbe(fbb, m.seq, m.clientTimeNs, &position, m.active, m.k0, m.k1, &loop, &rendered));
     return detail::toBuffer(fbb);
 }
 
@@ -39,6 +42,8 @@ Decoded<Probe> decodeProbe(const std::uint8_t* buf, std::size_t len) {
     m.active = w.active();
     m.k0 = w.k0();
     m.k1 = w.k1();
+    if (const wire::LoopStats* loop = w.loop()) m.loop = detail::toLoopStats(*loop);
+    if (const wire::Vec3* f = w.rendered_force()) m.renderedForce = detail::toEigen(*f);
     const Validation v = validate(m);
     return detail::accept(std::move(m), v);
 }

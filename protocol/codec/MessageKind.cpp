@@ -17,7 +17,7 @@ struct KindEntry {
 };
 
 // Identifiers must match the file_identifier of each schema in protocol/schemas/.
-constexpr std::array<KindEntry, 7> kKinds{{
+constexpr std::array<KindEntry, 9> kKinds{{
     {MessageKind::Hello, "BHEL", "Hello"},
     {MessageKind::SceneInfo, "BSCN", "SceneInfo"},
     {MessageKind::StateFrame, "BFRM", "StateFrame"},
@@ -25,6 +25,8 @@ constexpr std::array<KindEntry, 7> kKinds{{
     {MessageKind::Feedback, "BFBK", "Feedback"},
     {MessageKind::Command, "BCMD", "Command"},
     {MessageKind::CommandReply, "BRPL", "CommandReply"},
+    {MessageKind::MapRequest, "BMRQ", "MapRequest"},
+    {MessageKind::MapChunk, "BMCK", "MapChunk"},
 }};
 
 }  // namespace

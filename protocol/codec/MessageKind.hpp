@@ -16,6 +16,8 @@ enum class MessageKind : std::uint8_t {
     Feedback,      // "BFBK"
     Command,       // "BCMD"
     CommandReply,  // "BRPL"
+    MapRequest,    // "BMRQ"
+    MapChunk,      // "BMCK"
 };
 
 // Unknown when buf is null, shorter than 8 bytes, or its identifier is none of the above.

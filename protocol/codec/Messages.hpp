@@ -71,6 +71,8 @@ struct SceneInfo {
     float publishRateHz = 0;          // the server's state-frame rate, wall Hz (0 = not sent)
     double probeReach = 0;            // the probe's reach at k0 = 1 (LJ cutoff), length; scales with k0; 0 = not sent
     Tunables tunables;
+    std::uint64_t mapBytes = 0;  // the gradient-map file a client may download (MapRequest); 0 = none
+    std::uint64_t mapKey = 0;    // the key that file was made for (GradientMapFile.hpp)
 };
 
 // ---- state frames ----
@@ -80,12 +82,20 @@ enum class FrameEncoding : std::uint8_t {
     Quantised16 = 1,  // 6 bytes per position (uint16 against quantLo/Hi), 4 per normal (octahedral)
 };
 
+// A haptic client's device loop as it measures itself; all 0 when there is none.
+struct LoopStats {
+    float rateHz = 0;                  // ticks per second
+    float periodErrorP99Us = 0;        // 99th percentile of |tick - deadline|, microseconds
+    std::uint64_t missedDeadlines = 0; // ticks a whole period or more late, since the start
+};
+
 struct FrameStats {
     double kinetic = 0;               // whole system, energy
     double potential = 0;             // whole system, energy
     double pressure = 0;              // virial pressure, energy / length^3
     double stepRateHz = 0;            // steps per wall second
     std::uint64_t particleCount = 0;  // particles in the simulation
+    LoopStats haptic;                 // of the haptic client probing now (from its probes)
 };
 
 // One chunk of a state frame (a whole frame is one chunk with chunkCount 1). The particle arrays
@@ -123,6 +133,8 @@ struct Probe {
     bool active = false;
     double k0 = 1.0;  // range scale of paper eq. 9, dimensionless, > 0
     double k1 = 1.0;  // strength of paper eq. 9, dimensionless
+    LoopStats loop;   // the sender's device loop (haptic clients)
+    Eigen::Vector3d renderedForce = Eigen::Vector3d::Zero();  // what its device rendered at this tick, force
 };
 
 struct Feedback {
@@ -130,6 +142,19 @@ struct Feedback {
     std::uint64_t step = 0;
     Eigen::Vector3d force = Eigen::Vector3d::Zero();  // reaction on the probe, force
     std::int64_t serverTimeNs = 0;
+};
+
+// ---- the gradient map, for haptic clients ----
+
+struct MapRequest {
+    std::uint64_t offset = 0;  // first byte wanted
+    std::uint32_t length = 0;  // bytes wanted, 1 .. kMaxMapPieceBytes
+};
+
+struct MapChunk {
+    std::uint64_t offset = 0;        // where data starts in the file
+    std::uint64_t total = 0;         // the file's size; 0 = the server has no map
+    std::vector<std::uint8_t> data;  // at most kMaxMapPieceBytes, within [0, total)
 };
 
 // ---- commands ----

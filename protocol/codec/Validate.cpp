@@ -5,6 +5,7 @@
 #include "codec/Checker.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <variant>
 
@@ -77,6 +78,13 @@ Validation validate(const Hello& m) {
 
 namespace {
 
+// Rates and errors finite and >= 0.
+bool validLoop(Checker& c, const LoopStats& s, const char* field) {
+    return c.require(std::isfinite(s.rateHz) && s.rateHz >= 0 && std::isfinite(s.periodErrorP99Us) &&
+                         s.periodErrorP99Us >= 0,
+                     DecodeError::OutOfRange, field, "rate and period error must be finite and >= 0");
+}
+
 // Matrices empty or n x n, per-species arrays empty or n, every value finite, dampings >= 0, k0 > 0.
 bool validTunables(Checker& c, const Tunables& t, std::size_t n) {
     const auto sized = [&](const std::vector<double>& v, std::size_t want, const char* field) {
@@ -132,7 +140,25 @@ Validation validate(const SceneInfo& m) {
 Validation validate(const Probe& m) {
     Checker c("Probe");
     c.finite(m.position, "position") && c.finite(m.k0, "k0") &&
-        c.require(m.k0 > 0, DecodeError::OutOfRange, "k0", "not > 0") && c.finite(m.k1, "k1");
+        c.require(m.k0 > 0, DecodeError::OutOfRange, "k0", "not > 0") && c.finite(m.k1, "k1") &&
+        validLoop(c, m.loop, "loop") && c.finite(m.renderedForce, "rendered_force");
+    return c.result();
+}
+
+Validation validate(const MapRequest& m) {
+    Checker c("MapRequest");
+    c.require(m.length >= 1 && m.length <= kMaxMapPieceBytes, DecodeError::OutOfRange, "length",
+              std::to_string(m.length) + " bytes, expected 1.." + std::to_string(kMaxMapPieceBytes));
+    return c.result();
+}
+
+Validation validate(const MapChunk& m) {
+    Checker c("MapChunk");
+    c.require(m.data.size() <= kMaxMapPieceBytes, DecodeError::BadLength, "data",
+              std::to_string(m.data.size()) + " bytes, at most " + std::to_string(kMaxMapPieceBytes)) &&
+        c.require(m.offset <= m.total && m.data.size() <= m.total - m.offset, DecodeError::OutOfRange, "offset",
+                  "the piece [" + std::to_string(m.offset) + ", +" + std::to_string(m.data.size()) +
+                      ") is not within the file's " + std::to_string(m.total) + " bytes");
     return c.result();
 }
 
@@ -182,7 +208,8 @@ Validation validate(const StateFrame& m, const FrameLimits& limits) {
         (!quantised || checkQuantBounds(c, m.quantLo, m.quantHi)) && c.finite(m.simTime, "sim_time") &&
         c.finite(m.probePosition, "probe_position") && c.finite(m.probeForce, "probe_force") &&
         c.finite(m.stats.kinetic, "stats.kinetic_energy") && c.finite(m.stats.potential, "stats.potential_energy") &&
-        c.finite(m.stats.pressure, "stats.pressure") && c.finite(m.stats.stepRateHz, "stats.step_rate_hz");
+        c.finite(m.stats.pressure, "stats.pressure") && c.finite(m.stats.stepRateHz, "stats.step_rate_hz") &&
+        validLoop(c, m.stats.haptic, "stats.haptic");
     if (!headerOk) return c.result();
     c.speciesArray(m.species.data(), n, 1, maxSpecies, "species") &&
         c.finiteArray(m.positions.data(), m.positions.size(), "positions") &&

@@ -71,6 +71,12 @@ Buffer toBuffer(const flatbuffers::FlatBufferBuilder& fbb);
 inline Eigen::Vector3d toEigen(const wire::Vec3& v) {
     return {v.x(), v.y(), v.z()};
 }
+inline wire::LoopStats toWire(const LoopStats& s) {
+    return wire::LoopStats(s.rateHz, s.periodErrorP99Us, s.missedDeadlines);
+}
+inline LoopStats toLoopStats(const wire::LoopStats& s) {
+    return {s.rate_hz(), s.period_error_p99_us(), s.missed_deadlines()};
+}
 inline wire::Vec3 toWire(const Eigen::Vector3d& v) {
     return {v.x(), v.y(), v.z()};
 }

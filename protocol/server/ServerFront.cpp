@@ -116,6 +116,13 @@ void ServerFront::Impl::handle(const std::string& id, zmq::message_t& msg) {
         commands.push_back({id, c.value});
         return;
     }
+    case MessageKind::MapRequest: {
+        const auto r = decodeMapRequest(data, size);
+        if (!r) return bad(r.error);
+        if (clients.find(id) == clients.end()) return bad(DecodeError::None);  // a session first
+        sendTo(id, mapPiece(r.value));
+        return;
+    }
     case MessageKind::Probe: {
         const auto p = decodeProbe(data, size);
         if (!p) return bad(p.error);
@@ -204,6 +211,7 @@ void ServerFront::Impl::loop() {
         std::vector<std::pair<Buffer, Buffer>> inputs;
         {
             std::lock_guard lock(m);
+            mapPiecesThisPass = 0;
             for (int k = 0; k < 256; ++k) {  // a burst, then the outbound side gets its turn
                 zmq::message_t id, body;
                 if (!router.recv(id, zmq::recv_flags::dontwait)) break;

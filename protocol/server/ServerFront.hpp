@@ -31,6 +31,7 @@ struct FrontOptions {
     bool udp = true;                        // probes on UDP P+2 and frames to clients' UDP ports; off with CURVE
     std::string recordPath;                 // MCAP recording of the session (SessionRecorder.hpp); empty = none
     std::map<std::string, std::string> recordMeta;  // scene file, ranks, ...: stored in the recording
+    std::string mapFile;  // the gradient-map file clients may download (MapRequest); empty = none
 };
 
 struct FrontStats {

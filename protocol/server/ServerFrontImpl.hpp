@@ -82,6 +82,8 @@ struct ServerFront::Impl {
     void refuse(const std::string& id, const Command& c, ReplyStatus status, const std::string& why);
     // One inbound message from peer `id` (m held).
     void handle(const std::string& id, zmq::message_t& msg);
+    Buffer mapPiece(const MapRequest& r);  // FrontMap.cpp
+    int mapPiecesThisPass = 0;             // at most kMapPiecesPerPass per pass of the loop
     void publish(StateFrame f);
     void send(std::vector<Buffer> chunks);
     // Runs a recorder call; a failure (disk full, ...) ends the recording, never the server.

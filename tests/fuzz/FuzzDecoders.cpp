@@ -173,6 +173,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         checkDecoder<Command>(data, size, &decodeCommand, &encodeCommand, validator<Command>());
     } else if constexpr (kTarget == "reply") {
         checkDecoder<CommandReply>(data, size, &decodeCommandReply, &encodeCommandReply, validator<CommandReply>());
+    } else if constexpr (kTarget == "maprequest") {
+        checkDecoder<MapRequest>(data, size, &decodeMapRequest, &encodeMapRequest, validator<MapRequest>());
+    } else if constexpr (kTarget == "mapchunk") {
+        checkDecoder<MapChunk>(data, size, &decodeMapChunk, &encodeMapChunk, validator<MapChunk>());
     } else if constexpr (kTarget == "frame") {
         checkFrame(data, size);
     } else if constexpr (kTarget == "mcap") {

@@ -1,7 +1,7 @@
 // Writes seed corpora for the fuzz targets (FuzzDecoders.cpp): a few valid buffers per target,
 // made with the protocol's own encoders and McapWriter, so no binary seeds live in git.
 //   bop_fuzz_seeds OUTDIR   ->  OUTDIR/<target>/<name>.bin (targets: hello scene frame probe
-//                               feedback command reply mcap); existing files are overwritten.
+//                               feedback command reply maprequest mapchunk mcap); existing files are overwritten.
 // Exits non-zero if a sample cannot be encoded or written.
 #include "ProtocolSamples.hpp"
 #include "codec/Codec.hpp"
@@ -65,6 +65,10 @@ void haptics() {
     put("probe", "default", encodeProbe(Probe{}));
     put("feedback", "sample", encodeFeedback(sampleFeedback()));
     put("feedback", "default", encodeFeedback(Feedback{}));
+    put("maprequest", "sample", encodeMapRequest(sampleMapRequest()));
+    put("maprequest", "one", encodeMapRequest({0, 1}));
+    put("mapchunk", "sample", encodeMapChunk(sampleMapChunk()));
+    put("mapchunk", "nomap", encodeMapChunk(MapChunk{}));
 }
 
 void commands() {

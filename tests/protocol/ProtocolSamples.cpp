@@ -73,6 +73,8 @@ SceneInfo sampleScene(int speciesCount) {
     s.particleCount = 123456;
     s.publishRateHz = 60;
     s.probeReach = 2.77;
+    s.mapBytes = 123456789;
+    s.mapKey = 0xfeedface12345678ull;
     if (std::size_t(speciesCount) <= kMaxTunedSpecies) {
         const std::size_t n = std::size_t(speciesCount);
         for (std::size_t k = 0; k < n * n; ++k)
@@ -86,7 +88,15 @@ SceneInfo sampleScene(int speciesCount) {
 }
 
 Probe sampleProbe() {
-    return {42, 1'234'567'890'123, {1.25, -2.5, 0.75}, true, 1.5, 0.25};
+    return {42, 1'234'567'890'123, {1.25, -2.5, 0.75}, true, 1.5, 0.25, {999.5f, 12.25f, 3}, {0.5, -1.25, 2}};
+}
+
+MapRequest sampleMapRequest() { return {1 << 20, 65536}; }
+
+MapChunk sampleMapChunk() {
+    MapChunk m{4096, 10000, {}};
+    for (int k = 0; k < 300; ++k) m.data.push_back(std::uint8_t(7 * k));
+    return m;
 }
 
 Feedback sampleFeedback() {
@@ -114,7 +124,7 @@ StateFrame sampleFrame(std::size_t n, FrameEncoding encoding, bool withNormals, 
     f.probePosition = {0.5, 1.0, -0.25};
     f.probeForce = {0.0, -2.0, 0.125};
     f.probeActive = true;
-    f.stats = {12.5, -340.25, 0.0625, 480.0, n};
+    f.stats = {12.5, -340.25, 0.0625, 480.0, n, {1000.25f, 8.5f, 2}};
     f.frameParticleCount = std::uint32_t(n);
     f.encoding = encoding;
     f.quantLo = {-10, 0, -3};
@@ -147,7 +157,7 @@ bool same(const SceneInfo& a, const SceneInfo& b) {
            a.endpoints.frameEndpoint == b.endpoints.frameEndpoint &&
            a.endpoints.udpFramePort == b.endpoints.udpFramePort &&
            a.endpoints.udpProbePort == b.endpoints.udpProbePort && a.particleCount == b.particleCount &&
-           a.units == b.units && a.publishRateHz == b.publishRateHz && a.probeReach == b.probeReach &&
+           a.units == b.units && a.publishRateHz == b.publishRateHz && a.probeReach == b.probeReach && a.mapBytes == b.mapBytes && a.mapKey == b.mapKey &&
            a.tunables.lj == b.tunables.lj && a.tunables.coNormal == b.tunables.coNormal &&
            a.tunables.coPlanar == b.tunables.coPlanar && a.tunables.dragV == b.tunables.dragV &&
            a.tunables.dragW == b.tunables.dragW && a.tunables.k0 == b.tunables.k0 && a.tunables.k1 == b.tunables.k1;
@@ -155,7 +165,18 @@ bool same(const SceneInfo& a, const SceneInfo& b) {
 
 bool same(const Probe& a, const Probe& b) {
     return a.seq == b.seq && a.clientTimeNs == b.clientTimeNs && a.position == b.position && a.active == b.active &&
-           a.k0 == b.k0 && a.k1 == b.k1;
+           a.k0 == b.k0 && a.k1 == b.k1 && same(a.loop, b.loop) &&
+           a.renderedForce == b.renderedForce;
+}
+
+bool same(const LoopStats& a, const LoopStats& b) {
+    return a.rateHz == b.rateHz && a.periodErrorP99Us == b.periodErrorP99Us && a.missedDeadlines == b.missedDeadlines;
+}
+
+bool same(const MapRequest& a, const MapRequest& b) { return a.offset == b.offset && a.length == b.length; }
+
+bool same(const MapChunk& a, const MapChunk& b) {
+    return a.offset == b.offset && a.total == b.total && a.data == b.data;
 }
 
 bool same(const Feedback& a, const Feedback& b) {
@@ -178,7 +199,8 @@ bool same(const StateFrame& a, const StateFrame& b) {
            a.probePosition == b.probePosition && a.probeForce == b.probeForce && a.probeActive == b.probeActive &&
            a.stats.kinetic == b.stats.kinetic && a.stats.potential == b.stats.potential &&
            a.stats.pressure == b.stats.pressure && a.stats.stepRateHz == b.stats.stepRateHz &&
-           a.stats.particleCount == b.stats.particleCount && a.frameParticleCount == b.frameParticleCount &&
+           a.stats.particleCount == b.stats.particleCount && same(a.stats.haptic, b.stats.haptic) &&
+           a.frameParticleCount == b.frameParticleCount &&
            a.firstIndex == b.firstIndex && a.encoding == b.encoding &&
            (!quantised || (a.quantLo == b.quantLo && a.quantHi == b.quantHi)) && a.positions == b.positions &&
            a.normals == b.normals && a.species == b.species && a.ids == b.ids;
@@ -189,7 +211,9 @@ std::vector<Sample> allSamples() {
                             {MessageKind::SceneInfo, encodeSceneInfo(sampleScene())},
                             {MessageKind::Probe, encodeProbe(sampleProbe())},
                             {MessageKind::Feedback, encodeFeedback(sampleFeedback())},
-                            {MessageKind::CommandReply, encodeCommandReply(sampleReply())}};
+                            {MessageKind::CommandReply, encodeCommandReply(sampleReply())},
+                            {MessageKind::MapRequest, encodeMapRequest(sampleMapRequest())},
+                            {MessageKind::MapChunk, encodeMapChunk(sampleMapChunk())}};
     for (const Command& c : sampleCommands()) out.push_back({MessageKind::Command, encodeCommand(c)});
     out.push_back({MessageKind::StateFrame, encodeStateFrame(sampleFrame(5, FrameEncoding::Float32, true, true))});
     out.push_back({MessageKind::StateFrame, encodeStateFrame(sampleFrame(5, FrameEncoding::Quantised16, true, false))});
@@ -210,6 +234,10 @@ DecodeCheck decodeAs(MessageKind kind, const std::uint8_t* buf, std::size_t len)
             return roundAgain(decodeCommand(buf, len), &encodeCommand, &decodeCommand);
         case MessageKind::CommandReply:
             return roundAgain(decodeCommandReply(buf, len), &encodeCommandReply, &decodeCommandReply);
+        case MessageKind::MapRequest:
+            return roundAgain(decodeMapRequest(buf, len), &encodeMapRequest, &decodeMapRequest);
+        case MessageKind::MapChunk:
+            return roundAgain(decodeMapChunk(buf, len), &encodeMapChunk, &decodeMapChunk);
         case MessageKind::StateFrame: {
             FrameLimits limits;
             limits.speciesCount = 4;
@@ -242,6 +270,10 @@ bool decodesToSameAs(MessageKind kind, const std::uint8_t* buf, std::size_t len,
                 return encodeCommand(decodeCommand(p, n).value);
             case MessageKind::CommandReply:
                 return encodeCommandReply(decodeCommandReply(p, n).value);
+            case MessageKind::MapRequest:
+                return encodeMapRequest(decodeMapRequest(p, n).value);
+            case MessageKind::MapChunk:
+                return encodeMapChunk(decodeMapChunk(p, n).value);
             case MessageKind::StateFrame:
                 return encodeStateFrame(decodeStateFrame(p, n).value);
             case MessageKind::Unknown:

@@ -4,6 +4,7 @@
 #include "scene/Controls.hpp"
 #include "scene/MouseProbe.hpp"
 #include "scene/Telemetry.hpp"
+#include "client/RoundTrip.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -22,7 +23,7 @@ TEST_CASE("rates: events per second over the window, zero when they stop", "[viz
 }
 
 TEST_CASE("probe round trip: the first feedback naming a probe, replaced probes never count", "[viz]") {
-    RoundTrip rt;
+    protocol::RoundTrip rt;
     rt.sent(1, 10.000);
     rt.sent(2, 10.001);  // replaced before the server applied 1? then 1 never gets its feedback
     rt.feedback(2, 10.005);

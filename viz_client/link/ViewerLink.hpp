@@ -6,7 +6,7 @@
 // 200 ms while it is on, so the server keeps sending feedback), times the probe round trip from
 // the feedback, and reconnects when no frame has come for `lostAfter`.
 #include "client/ClientSession.hpp"
-#include "scene/Telemetry.hpp"
+#include "client/RoundTrip.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -71,7 +71,7 @@ private:
     std::deque<protocol::Command> commands_;
     std::optional<protocol::Probe> probe_;  // not yet sent
     std::uint64_t nextRequest_ = 1, probeSeq_ = 0;
-    RoundTrip roundTrip_;
+    protocol::RoundTrip roundTrip_;
     std::atomic<bool> stop_{false};
     std::thread thread_;
 };

@@ -1,8 +1,8 @@
 #pragma once
 // What the viewer's panel shows over time, GL-free and clock-free (callers pass times in seconds
-// on one steady clock): event rates (frames received, frames drawn), the probe's round trip
-// (probe sent -> feedback naming it), and the histories behind the live plots (energy, pressure,
-// probe force against simulation time).
+// on one steady clock): event rates (frames received, frames drawn) and the histories behind the
+// live plots (energy, pressure, probe force against simulation time). The probe's round trip is
+// protocol/client/RoundTrip.hpp.
 #include <cstddef>
 #include <cstdint>
 #include <deque>
@@ -23,24 +23,6 @@ private:
     void expire(double nowS);
     double window_;  // s
     std::deque<double> ticks_;
-};
-
-// Probe round trips: the time from sending probe `seq` to the first feedback that names it.
-// Feedback repeats a sequence number every step until a newer probe is applied; only the first
-// counts. Keeps the newest `capacity` round trips for percentiles.
-class RoundTrip {
-public:
-    explicit RoundTrip(std::size_t capacity = 512) : capacity_(capacity) {}
-    void sent(std::uint64_t seq, double tS);
-    void feedback(std::uint64_t seq, double tS);
-    std::size_t count() const { return samples_.size(); }
-    double percentileMs(double p) const;  // p in 0..100; 0 when there are none
-    double lastMs() const { return samples_.empty() ? 0 : samples_.back(); }
-
-private:
-    std::size_t capacity_;
-    std::deque<std::pair<std::uint64_t, double>> pending_;  // (seq, sent at), oldest first
-    std::deque<double> samples_;                             // ms
 };
 
 // Histories for the live plots, one sample per new frame. A simulation time below the newest

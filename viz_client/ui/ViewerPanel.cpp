@@ -32,6 +32,11 @@ void status(const PanelFigures& f) {
     ImGui::Text("frames: %.1f/s received, %.1f/s drawn", f.receivedHz, f.drawnHz);
     ImGui::Text("frame age %.0f ms; %llu lost", 1000 * f.frameAgeS,
                 (unsigned long long)(l.client.framesLost + l.client.udpFramesLost));
+    if (f.frame && f.frame->stats.haptic.rateHz > 0) {
+        const protocol::LoopStats& h = f.frame->stats.haptic;
+        ImGui::Text("haptic loop %.0f Hz, period error p99 %.0f us, %llu missed", h.rateHz, h.periodErrorP99Us,
+                    (unsigned long long)h.missedDeadlines);
+    }
     if (l.rttCount > 0)
         ImGui::Text("probe round trip %.1f ms (p50 %.1f, p99 %.1f)", l.rttLastMs, l.rttP50Ms, l.rttP99Ms);
     else

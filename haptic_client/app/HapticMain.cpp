@@ -1,0 +1,75 @@
+// bop-haptic tcp://HOST:PORT --device SPEC: the process holding the haptic device (docs/haptics.md).
+// It downloads the gradient map, then runs the device loop at 1 kHz: read the device, step the
+// local force model (virtual coupling to a proxy pushed by the server's newest reaction and by
+// the map's field), send the proxy as the probe, render the force; traces as CSV.
+#include "app/HapticRun.hpp"
+
+#include "bop/common/Error.hpp"
+#include "bop/common/ToolMain.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <sstream>
+
+namespace {
+
+using namespace bop;
+
+Eigen::Vector3d vec(const std::string& text, const char* option) {
+    std::istringstream in(text);
+    Eigen::Vector3d p;
+    char c1 = 0, c2 = 0;
+    if (!(in >> p.x() >> c1 >> p.y() >> c2 >> p.z()) || c1 != ',' || c2 != ',' || !p.allFinite() || !in.eof())
+        throw Error(option, "expected x,y,z, got '" + text + "'");
+    return p;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    return runTool("bop-haptic", [&] {
+        CLI::App app{"bop-haptic: the haptic device loop (1 kHz): sends the probe to a served BoP run (bop-server) and "
+                     "renders the reaction force locally. Devices: sim:poke, sim:stroke, sim:circle, sim:finger, "
+                     "replay:FILE.mcap, spnav"};
+        haptic::RunOptions o;
+        std::string target, inward;
+        app.add_option("endpoint", o.endpoint, "the server's control endpoint, tcp://HOST:PORT (not with --loop-only)");
+        app.add_option("--device", o.device, "the device (default sim:poke)");
+        app.add_flag("--loop-only", o.loopOnly, "run the device loop alone for --seconds and report its timing");
+        app.add_option("--seconds", o.seconds, "stop after this long, s (0: when the device's script ends)")
+            ->check(CLI::NonNegativeNumber);
+        app.add_option("--rate", o.rateHz, "loop rate, Hz")->check(CLI::Range(10.0, 10000.0));
+        app.add_option("--out", o.outDir, "folder of haptic-trace.csv, stiffness.csv and stiffness.png");
+        app.add_option("--target", target, "scripted devices: the surface point x,y,z (length; default: the top of "
+                                           "the bag in the gradient map)");
+        app.add_option("--inward", inward, "scripted devices: direction into the object (default 0,0,-1)");
+        app.add_option("--depth", o.script.depth, "scripted devices: how far past the surface, length")
+            ->check(CLI::NonNegativeNumber);
+        app.add_option("--standoff", o.script.standoff, "scripted devices: start this far outside, length")
+            ->check(CLI::NonNegativeNumber);
+        app.add_option("--speed", o.script.speed, "scripted devices: length / s")->check(CLI::PositiveNumber);
+        app.add_option("--hold", o.script.holdS, "scripted devices: seconds at depth")->check(CLI::NonNegativeNumber);
+        app.add_option("--stroke-length", o.script.strokeLength, "sim:stroke: length")->check(CLI::PositiveNumber);
+        app.add_option("--circle-radius", o.script.circleRadius, "sim:circle: length")->check(CLI::PositiveNumber);
+        app.add_option("--turns", o.script.turns, "sim:circle: turns")->check(CLI::PositiveNumber);
+        app.add_option("--stiffness", o.model.stiffness, "virtual coupling stiffness, force / length")
+            ->check(CLI::PositiveNumber);
+        app.add_option("--damping", o.model.damping, "virtual coupling damping, force * s / length")
+            ->check(CLI::NonNegativeNumber);
+        app.add_option("--field-stiffness", o.fieldStiffness, "gradient-map field inside the bag, force / length (0: off)")
+            ->check(CLI::NonNegativeNumber);
+        app.add_option("--max-force", o.limits.maxForceN, "the device's largest force, N")->check(CLI::NonNegativeNumber);
+        app.add_option("--newtons-per-force", o.newtonsPerForce, "N on the device per simulation force unit")
+            ->check(CLI::PositiveNumber);
+        app.add_option("--k0", o.k0, "probe range scale (paper eq. 9; default: the server's)")->check(CLI::PositiveNumber);
+        app.add_option("--k1", o.k1, "probe strength (paper eq. 9; default: the server's)")->check(CLI::PositiveNumber);
+        app.add_flag("--udp", o.udp, "probes and feedback as datagrams (the server's UDP port)");
+        app.add_option("--map-max-mb", o.mapMaxMb, "largest gradient map to download, MB")->check(CLI::PositiveNumber);
+        CLI11_PARSE(app, argc, argv);
+        if (!target.empty()) o.target = vec(target, "--target");
+        if (!inward.empty()) o.script.inward = vec(inward, "--inward");
+        if (o.script.inward.norm() == 0) throw Error("--inward", "expected a direction, got 0,0,0");
+        if (!o.loopOnly && o.endpoint.empty()) throw Error("bop-haptic", "expected the server's endpoint (or --loop-only)");
+        return o.loopOnly ? haptic::runLoopOnly(o) : haptic::runHaptic(o);
+    });
+}

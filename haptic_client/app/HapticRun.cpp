@@ -1,0 +1,147 @@
+#include "app/HapticRun.hpp"
+
+#include "app/HapticMap.hpp"
+#include "app/Traces.hpp"
+#include "control/RateLoop.hpp"
+
+#include "client/ClientSession.hpp"
+#include "client/RoundTrip.hpp"
+
+#include "bop/common/Error.hpp"
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+
+namespace bop::haptic {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+volatile std::sig_atomic_t gStop = 0;
+void onSignal(int) { gStop = 1; }
+
+double wallS() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
+std::int64_t wallNs() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
+}
+
+Eigen::Vector3d clampNorm(const Eigen::Vector3d& f, double max) {
+    const double n = f.norm();
+    return n > max ? Eigen::Vector3d(f * (max / n)) : f;
+}
+
+void printLoop(const RateLoop& loop, bool realtime) {
+    const PeriodStats s = loop.whole();
+    std::printf("loop: %llu ticks at %.1f Hz; period error p50 %.1f us, p99 %.1f us, max %.1f us; %llu missed "
+                "deadlines; %llu ticks a period or more late; real-time priority: %s\n",
+                (unsigned long long)s.ticks, s.rateHz, s.p50Us, s.p99Us, s.maxUs, (unsigned long long)s.missed,
+                (unsigned long long)s.late, realtime ? "yes" : "no (not permitted)");
+}
+
+bool scripted(const std::string& device) { return device.rfind("sim:", 0) == 0; }
+
+}  // namespace
+
+int runLoopOnly(const RunOptions& o) {
+    Workspace w;  // identity-like: 0.1 length per mm around the origin
+    DeviceOptions script = o.script;
+    script.target = o.target.value_or(Eigen::Vector3d::Zero());
+    std::unique_ptr<Device> device = makeDevice(o.device, script, w, o.limits);
+    ForceModel model(o.model);
+    RateLoop loop(o.rateHz);
+    const bool realtime = RateLoop::requestRealtime();
+    const double seconds = o.seconds > 0 ? o.seconds : 10;
+    std::filesystem::create_directories(o.outDir);
+    TraceCsv trace(o.outDir + "/haptic-trace.csv");
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+    std::printf("bop-haptic: the device loop alone, %s at %.0f Hz for %.1f s\n", device->name().c_str(), o.rateHz, seconds);
+    std::fflush(stdout);
+    loop.run([&](const LoopTick& t) {
+        const Eigen::Vector3d x = w.toScene(device->read(t.tS).positionMm);
+        const ForceOutput out = model.tick(t.tS, t.dtS, x);
+        const Eigen::Vector3d n = clampNorm(w.forceToDevice(out.force), o.limits.maxForceN);
+        device->render(n, t.tS);
+        trace.row(t, x, out, n);
+        return !gStop && t.tS + loop.periodS() < seconds;
+    });
+    printLoop(loop, realtime);
+    return 0;
+}
+
+int runHaptic(const RunOptions& o) {
+    protocol::ClientOptions co;
+    co.role = protocol::Role::Haptic;
+    co.clientName = "bop-haptic";
+    co.probeOverUdp = o.udp;
+    co.frameRateHz = 1;  // frames are not used here: the slowest tier
+    protocol::ClientSession session(co);
+    const protocol::SceneInfo scene = session.connect(o.endpoint, std::chrono::seconds(30));
+    std::printf("bop-haptic: connected to %s\n", o.endpoint.c_str());
+    const std::optional<FieldForce> field = downloadField(session, scene, o.fieldStiffness, o.mapMaxMb);
+    DeviceOptions script = o.script;
+    script.target = o.target ? *o.target : topOfBag(field, scene);
+    const Workspace w =
+        Workspace::fit(o.limits.workspaceMm, Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), o.newtonsPerForce);
+    std::unique_ptr<Device> device = makeDevice(o.device, script, w, o.limits);
+    ForceModel model(o.model, field && o.fieldStiffness > 0
+                                  ? std::function<Eigen::Vector3d(const Eigen::Vector3d&)>(std::cref(*field))
+                                  : std::function<Eigen::Vector3d(const Eigen::Vector3d&)>());
+    const double k0 = o.k0 > 0 ? o.k0 : scene.tunables.k0, k1 = o.k1 > 0 ? o.k1 : scene.tunables.k1;
+    std::filesystem::create_directories(o.outDir);
+    TraceCsv trace(o.outDir + "/haptic-trace.csv");
+    StiffnessCurve curve(script.target, script.inward, 0.05);
+    protocol::RoundTrip roundTrip(1u << 20);
+    RateLoop loop(o.rateHz);
+    const bool realtime = RateLoop::requestRealtime();
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+    std::printf("bop-haptic: %s at %.0f Hz; target %.3f,%.3f,%.3f; %.4g length per mm, %.3g N per force unit; "
+                "coupling %.3g force/length, field %.3g force/length\n",
+                device->name().c_str(), o.rateHz, script.target.x(), script.target.y(), script.target.z(), w.scale,
+                w.newtonsPerForce, o.model.stiffness, field ? o.fieldStiffness : 0.0);
+    std::fflush(stdout);
+    std::uint64_t seq = 0, feedbacks = 0;
+    double largestN = 0;
+    protocol::LoopStats stats;
+    Eigen::Vector3d lastProxy = script.target;
+    loop.run([&](const LoopTick& t) {
+        const DeviceState state = device->read(t.tS);
+        const Eigen::Vector3d x = w.toScene(state.positionMm);
+        if (const auto fb = session.pollFeedback()) {
+            model.feedback(fb->force, t.tS);
+            roundTrip.feedback(fb->probeSeq, wallS());
+            ++feedbacks;
+        }
+        const ForceOutput out = model.tick(t.tS, t.dtS, x);
+        lastProxy = out.proxy;
+        const Eigen::Vector3d n = clampNorm(w.forceToDevice(out.force), device->limits().maxForceN);
+        device->render(n, t.tS);
+        largestN = std::max(largestN, n.norm());
+        if (t.index % 100 == 0) {
+            const PeriodStats r = loop.recent();
+            stats = {float(r.rateHz), float(r.p99Us), r.missed + r.late};
+        }
+        protocol::Probe p{++seq, wallNs(), out.proxy, true, k0, k1, stats, w.forceToScene(n)};
+        session.sendProbe(p);
+        roundTrip.sent(seq, wallS());
+        trace.row(t, x, out, n);
+        if (scripted(o.device)) curve.add(x, out.force);
+        return !gStop && (o.seconds > 0 ? t.tS + loop.periodS() < o.seconds : !state.finished);
+    });
+    session.sendProbe({++seq, wallNs(), lastProxy, false, k0, k1, stats, {0, 0, 0}});  // the probe off: the hand is gone
+    printLoop(loop, realtime);
+    std::printf("probe round trip: p50 %.2f ms, p99 %.2f ms, max %.2f ms over %zu probes; %llu feedback messages\n",
+                roundTrip.percentileMs(50), roundTrip.percentileMs(99), roundTrip.percentileMs(100), roundTrip.count(),
+                (unsigned long long)feedbacks);
+    std::printf("largest force rendered: %.3f N; trace in %s/haptic-trace.csv\n", largestN, o.outDir.c_str());
+    if (scripted(o.device) && !curve.points().empty()) {
+        curve.writeCsv(o.outDir + "/stiffness.csv");
+        curve.writePng(o.outDir + "/stiffness.png");
+        std::printf("stiffness curve: %s/stiffness.csv and stiffness.png\n", o.outDir.c_str());
+    }
+    return 0;
+}
+
+}  // namespace bop::haptic

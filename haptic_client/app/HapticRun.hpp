@@ -1,0 +1,34 @@
+#pragma once
+// bop-haptic's two runs: against a server (runHaptic) and the device loop alone (runLoopOnly,
+// for its timing). Both print a summary (loop rate, period error, missed deadlines, round trip)
+// and write haptic-trace.csv; a poke also writes its stiffness curve.
+#include "control/ForceModel.hpp"
+#include "device/DeviceFactory.hpp"
+
+#include <optional>
+#include <string>
+
+namespace bop::haptic {
+
+struct RunOptions {
+    std::string endpoint;
+    std::string device = "sim:poke";
+    bool loopOnly = false;
+    double seconds = 0;                     // 0: until the device's script ends (loop only: 10 s)
+    double rateHz = 1000;
+    std::string outDir = "out/haptic";
+    std::optional<Eigen::Vector3d> target;  // scripted devices' surface point; default: the top of the bag
+    DeviceOptions script;
+    ForceModelParams model;
+    double fieldStiffness = 5;              // force / length; 0: no field
+    DeviceLimits limits;
+    double newtonsPerForce = 0.5;           // N per simulation force unit
+    double k0 = 0, k1 = 0;                  // 0: the server's
+    bool udp = false;
+    double mapMaxMb = 512;
+};
+
+int runHaptic(const RunOptions& options);
+int runLoopOnly(const RunOptions& options);
+
+}  // namespace bop::haptic

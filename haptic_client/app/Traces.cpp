@@ -1,0 +1,93 @@
+#include "app/Traces.hpp"
+
+#include "bop/common/Canvas.hpp"
+#include "bop/common/Error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace bop::haptic {
+
+TraceCsv::TraceCsv(const std::string& path) : out_(path), path_(path) {
+    if (!out_) throw Error(path, "cannot write the haptic trace");
+    out_ << "t_s,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,server_fx,server_fy,server_fz,field_fx,field_fy,"
+            "field_fz,force_fx,force_fy,force_fz,force_n,gain,feedback_age_ms,late_us\n";
+}
+
+void TraceCsv::row(const LoopTick& t, const Eigen::Vector3d& d, const ForceOutput& o, const Eigen::Vector3d& n) {
+    char line[512];
+    const double age = std::min(o.feedbackAgeS, 1e6) * 1000;
+    std::snprintf(line, sizeof line,
+                  "%.6f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.4f,%.3f,%.1f\n",
+                  t.tS, d.x(), d.y(), d.z(), o.proxy.x(), o.proxy.y(), o.proxy.z(), o.server.x(), o.server.y(),
+                  o.server.z(), o.field.x(), o.field.y(), o.field.z(), o.force.x(), o.force.y(), o.force.z(), n.norm(),
+                  o.gain, age, t.lateUs);
+    out_ << line;
+}
+
+StiffnessCurve::StiffnessCurve(const Eigen::Vector3d& surface, const Eigen::Vector3d& inward, double binWidth)
+    : surface_(surface), inward_(inward.normalized()), bin_(binWidth) {}
+
+void StiffnessCurve::add(const Eigen::Vector3d& device, const Eigen::Vector3d& force) {
+    const double depth = (device - surface_).dot(inward_);
+    if (depth < 0) return;
+    const auto b = std::size_t(depth / bin_);
+    if (b >= sum_.size()) sum_.resize(b + 1, 0.0), count_.resize(b + 1, 0);
+    sum_[b] += -force.dot(inward_);
+    ++count_[b];
+}
+
+std::vector<StiffnessPoint> StiffnessCurve::points() const {
+    std::vector<StiffnessPoint> p;
+    for (std::size_t b = 0; b < sum_.size(); ++b)
+        if (count_[b] > 0) p.push_back({(double(b) + 0.5) * bin_, sum_[b] / double(count_[b]), count_[b]});
+    return p;
+}
+
+void StiffnessCurve::writeCsv(const std::string& path) const {
+    std::ofstream out(path);
+    if (!out) throw Error(path, "cannot write the stiffness curve");
+    out << "depth,force,samples\n";
+    for (const StiffnessPoint& p : points()) out << p.depth << ',' << p.force << ',' << p.samples << '\n';
+}
+
+namespace {
+
+void line(Canvas& c, int x0, int y0, int x1, int y1, Rgb colour) {
+    const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0), sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
+    for (int err = dx + dy;;) {
+        c.fillRect(x0 - 1, y0 - 1, 2, 2, colour);
+        if (x0 == x1 && y0 == y1) return;
+        const int e2 = 2 * err;
+        if (e2 >= dy) err += dy, x0 += sx;
+        if (e2 <= dx) err += dx, y0 += sy;
+    }
+}
+
+}  // namespace
+
+void StiffnessCurve::writePng(const std::string& path) const {
+    const std::vector<StiffnessPoint> p = points();
+    const int w = 640, h = 400, left = 70, right = 20, top = 30, bottom = 50;
+    Canvas c(w, h, {255, 255, 255});
+    double maxDepth = bin_, maxForce = 1e-9, minForce = 0;
+    for (const StiffnessPoint& q : p)
+        maxDepth = std::max(maxDepth, q.depth + bin_ / 2), maxForce = std::max(maxForce, q.force),
+        minForce = std::min(minForce, q.force);
+    const auto X = [&](double d) { return left + int(std::lround(d / maxDepth * (w - left - right))); };
+    const auto Y = [&](double f) { return h - bottom - int(std::lround((f - minForce) / (maxForce - minForce) * (h - top - bottom))); };
+    const Rgb axis{60, 60, 60}, curve{200, 60, 30};
+    line(c, left, Y(minForce), left, top, axis);
+    line(c, left, Y(0), w - right, Y(0), axis);
+    for (std::size_t k = 1; k < p.size(); ++k)
+        line(c, X(p[k - 1].depth), Y(p[k - 1].force), X(p[k].depth), Y(p[k].force), curve);
+    char label[96];
+    std::snprintf(label, sizeof label, "force felt (max %.3g, simulation units)", maxForce);
+    c.drawText(left, 8, label, axis, 1);
+    std::snprintf(label, sizeof label, "depth past the surface (0 .. %.3g, simulation length)", maxDepth);
+    c.drawText(left, h - 30, label, axis, 1);
+    c.writePng(path);
+}
+
+}  // namespace bop::haptic

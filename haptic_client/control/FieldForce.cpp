@@ -1,0 +1,61 @@
+#include "control/FieldForce.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace bop::haptic {
+namespace {
+
+constexpr double kR0 = 1.7320508075688772;  // r0 = sqrt 3, length
+
+}  // namespace
+
+FieldForce::FieldForce(GradientMap map, double stiffness)
+    : map_(std::move(map)), stiffness_(stiffness), h_(kR0 / map_.r0Voxels) {}
+
+double FieldForce::distanceAtVoxel(int i, int j, int k) const {
+    const Dims& d = map_.dims();
+    i = std::clamp(i, 0, d.nx - 1), j = std::clamp(j, 0, d.ny - 1), k = std::clamp(k, 0, d.nz - 1);
+    const std::size_t v = d.index(i, j, k);
+    // Inside any bag (occ > 0) counts as inside: the probe is pushed out of the outer surface.
+    const double dist = map_.delta(v).cast<double>().norm() * h_;
+    return map_.occ[v] > 0 ? -dist : dist;
+}
+
+double FieldForce::signedDistance(const Eigen::Vector3d& x) const {
+    const Eigen::Vector3d p = x / h_ - Eigen::Vector3d::Constant(0.5);  // voxel centres at integers
+    const Eigen::Vector3d base = p.array().floor();
+    const Eigen::Vector3d f = p - base;
+    const int i = int(base.x()), j = int(base.y()), k = int(base.z());
+    double s = 0;
+    for (int c = 0; c < 8; ++c) {
+        const int a = c & 1, b = (c >> 1) & 1, e = (c >> 2) & 1;
+        const double w = (a ? f.x() : 1 - f.x()) * (b ? f.y() : 1 - f.y()) * (e ? f.z() : 1 - f.z());
+        s += w * distanceAtVoxel(i + a, j + b, k + e);
+    }
+    return s;
+}
+
+Eigen::Vector3d FieldForce::normal(const Eigen::Vector3d& x) const {
+    const Dims& d = map_.dims();
+    const Eigen::Vector3i c = (x / h_).array().floor().cast<int>().matrix();
+    const std::size_t v = d.index(std::clamp(c.x(), 0, d.nx - 1), std::clamp(c.y(), 0, d.ny - 1),
+                                  std::clamp(c.z(), 0, d.nz - 1));
+    return map_.nearestSurface(v).normal.cast<double>();
+}
+
+Eigen::Vector3d FieldForce::top() const {
+    Eigen::Vector3i best(0, 0, -1);
+    for (const SurfaceVoxel& s : map_.surface) {
+        const Eigen::Vector3i c = map_.wholeDims().coords(s.voxel);
+        if (c.z() > best.z()) best = c;
+    }
+    return (best.cast<double>() + Eigen::Vector3d::Constant(0.5)) * h_;
+}
+
+Eigen::Vector3d FieldForce::operator()(const Eigen::Vector3d& x) const {
+    const double s = signedDistance(x);
+    return s < 0 ? Eigen::Vector3d(-stiffness_ * s * normal(x)) : Eigen::Vector3d::Zero();
+}
+
+}  // namespace bop::haptic

@@ -1,0 +1,36 @@
+// The gradient-map download (MapRequest -> MapChunk): pieces of FrontOptions::mapFile read
+// straight from disk on the front's thread. A pass of the loop answers at most 8 pieces (8 MiB):
+// further requests in it get an empty piece and ask again, so a client asking too fast cannot
+// hold up probes and feedback.
+#include "server/ServerFrontImpl.hpp"
+
+#include <algorithm>
+#include <fstream>
+
+namespace bop::protocol {
+namespace {
+
+constexpr int kMapPiecesPerPass = 8;
+
+}  // namespace
+
+Buffer ServerFront::Impl::mapPiece(const MapRequest& r) {
+    MapChunk c;
+    c.offset = r.offset;
+    std::ifstream in;
+    if (!opt.mapFile.empty()) in.open(opt.mapFile, std::ios::binary | std::ios::ate);
+    if (!in) {  // no map: total 0
+        c.offset = 0;
+        return encodeMapChunk(c);
+    }
+    c.total = std::uint64_t(in.tellg());
+    c.offset = std::min(r.offset, c.total);
+    if (++mapPiecesThisPass > kMapPiecesPerPass) return encodeMapChunk(c);  // empty: ask again
+    c.data.resize(std::size_t(std::min<std::uint64_t>(r.length, c.total - c.offset)));
+    in.seekg(std::streamoff(c.offset));
+    in.read(reinterpret_cast<char*>(c.data.data()), std::streamsize(c.data.size()));
+    c.data.resize(std::size_t(in.gcount()));
+    return encodeMapChunk(c);
+}
+
+}  // namespace bop::protocol

@@ -1,0 +1,205 @@
+// bop-haptic against a served torus bag (2 ranks): a scripted poke feels a reaction that opposes
+// the poke and grows with depth, and moves the bag's surface; a server stopped mid-poke leaves
+// the device without force within 50 ms; a simulated fingertip pressed on the bag comes to rest.
+// Traces stay in build/test-output/haptic/.
+#include "ServerProcess.hpp"
+#include "TestUtil.hpp"
+#include "client/ClientSession.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <Eigen/Core>
+
+#include <atomic>
+#include <csignal>
+#include <map>
+#include <optional>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+using namespace bop;
+using namespace std::chrono_literals;
+
+namespace {
+
+std::string outputDir(const std::string& name) {
+    const std::filesystem::path d = std::filesystem::path(test::buildDir()) / "test-output" / "haptic" / name;
+    std::filesystem::remove_all(d);
+    std::filesystem::create_directories(d);
+    return d.string();
+}
+
+// The torus as its construction timeline builds it (4,000 steps, one rank), once per test run.
+const std::string& builtTorus() {
+    static test::TempDir dir("haptic-torus");
+    static const std::string xyz = [] {
+        const auto [code, out] = test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + test::sourceDir() +
+                                                  "/config/scenes/torus.toml --no-listen -o " + dir.file("build") + " 2>&1");
+        INFO(out);
+        REQUIRE(code == 0);
+        return dir.file("build") + "/final.xyz";
+    }();
+    return xyz;
+}
+
+std::vector<std::string> torusServer(const std::string& outDir) {
+    return {test::mpiexec(), "-np", "2", "--oversubscribe", test::buildDir() + "/dynamics_server/bop-server",
+            test::sourceDir() + "/config/scenes/torus.toml", "--restart", builtTorus(), "--port", "0",
+            "--publish-hz", "10", "--frame-ids", "-o", outDir};
+}
+
+// Surface particles (species 1) by id.
+std::map<std::uint64_t, Eigen::Vector3d> surfaceById(const protocol::StateFrame& f) {
+    std::map<std::uint64_t, Eigen::Vector3d> m;
+    for (std::size_t i = 0; i < f.count(); ++i)
+        if (f.species[i] == 1)
+            m[f.ids[i]] = Eigen::Vector3d(f.positions[3 * i], f.positions[3 * i + 1], f.positions[3 * i + 2]);
+    return m;
+}
+
+std::string haptic(const std::string& endpoint, const std::string& args) {
+    return test::buildDir() + "/haptic_client/bop-haptic " + endpoint + " " + args + " 2>&1";
+}
+
+// Rows of a CSV with a header line, by column name.
+struct Csv {
+    std::vector<std::string> names;
+    std::vector<std::vector<double>> rows;
+    explicit Csv(const std::string& path) {
+        std::ifstream in(path);
+        std::string line;
+        REQUIRE(std::getline(in, line));
+        std::istringstream h(line);
+        for (std::string c; std::getline(h, c, ',');) names.push_back(c);
+        while (std::getline(in, line)) {
+            std::vector<double> r;
+            std::istringstream s(line);
+            for (std::string c; std::getline(s, c, ',');) r.push_back(std::stod(c));
+            rows.push_back(std::move(r));
+        }
+    }
+    std::size_t col(const std::string& name) const {
+        const auto it = std::find(names.begin(), names.end(), name);
+        REQUIRE(it != names.end());
+        return std::size_t(it - names.begin());
+    }
+};
+
+}  // namespace
+
+TEST_CASE("bop-haptic pokes the served torus: the reaction opposes the poke, grows with depth, and moves the surface", "[net][haptic]") {
+    test::TempDir dir("haptic-poke");
+    test::ServerProcess srv(torusServer(dir.file("run")));
+    const std::string out = outputDir("poke");
+    // A watcher: the surface before the poke, and how far the poke moves it near the probe.
+    protocol::ClientSession watcher;
+    watcher.connect(srv.endpoint(), 20s);
+    std::optional<protocol::StateFrame> first;
+    for (int k = 0; k < 50 && !first; ++k) first = watcher.receiveFrame(200ms);
+    REQUIRE(first);
+    const auto before = surfaceById(*first);
+    std::atomic<bool> done{false};
+    std::pair<int, std::string> result;
+    std::thread run([&] {
+        result = test::runCommand(haptic(srv.endpoint(), "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 1 --out " + out));
+        done = true;
+    });
+    // The largest displacement of a surface particle within 3 of the probe, and of one more than
+    // 10 away (thermal motion over the same time).
+    double moved = 0, movedFar = 0;
+    while (!done)
+        if (const auto f = watcher.receiveFrame(200ms); f && f->probeActive)
+            for (const auto& [id, p] : surfaceById(*f))
+                if (const auto b = before.find(id); b != before.end()) {
+                    const double r = (p - f->probePosition).norm(), d = (p - b->second).norm();
+                    if (r < 3) moved = std::max(moved, d);
+                    if (r > 10) movedFar = std::max(movedFar, d);
+                }
+    run.join();
+    const auto& [code, printed] = result;
+    INFO(printed);
+    REQUIRE(code == 0);
+    srv.stop(SIGINT);
+    INFO("surface particles near the probe moved up to " << moved << ", far from it up to " << movedFar);
+    CHECK(moved > 0.5);
+    CHECK(moved > 2 * movedFar);
+    CHECK(printed.find("gradient map 100%") != std::string::npos);  // downloaded at connect
+    // The stiffness curve: force felt against the poke, by depth past the surface.
+    const Csv curve(out + "/stiffness.csv");
+    REQUIRE(curve.rows.size() >= 20);
+    double largest = 0;
+    for (std::size_t k = 0; k < curve.rows.size(); ++k) {
+        const double f = curve.rows[k][1];
+        INFO("depth " << curve.rows[k][0] << ": force " << f);
+        largest = std::max(largest, f);
+        if (k > 0) CHECK(f >= curve.rows[k - 1][1] - 0.02 * largest - 1e-9);  // grows with depth (2% of noise)
+    }
+    CHECK(curve.rows.back()[1] > 1.0);                 // opposes the poke, clearly, at the bottom
+    CHECK(std::filesystem::file_size(out + "/stiffness.png") > 1000);
+    // The server's own reaction pushed the probe back out (up) while it was in.
+    const Csv trace(out + "/haptic-trace.csv");
+    // (Deeper in, particles close around an LJ probe and pull it slightly: the map's field
+    // carries the stiffness there, as in the paper, which felt the field.)
+    double serverUp = 0;
+    for (const auto& r : trace.rows) serverUp = std::max(serverUp, r[trace.col("server_fz")]);
+    INFO("largest upward reaction from the server " << serverUp);
+    CHECK(serverUp > 0.1);
+}
+
+TEST_CASE("bop-haptic: a server stopped mid-poke leaves the device without force within 50 ms", "[net][haptic]") {
+    test::TempDir dir("haptic-safety");
+    test::ServerProcess srv(torusServer(dir.file("run")));
+    const std::string out = outputDir("safety");
+    std::pair<int, std::string> result;
+    std::thread run([&] {
+        result = test::runCommand(haptic(srv.endpoint(), "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 10 "
+                                                         "--seconds 8 --out " + out));
+    });
+    std::this_thread::sleep_for(6s);  // in contact from about 4.5 s after connecting
+    srv.stop(SIGTERM);
+    run.join();
+    INFO(result.second);
+    REQUIRE(result.first == 0);
+    const Csv trace(out + "/haptic-trace.csv");
+    const std::size_t t = trace.col("t_s"), n = trace.col("force_n"), age = trace.col("feedback_age_ms");
+    // The last tick with fresh feedback, then the first with no force.
+    std::size_t last = 0;
+    for (std::size_t k = 0; k < trace.rows.size(); ++k)
+        if (trace.rows[k][age] < 5) last = k;
+    REQUIRE(last > 0);
+    REQUIRE(last + 100 < trace.rows.size());  // the server went before the loop ended
+    INFO("force before the silence " << trace.rows[last][n] << " N");
+    CHECK(trace.rows[last][n] > 0.05);  // it was pushing
+    std::size_t zero = last;
+    while (zero < trace.rows.size() && trace.rows[zero][n] > 0) ++zero;
+    REQUIRE(zero < trace.rows.size());
+    const double ms = 1000 * (trace.rows[zero][t] - trace.rows[last][t]);
+    INFO("force at 0 " << ms << " ms after the last feedback");
+    CHECK(ms <= 50);
+    for (std::size_t k = zero; k < trace.rows.size(); ++k) CHECK(trace.rows[k][n] == 0);  // and stays there
+}
+
+TEST_CASE("bop-haptic sim:finger pressed on the served torus comes to rest at its surface", "[net][haptic]") {
+    test::TempDir dir("haptic-finger");
+    test::ServerProcess srv(torusServer(dir.file("run")));
+    const std::string out = outputDir("finger");
+    const auto [code, printed] =
+        test::runCommand(haptic(srv.endpoint(), "--device sim:finger --standoff 3 --depth 1.5 --speed 1 --hold 3 --out " + out));
+    INFO(printed);
+    REQUIRE(code == 0);
+    srv.stop(SIGINT);
+    const Csv trace(out + "/haptic-trace.csv");
+    const std::size_t t = trace.col("t_s"), z = trace.col("device_z"), n = trace.col("force_n");
+    // The hold lasts from 4.5 s to 7.5 s: its last second.
+    double lo = 1e9, hi = -1e9, force = 0;
+    std::size_t count = 0;
+    for (const auto& r : trace.rows)
+        if (r[t] > 6.4 && r[t] < 7.4) lo = std::min(lo, r[z]), hi = std::max(hi, r[z]), force += r[n], ++count;
+    REQUIRE(count > 500);
+    INFO("fingertip z " << lo << " .. " << hi << ", mean force " << force / double(count) << " N");
+    CHECK(hi - lo < 0.05);                // at rest: within 0.05 length over a second
+    CHECK(force / double(count) > 0.05);  // pressed on the bag, which pushes back
+}
