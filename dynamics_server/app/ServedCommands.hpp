@@ -8,6 +8,7 @@
 #include "parallel/DecomposedRun.hpp"
 #include "server/ServerFront.hpp"
 
+#include <chrono>
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,6 +22,8 @@ struct Desk {
     core::ProbeState probe;
     std::uint64_t probeSeq = 0;
     protocol::LoopStats loop;  // the newest probe's device loop (haptic clients), shown in frames
+    bool clientProbe = false;  // the probe was last set by a client (not the scene)...
+    std::chrono::steady_clock::time_point lastClientProbe{};  // ...at this time
     std::vector<std::pair<double, double>> drags;  // per species: beta_v, beta_tau
 };
 

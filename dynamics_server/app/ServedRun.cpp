@@ -129,6 +129,8 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
         desk.probe.params = {p.k0, p.k1};
         desk.probeSeq = p.seq;
         desk.loop = p.loop;
+        desk.clientProbe = true;
+        desk.lastClientProbe = Clock::now();
         front->probeApplied(p, std::uint64_t(run.stepNumber()));
         parallel::Command c;
         c.probe = desk.probe;
@@ -165,6 +167,13 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
             }
             if (const auto p = front->takeProbe()) takeProbe(*p);
             if (!front->anyHaptic()) desk.loop = {};  // no device loop probing now
+            // No probe from any client for a second: a dead client's probe lets go.
+            if (desk.clientProbe && desk.probe.active && Clock::now() - desk.lastClientProbe > std::chrono::seconds(1)) {
+                desk.probe.active = false;
+                parallel::Command off;
+                off.probe = desk.probe;
+                run.submit(off);
+            }
             const bool step = !desk.paused || desk.singleSteps > 0;
             if (desk.paused && desk.singleSteps > 0) --desk.singleSteps;
             // No gather while the front still holds a frame: it would only replace it.

@@ -98,7 +98,7 @@ int run(int argc, char** argv) {
     if (!noListen) {
         front.recordMeta = {{"scene", fs::absolute(scenePath).string()}, {"ranks", std::to_string(ranks)},
                             {"restart", restart}};
-        front.mapFile = cache;  // haptic clients download it (MapRequest)
+        if (scene.shape) front.mapFile = cache;  // haptic clients download it (MapRequest)
         app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
                                                           parallel::MpiSession::barrier, progress);
         app::ServeOptions serve{front, stepsGiven ? steps : 0, waitForClient, outDir, std::nullopt};

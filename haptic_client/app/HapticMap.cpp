@@ -7,7 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <stdlib.h>
 #include <unistd.h>
 
 namespace bop::haptic {
@@ -31,14 +31,22 @@ std::optional<FieldForce> downloadField(protocol::ClientSession& session, const 
             }
         });
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // The file's reader checks magic, version, key and checksum: through a private temporary file.
-    const std::filesystem::path tmp = std::filesystem::temp_directory_path() /
-                                      ("bop-haptic-map-" + std::to_string(::getpid()) + ".bopgm");
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-        if (!out) throw Error(tmp.string(), "cannot write the downloaded gradient map");
+    // The file's reader checks magic, version, key and checksum: through a private temporary
+    // file (mkstemps: a fresh name, mode 0600).
+    std::string name = (std::filesystem::temp_directory_path() / "bop-haptic-map-XXXXXX.bopgm").string();
+    const int fd = ::mkstemps(name.data(), 6);
+    if (fd < 0) throw Error(name, "cannot make a temporary file for the downloaded gradient map");
+    const std::filesystem::path tmp = name;
+    for (std::size_t done = 0; done < bytes.size();) {
+        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (n <= 0) {
+            ::close(fd);
+            std::filesystem::remove(tmp);
+            throw Error(name, "cannot write the downloaded gradient map");
+        }
+        done += std::size_t(n);
     }
+    ::close(fd);
     std::optional<std::vector<GradientMap>> maps;
     try {
         maps = shape::readGradientMaps(tmp.string(), scene.mapKey);

@@ -10,6 +10,8 @@
 #include "bop/common/Error.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <functional>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -26,8 +28,10 @@ std::int64_t wallNs() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
 }
 
+// At most `max` long; nothing when it is not finite (the device is never given NaN).
 Eigen::Vector3d clampNorm(const Eigen::Vector3d& f, double max) {
     const double n = f.norm();
+    if (!std::isfinite(n)) return Eigen::Vector3d::Zero();
     return n > max ? Eigen::Vector3d(f * (max / n)) : f;
 }
 
@@ -82,10 +86,19 @@ int runHaptic(const RunOptions& o) {
     const std::optional<FieldForce> field = downloadField(session, scene, o.fieldStiffness, o.mapMaxMb);
     DeviceOptions script = o.script;
     script.target = o.target ? *o.target : topOfBag(field, scene);
-    const Workspace w =
-        Workspace::fit(o.limits.workspaceMm, Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), o.newtonsPerForce);
+    Workspace w = Workspace::fit(o.limits.workspaceMm, Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), o.newtonsPerForce);
+    if (o.workspaceScale > 0) w.scale = o.workspaceScale;
+    if (o.workspaceCentre) w.sceneCentre = *o.workspaceCentre;
     std::unique_ptr<Device> device = makeDevice(o.device, script, w, o.limits);
-    ForceModel model(o.model, field && o.fieldStiffness > 0
+    // The coupling as the device renders it, N/mm, within what the device renders stably.
+    ForceModelParams params = o.model;
+    const double newtonsPerMm = w.newtonsPerForce * w.scale;  // per (force / length)
+    if (params.stiffness * newtonsPerMm > device->limits().maxStiffnessNPerMm) {
+        params.stiffness = device->limits().maxStiffnessNPerMm / newtonsPerMm;
+        std::printf("bop-haptic: coupling stiffness lowered to %.3g force/length (%.3g N/mm, the device's most)\n",
+                    params.stiffness, device->limits().maxStiffnessNPerMm);
+    }
+    ForceModel model(params, field && o.fieldStiffness > 0
                                   ? std::function<Eigen::Vector3d(const Eigen::Vector3d&)>(std::cref(*field))
                                   : std::function<Eigen::Vector3d(const Eigen::Vector3d&)>());
     const double k0 = o.k0 > 0 ? o.k0 : scene.tunables.k0, k1 = o.k1 > 0 ? o.k1 : scene.tunables.k1;
@@ -100,12 +113,26 @@ int runHaptic(const RunOptions& o) {
     std::printf("bop-haptic: %s at %.0f Hz; target %.3f,%.3f,%.3f; %.4g length per mm, %.3g N per force unit; "
                 "coupling %.3g force/length, field %.3g force/length\n",
                 device->name().c_str(), o.rateHz, script.target.x(), script.target.y(), script.target.z(), w.scale,
-                w.newtonsPerForce, o.model.stiffness, field ? o.fieldStiffness : 0.0);
+                w.newtonsPerForce, params.stiffness, field ? o.fieldStiffness : 0.0);
     std::fflush(stdout);
     std::uint64_t seq = 0, feedbacks = 0;
     double largestN = 0;
     protocol::LoopStats stats;
     Eigen::Vector3d lastProxy = script.target;
+    // However the loop ends (its end, a signal, an exception): the device is let go and the
+    // probe switched off, then a moment for the message to leave before the socket closes.
+    struct LetGo {
+        std::function<void()> f;
+        ~LetGo() { f(); }
+    } letGo{[&] {
+        device->render(Eigen::Vector3d::Zero(), 0);
+        try {
+            session.sendProbe({++seq, wallNs(), lastProxy.allFinite() ? lastProxy : script.target, false, k0, k1, stats,
+                               {0, 0, 0}});
+            session.waitFeedback(Clock::now() + std::chrono::milliseconds(50));
+        } catch (const std::exception&) {  // the server is gone: nothing to switch off
+        }
+    }};
     loop.run([&](const LoopTick& t) {
         const DeviceState state = device->read(t.tS);
         const Eigen::Vector3d x = w.toScene(state.positionMm);
@@ -127,10 +154,9 @@ int runHaptic(const RunOptions& o) {
         session.sendProbe(p);
         roundTrip.sent(seq, wallS());
         trace.row(t, x, out, n);
-        if (scripted(o.device)) curve.add(x, out.force);
+        if (scripted(o.device)) curve.add(x, w.forceToScene(n));  // as felt: after the device's clamp
         return !gStop && (o.seconds > 0 ? t.tS + loop.periodS() < o.seconds : !state.finished);
     });
-    session.sendProbe({++seq, wallNs(), lastProxy, false, k0, k1, stats, {0, 0, 0}});  // the probe off: the hand is gone
     printLoop(loop, realtime);
     std::printf("probe round trip: p50 %.2f ms, p99 %.2f ms, max %.2f ms over %zu probes; %llu feedback messages\n",
                 roundTrip.percentileMs(50), roundTrip.percentileMs(99), roundTrip.percentileMs(100), roundTrip.count(),

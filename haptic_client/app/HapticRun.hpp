@@ -23,6 +23,8 @@ struct RunOptions {
     double fieldStiffness = 5;              // force / length; 0: no field
     DeviceLimits limits;
     double newtonsPerForce = 0.5;           // N per simulation force unit
+    double workspaceScale = 0;              // length per mm; 0: the device's workspace spans the scene's box
+    std::optional<Eigen::Vector3d> workspaceCentre;  // the scene point at the workspace's centre; default: the box's
     double k0 = 0, k1 = 0;                  // 0: the server's
     bool udp = false;
     double mapMaxMb = 512;

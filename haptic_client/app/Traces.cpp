@@ -24,6 +24,7 @@ void TraceCsv::row(const LoopTick& t, const Eigen::Vector3d& d, const ForceOutpu
                   o.server.z(), o.field.x(), o.field.y(), o.field.z(), o.force.x(), o.force.y(), o.force.z(), n.norm(),
                   o.gain, age, t.lateUs);
     out_ << line;
+    if (t.index % 100 == 0) out_.flush();  // whoever follows the file sees it grow
 }
 
 StiffnessCurve::StiffnessCurve(const Eigen::Vector3d& surface, const Eigen::Vector3d& inward, double binWidth)

@@ -22,19 +22,25 @@ double FieldForce::distanceAtVoxel(int i, int j, int k) const {
     return map_.occ[v] > 0 ? -dist : dist;
 }
 
-double FieldForce::signedDistance(const Eigen::Vector3d& x) const {
+double FieldForce::sample(const Eigen::Vector3d& x, Eigen::Vector3d* gradient) const {
     const Eigen::Vector3d p = x / h_ - Eigen::Vector3d::Constant(0.5);  // voxel centres at integers
     const Eigen::Vector3d base = p.array().floor();
     const Eigen::Vector3d f = p - base;
     const int i = int(base.x()), j = int(base.y()), k = int(base.z());
     double s = 0;
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();  // d s / d p, per voxel
     for (int c = 0; c < 8; ++c) {
         const int a = c & 1, b = (c >> 1) & 1, e = (c >> 2) & 1;
-        const double w = (a ? f.x() : 1 - f.x()) * (b ? f.y() : 1 - f.y()) * (e ? f.z() : 1 - f.z());
-        s += w * distanceAtVoxel(i + a, j + b, k + e);
+        const double wx = a ? f.x() : 1 - f.x(), wy = b ? f.y() : 1 - f.y(), wz = e ? f.z() : 1 - f.z();
+        const double d = distanceAtVoxel(i + a, j + b, k + e);
+        s += wx * wy * wz * d;
+        g += d * Eigen::Vector3d((a ? 1 : -1) * wy * wz, wx * (b ? 1 : -1) * wz, wx * wy * (e ? 1 : -1));
     }
+    if (gradient) *gradient = g / h_;
     return s;
 }
+
+double FieldForce::signedDistance(const Eigen::Vector3d& x) const { return sample(x, nullptr); }
 
 Eigen::Vector3d FieldForce::normal(const Eigen::Vector3d& x) const {
     const Dims& d = map_.dims();
@@ -54,8 +60,13 @@ Eigen::Vector3d FieldForce::top() const {
 }
 
 Eigen::Vector3d FieldForce::operator()(const Eigen::Vector3d& x) const {
-    const double s = signedDistance(x);
-    return s < 0 ? Eigen::Vector3d(-stiffness_ * s * normal(x)) : Eigen::Vector3d::Zero();
+    Eigen::Vector3d g;
+    const double s = sample(x, &g);
+    if (s >= 0) return Eigen::Vector3d::Zero();
+    // Outward: the gradient of the interpolated distance, continuous like it; where it vanishes
+    // (a ridge of the distance), the nearest surface's normal.
+    const Eigen::Vector3d n = g.norm() > 1e-9 ? Eigen::Vector3d(g.normalized()) : normal(x);
+    return -stiffness_ * s * n;
 }
 
 }  // namespace bop::haptic

@@ -1,8 +1,9 @@
 #pragma once
 // The gradient map as a field of force vectors on the probe (paper §4.3): inside the bag a
-// spring pushes the probe out along the outward normal of the nearest surface, stiffness times
-// depth; outside it is 0. The depth is the voxel centres' signed distances to the nearest
-// surface (GradientMap::signedDistance) interpolated trilinearly, so the force is continuous.
+// spring pushes the probe out, stiffness times depth, along the gradient of the depth; outside
+// it is 0. The depth is the voxel centres' distances to the nearest surface voxel, negative
+// inside any bag, interpolated trilinearly, so the force is continuous. (Between nested bags
+// the depth is to the nearer surface; the torus and the ventricle have one bag.)
 // Map placement as the server's (shape/GmField.hpp): the corner of voxel (0,0,0) at the origin,
 // a voxel h = r0 / r0Voxels wide (r0 = sqrt 3).
 #include "bop/common/GradientMap.hpp"
@@ -24,6 +25,7 @@ public:
     Eigen::Vector3d top() const;
 
 private:
+    double sample(const Eigen::Vector3d& x, Eigen::Vector3d* gradient) const;  // distance and its gradient
     double distanceAtVoxel(int i, int j, int k) const;  // length, clamped into the grid
     GradientMap map_;
     double stiffness_, h_;

@@ -64,6 +64,9 @@ void RateLoop::run(const std::function<bool(const LoopTick&)>& body) {
             const std::int64_t skip = (woke - due) / period;
             missed_ += std::uint64_t(skip);
             k += skip;
+            // A body slower than the period would otherwise never sleep: under SCHED_FIFO that
+            // starves everything else on the core. A tenth of a period leaves it to others.
+            sleepUntil(nowNs() + period / 10);
         }
         const std::int64_t deadline = start + k * period;
         LoopTick t{ticks_, 1e-9 * double(deadline - start), 1e-9 * double(deadline - previous), 1e-3 * double(woke - deadline)};

@@ -53,7 +53,7 @@ public:
     void run(const std::function<bool(const LoopTick&)>& body);
 
     PeriodStats whole() const;   // since run() began
-    PeriodStats recent() const;  // the newest second of ticks
+    PeriodStats recent() const;  // lateness percentiles of the newest second; rate and counts since the start
     double periodS() const { return period_; }
 
 private:

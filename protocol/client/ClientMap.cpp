@@ -19,7 +19,10 @@ std::vector<std::uint8_t> ClientSession::downloadMap(std::uint64_t maxBytes, std
                                            std::to_string(maxBytes) + " this client accepts");
     std::vector<std::uint8_t> file;
     std::uint64_t total = announced;
+    int idle = 0;  // answers in a row that brought nothing
     while (file.size() < total) {
+        if (idle > 5000)  // 10 s of empty answers (2 ms apart), or a file that keeps changing
+            throw Error(d.controlEndpoint, "the gradient-map download makes no progress");
         const MapRequest want{file.size(), std::uint32_t(std::min<std::uint64_t>(kMaxMapPieceBytes, total - file.size()))};
         const Buffer b = encodeMapRequest(want);
         if (!d.dealer->send(zmq::buffer(b), zmq::send_flags::dontwait))
@@ -48,8 +51,10 @@ std::vector<std::uint8_t> ClientSession::downloadMap(std::uint64_t maxBytes, std
         if (piece->total != total) {  // the server's file changed: start again
             total = piece->total;
             file.clear();
+            ++idle;
             continue;
         }
+        idle = piece->data.empty() ? idle + 1 : 0;
         if (piece->data.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(2));  // busy: ask again
         file.insert(file.end(), piece->data.begin(), piece->data.end());
         if (progress) progress(file.size(), total);

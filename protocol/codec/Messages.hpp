@@ -86,7 +86,7 @@ enum class FrameEncoding : std::uint8_t {
 struct LoopStats {
     float rateHz = 0;                  // ticks per second
     float periodErrorP99Us = 0;        // 99th percentile of |tick - deadline|, microseconds
-    std::uint64_t missedDeadlines = 0; // ticks a whole period or more late, since the start
+    std::uint64_t missedDeadlines = 0; // since the start: ticks a period or more late, deadlines skipped
 };
 
 struct FrameStats {

@@ -1,7 +1,8 @@
 // The gradient-map download (MapRequest -> MapChunk): pieces of FrontOptions::mapFile read
-// straight from disk on the front's thread. A pass of the loop answers at most 8 pieces (8 MiB):
-// further requests in it get an empty piece and ask again, so a client asking too fast cannot
-// hold up probes and feedback.
+// straight from disk on the front's thread. Budgets: a client gets at most 16 pieces (16 MiB) a
+// second and a pass of the loop answers at most 8; further requests get an empty piece and ask
+// again. So a client asking too fast, or asking and never reading, can neither hold up probes
+// and feedback nor pile up more than a second's pieces at a time in its send queue.
 #include "server/ServerFrontImpl.hpp"
 
 #include <algorithm>
@@ -11,10 +12,11 @@ namespace bop::protocol {
 namespace {
 
 constexpr int kMapPiecesPerPass = 8;
+constexpr int kMapPiecesPerClientSecond = 16;
 
 }  // namespace
 
-Buffer ServerFront::Impl::mapPiece(const MapRequest& r) {
+Buffer ServerFront::Impl::mapPiece(const MapRequest& r, front::Client& client) {
     MapChunk c;
     c.offset = r.offset;
     std::ifstream in;
@@ -25,7 +27,10 @@ Buffer ServerFront::Impl::mapPiece(const MapRequest& r) {
     }
     c.total = std::uint64_t(in.tellg());
     c.offset = std::min(r.offset, c.total);
-    if (++mapPiecesThisPass > kMapPiecesPerPass) return encodeMapChunk(c);  // empty: ask again
+    const auto now = Clock::now();
+    if (now - client.mapSecond > std::chrono::seconds(1)) client.mapSecond = now, client.mapPieces = 0;
+    if (++mapPiecesThisPass > kMapPiecesPerPass || ++client.mapPieces > kMapPiecesPerClientSecond)
+        return encodeMapChunk(c);  // empty: ask again
     c.data.resize(std::size_t(std::min<std::uint64_t>(r.length, c.total - c.offset)));
     in.seekg(std::streamoff(c.offset));
     in.read(reinterpret_cast<char*>(c.data.data()), std::streamsize(c.data.size()));

@@ -119,8 +119,9 @@ void ServerFront::Impl::handle(const std::string& id, zmq::message_t& msg) {
     case MessageKind::MapRequest: {
         const auto r = decodeMapRequest(data, size);
         if (!r) return bad(r.error);
-        if (clients.find(id) == clients.end()) return bad(DecodeError::None);  // a session first
-        sendTo(id, mapPiece(r.value));
+        const auto it = clients.find(id);
+        if (it == clients.end()) return bad(DecodeError::None);  // a session first
+        sendTo(id, mapPiece(r.value, it->second));
         return;
     }
     case MessageKind::Probe: {

@@ -33,6 +33,8 @@ struct Client {
     bool mayCommand = true;
     float wantedHz = 0;
     Clock::time_point lastProbe{};
+    Clock::time_point mapSecond{};  // the gradient-map download's budget: pieces in this second
+    int mapPieces = 0;
 };
 
 }  // namespace front
@@ -82,7 +84,7 @@ struct ServerFront::Impl {
     void refuse(const std::string& id, const Command& c, ReplyStatus status, const std::string& why);
     // One inbound message from peer `id` (m held).
     void handle(const std::string& id, zmq::message_t& msg);
-    Buffer mapPiece(const MapRequest& r);  // FrontMap.cpp
+    Buffer mapPiece(const MapRequest& r, front::Client& c);  // FrontMap.cpp
     int mapPiecesThisPass = 0;             // at most kMapPiecesPerPass per pass of the loop
     void publish(StateFrame f);
     void send(std::vector<Buffer> chunks);

@@ -40,6 +40,8 @@ echo "== the torus, built once =="
 build/dynamics_server/bop-server config/scenes/torus.toml --no-listen -o "$out/torus" >"$out/torus.log" 2>&1
 start="$out/torus/final.xyz"
 
+server_pid=""
+trap '[[ -n $server_pid ]] && kill -INT "$server_pid" 2>/dev/null || true' EXIT
 # serve NAMESPACE_PREFIX BIND: starts the server, prints its endpoint; PID in $server_pid.
 serve() {
   local prefix=$1 bind=$2 log=$3
@@ -63,11 +65,14 @@ for transport in tcp udp; do
     | tee "$out/loopback-$transport.log"
   row "loopback-$transport" "$out/loopback-$transport.log"
 done
-kill -INT "$server_pid"; wait "$server_pid" || true
+kill -INT "$server_pid"; wait "$server_pid" || true; server_pid=""
 
 echo "== 3. round trip with 2 ms one-way delay between two network namespaces =="
 a=bopdyn$$ b=bopgfx$$
-cleanup() { ip netns del "$a" 2>/dev/null || true; ip netns del "$b" 2>/dev/null || true; }
+cleanup() {
+  [[ -n $server_pid ]] && kill -INT "$server_pid" 2>/dev/null || true
+  ip netns del "$a" 2>/dev/null || true; ip netns del "$b" 2>/dev/null || true
+}
 trap cleanup EXIT
 # Every step may be refused on a machine without the privileges or the kernel's netem module.
 netns_ready() {
@@ -85,7 +90,7 @@ if why=$(netns_ready 2>&1); then
   ip netns exec "$b" build/haptic_client/bop-haptic "$endpoint" --device sim:poke --seconds "$seconds" \
     --out "$out/netns" | tee "$out/netns.log"
   row "netns-2ms-tcp" "$out/netns.log"
-  kill -INT "$server_pid"; wait "$server_pid" || true
+  kill -INT "$server_pid"; wait "$server_pid" || true; server_pid=""
 else
   echo "haptic: skipped the 2 ms case: $(echo "$why" | tail -1)"
   echo "netns-2ms-tcp,skipped,,,,,,," >>"$csv"

@@ -73,8 +73,8 @@ TEST_CASE("virtual coupling: the proxy follows a free hand; in contact the hand 
     const auto moving = [](double t) { return Eigen::Vector3d(2 * t, 0, 0); };  // 2 length / s
     const auto none = [](const Eigen::Vector3d&) { return Eigen::Vector3d::Zero(); };
     const std::vector<ForceOutput> a = simulate(free, 2, moving, none);
-    CHECK((a.back().proxy - moving(1.999)).norm() < 0.05);     // lags by about (b/k + ...) * v
-    CHECK(a.back().force.norm() < 0.3);                        // a small drag, no more
+    CHECK((a.back().proxy - moving(1.999)).norm() < 0.05);  // a few ticks behind the hand
+    CHECK(a.back().force.norm() < 0.3);                     // the spring barely stretched
 
     ForceModel contact(p);
     const Eigen::Vector3d reaction(0, 0, 5);  // the server pushes the probe up with 5 force units
@@ -198,8 +198,8 @@ TEST_CASE("scripted paths: a poke goes in to its depth, holds and comes out; a c
 }
 
 TEST_CASE("sim:finger pressed into a stiff surface by the force model comes to rest without oscillating", "[haptic]") {
-    // The finger's path goes 5 mm into a surface at z = 0 mm; the force model renders a wall of
-    // 0.5 N/mm (as the server's reaction on the proxy) through the coupling.
+    // The finger's path goes 5 mm into a surface at z = 0 mm; the "server" is a wall of 100
+    // force/length (5 N/mm on the device), felt through the coupling (10 force/length, 0.5 N/mm).
     PathScript p;
     p.inward = {0, 0, -1};
     p.standoffMm = 5, p.depthMm = 5, p.speedMmPerS = 20, p.holdS = 3;
