@@ -167,12 +167,16 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
             }
             if (const auto p = front->takeProbe()) takeProbe(*p);
             if (!front->anyHaptic()) desk.loop = {};  // no device loop probing now
-            // No probe from any client for a second: a dead client's probe lets go.
+            // No probe from any client for a second: a dead client's probe lets go. Taken as a
+            // probe like any other, so that a recording holds it and a replay applies it.
             if (desk.clientProbe && desk.probe.active && Clock::now() - desk.lastClientProbe > std::chrono::seconds(1)) {
-                desk.probe.active = false;
-                parallel::Command off;
-                off.probe = desk.probe;
-                run.submit(off);
+                protocol::Probe off;
+                off.seq = desk.probeSeq;
+                off.position = desk.probe.position;
+                off.active = false;
+                off.k0 = desk.probe.params.k0;
+                off.k1 = desk.probe.params.k1;
+                takeProbe(off);
             }
             const bool step = !desk.paused || desk.singleSteps > 0;
             if (desk.paused && desk.singleSteps > 0) --desk.singleSteps;

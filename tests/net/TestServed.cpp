@@ -188,7 +188,9 @@ TEST_CASE("a recorded session replayed at the same rank count reproduces every f
     drag.body = SetParameter{"drag_v", 1, 0, 0.5};
     const CommandReply r = c.sendCommand(drag, 10s);
     CHECK(r.status == ReplyStatus::Ok);
-    std::this_thread::sleep_for(500ms);
+    // Over a second without probes: the server switches the client's probe off, and the replay
+    // must do so at the same step.
+    std::this_thread::sleep_for(1500ms);
     stopCleanly(srv);
     const auto [code, out] = test::runCommand(test::buildDir() + "/protocol/bop-replay check " + rec + " -o " +
                                               dir.file("replay") + " 2>&1");
