@@ -5,26 +5,12 @@
 #include "app/HapticRun.hpp"
 
 #include "bop/common/Error.hpp"
+#include "bop/common/ParseVector.hpp"
 #include "bop/common/ToolMain.hpp"
 
 #include <CLI/CLI.hpp>
 
-#include <sstream>
-
-namespace {
-
 using namespace bop;
-
-Eigen::Vector3d vec(const std::string& text, const char* option) {
-    std::istringstream in(text);
-    Eigen::Vector3d p;
-    char c1 = 0, c2 = 0;
-    if (!(in >> p.x() >> c1 >> p.y() >> c2 >> p.z()) || c1 != ',' || c2 != ',' || !p.allFinite() || !in.eof())
-        throw Error(option, "expected x,y,z, got '" + text + "'");
-    return p;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
     return runTool("bop-haptic", [&] {
@@ -75,9 +61,9 @@ int main(int argc, char** argv) {
         app.add_flag("--udp", o.udp, "probes and feedback as datagrams (the server's UDP port)");
         app.add_option("--map-max-mb", o.mapMaxMb, "largest gradient map to download, MB")->check(CLI::PositiveNumber);
         CLI11_PARSE(app, argc, argv);
-        if (!target.empty()) o.target = vec(target, "--target");
-        if (!workspaceCentre.empty()) o.workspaceCentre = vec(workspaceCentre, "--workspace-centre");
-        if (!inward.empty()) o.script.inward = vec(inward, "--inward");
+        if (!target.empty()) o.target = parseVector3(target, "--target");
+        if (!workspaceCentre.empty()) o.workspaceCentre = parseVector3(workspaceCentre, "--workspace-centre");
+        if (!inward.empty()) o.script.inward = parseVector3(inward, "--inward");
         if (o.script.inward.norm() == 0) throw Error("--inward", "expected a direction, got 0,0,0");
         if (!o.loopOnly && o.endpoint.empty()) throw Error("bop-haptic", "expected the server's endpoint (or --loop-only)");
         return o.loopOnly ? haptic::runLoopOnly(o) : haptic::runHaptic(o);

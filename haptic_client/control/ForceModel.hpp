@@ -50,7 +50,7 @@ private:
     std::function<Eigen::Vector3d(const Eigen::Vector3d&)> field_;
     Eigen::Vector3d proxy_ = Eigen::Vector3d::Zero(), proxyV_ = Eigen::Vector3d::Zero();
     Eigen::Vector3d device_ = Eigen::Vector3d::Zero(), server_ = Eigen::Vector3d::Zero();
-    std::optional<double> lastFeedbackS_, silentSinceS_;
+    std::optional<double> lastFeedbackS_;
     double gain_ = 0, resumedAtS_ = -1e300, gainAtResume_ = 0;
     bool started_ = false;
 };

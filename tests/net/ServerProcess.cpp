@@ -1,5 +1,7 @@
 #include "ServerProcess.hpp"
 
+#include <filesystem>
+
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -121,6 +123,13 @@ int ServerProcess::stop(int signal, std::chrono::milliseconds timeout) {
 std::string ServerProcess::output() {
     drain(0);
     return out_;
+}
+
+std::string outputDir(const std::string& group, const std::string& name) {
+    const std::filesystem::path d = std::filesystem::path(buildDir()) / "test-output" / group / name;
+    std::filesystem::remove_all(d);
+    std::filesystem::create_directories(d);
+    return d.string();
 }
 
 }  // namespace bop::test

@@ -40,4 +40,7 @@ std::pair<int, std::string> runCommand(const std::string& command);
 std::string buildDir();
 std::string mpiexec();
 
+// build/test-output/GROUP/NAME, emptied: where a test leaves files to look at.
+std::string outputDir(const std::string& group, const std::string& name);
+
 }  // namespace bop::test

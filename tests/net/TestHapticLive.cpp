@@ -26,13 +26,6 @@ using namespace std::chrono_literals;
 
 namespace {
 
-std::string outputDir(const std::string& name) {
-    const std::filesystem::path d = std::filesystem::path(test::buildDir()) / "test-output" / "haptic" / name;
-    std::filesystem::remove_all(d);
-    std::filesystem::create_directories(d);
-    return d.string();
-}
-
 // The torus as its construction timeline builds it (4,000 steps, one rank), once per test run.
 const std::string& builtTorus() {
     static test::TempDir dir("haptic-torus");
@@ -94,7 +87,7 @@ struct Csv {
 TEST_CASE("bop-haptic pokes the served torus: the reaction opposes the poke, grows with depth, and moves the surface", "[net][haptic]") {
     test::TempDir dir("haptic-poke");
     test::ServerProcess srv(torusServer(dir.file("run")));
-    const std::string out = outputDir("poke");
+    const std::string out = test::outputDir("haptic", "poke");
     // A watcher: the surface before the poke, and how far the poke moves it near the probe.
     protocol::ClientSession watcher;
     watcher.connect(srv.endpoint(), 20s);
@@ -165,7 +158,7 @@ TEST_CASE("bop-haptic pokes the served torus: the reaction opposes the poke, gro
 TEST_CASE("bop-haptic: a server stopped mid-poke leaves the device without force within 50 ms", "[net][haptic]") {
     test::TempDir dir("haptic-safety");
     test::ServerProcess srv(torusServer(dir.file("run")));
-    const std::string out = outputDir("safety");
+    const std::string out = test::outputDir("haptic", "safety");
     std::pair<int, std::string> result;
     std::thread run([&] {
         result = test::runCommand(haptic(srv.endpoint(), "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 10 "
@@ -213,7 +206,7 @@ TEST_CASE("bop-haptic: a server stopped mid-poke leaves the device without force
 TEST_CASE("bop-haptic sim:finger pressed on the served torus comes to rest at its surface", "[net][haptic]") {
     test::TempDir dir("haptic-finger");
     test::ServerProcess srv(torusServer(dir.file("run")));
-    const std::string out = outputDir("finger");
+    const std::string out = test::outputDir("haptic", "finger");
     const auto [code, printed] =
         test::runCommand(haptic(srv.endpoint(), "--device sim:finger --standoff 3 --depth 1.5 --speed 1 --hold 3 --out " + out));
     INFO(printed);

@@ -25,13 +25,6 @@ using namespace std::chrono_literals;
 
 namespace {
 
-std::string outputDir(const std::string& name) {
-    const std::filesystem::path d = std::filesystem::path(test::buildDir()) / "test-output" / "viewer" / name;
-    std::filesystem::remove_all(d);
-    std::filesystem::create_directories(d);
-    return d.string();
-}
-
 std::vector<std::string> server(const std::string& scene, std::vector<std::string> extra) {
     std::vector<std::string> a{test::mpiexec(), "-np", "2", "--oversubscribe", test::buildDir() + "/dynamics_server/bop-server",
                                test::sourceDir() + "/config/scenes/" + scene + ".toml", "--port", "0"};
@@ -99,7 +92,7 @@ double nearest(const std::vector<Eigen::Vector3d>& ps, const Eigen::Vector3d& x)
 TEST_CASE("bop-viewer --headless writes the frames of a 2-rank server as pictures of its particles", "[net][gui]") {
     test::TempDir dir("viewer-headless");
     test::ServerProcess srv(server("bulk-box", {"--publish-hz", "20", "-o", dir.file("run")}));
-    const std::string out = outputDir("headless");
+    const std::string out = test::outputDir("viewer", "headless");
     const auto [code, printed] = test::runCommand(test::buildDir() + "/viz_client/bop-viewer " + srv.endpoint() +
                                                   " --headless --no-panel --frames 4 --width 320 --height 240 --out " +
                                                   out + " 2>&1");
@@ -139,7 +132,7 @@ TEST_CASE("a probe scripted in bop-viewer --headless indents the served torus ba
     // From beyond its reach above the top of the tube down to 1.2 above the surface, in 2 s.
     const Eigen::Vector3d from = top + Eigen::Vector3d(0, 0, 8.5), to = top + Eigen::Vector3d(0, 0, 1.2);
     test::ServerProcess srv(server("torus", {"--restart", start, "--publish-hz", "10", "-o", dir.file("run")}));
-    const std::string out = outputDir("probe");
+    const std::string out = test::outputDir("viewer", "probe");
     const auto point = [](const Eigen::Vector3d& p) {
         std::ostringstream s;
         s << p.x() << ',' << p.y() << ',' << p.z();
@@ -192,7 +185,7 @@ TEST_CASE("bop-viewer reconnects on its own when the server is lost and another 
     auto first = std::make_unique<test::ServerProcess>(server("bulk-box", {"--publish-hz", "2", "-o", dir.file("a")}));
     const std::string endpoint = first->endpoint();
     const std::string port = endpoint.substr(endpoint.rfind(':') + 1);
-    const std::string out = outputDir("reconnect");
+    const std::string out = test::outputDir("viewer", "reconnect");
     std::pair<int, std::string> viewer;
     std::thread run([&] {
         viewer = test::runCommand(test::buildDir() + "/viz_client/bop-viewer " + endpoint + " --headless --no-panel --frames 6 " +
@@ -234,7 +227,7 @@ TEST_CASE("the window viewer under Xvfb draws the served particles and its panel
     }
     test::TempDir dir("viewer-window");
     test::ServerProcess srv(server("bulk-box", {"--publish-hz", "20", "-o", dir.file("run")}));
-    const std::string shot = outputDir("window") + "/window.png";
+    const std::string shot = test::outputDir("viewer", "window") + "/window.png";
     const auto [code, printed] = test::runCommand(
         "xvfb-run -a -s '-screen 0 1280x800x24' " + test::buildDir() + "/viz_client/bop-viewer " + srv.endpoint() +
         " --frames 5 --width 800 --height 500 --screenshot " + shot + " 2>&1");

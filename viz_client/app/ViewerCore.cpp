@@ -63,7 +63,7 @@ void ViewerCore::draw(int width, int height, double nowS, bool showPanel, const 
     ImGui::NewFrame();
     if (showPanel) {
         const LinkStatus st = link_.status();
-        PanelFigures fig{&st, scene_.get(), frame_.get(), &instances_, perSpecies_, received_.rateHz(nowS),
+        PanelFigures fig{&st, scene_.get(), frame_.get(), perSpecies_, received_.rateHz(nowS),
                          drawn_.rateHz(nowS), frame_ ? nowS - lastFrameS_ : 0.0, &plots_};
         drawPanel(panel, controls_, link_, fig);
     }

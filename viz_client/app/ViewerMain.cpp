@@ -3,28 +3,14 @@
 #include "app/ViewerLoops.hpp"
 
 #include "bop/common/Error.hpp"
+#include "bop/common/ParseVector.hpp"
 #include "bop/common/ToolMain.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
-#include <sstream>
-
-namespace {
 
 using namespace bop;
-
-// "x,y,z" as a point, length; bop::Error naming the option otherwise.
-Eigen::Vector3d point(const std::string& text, const char* option) {
-    std::istringstream in(text);
-    Eigen::Vector3d p;
-    char c1 = 0, c2 = 0;
-    if (!(in >> p.x() >> c1 >> p.y() >> c2 >> p.z()) || c1 != ',' || c2 != ',' || !p.allFinite() || !in.eof())
-        throw Error(option, "expected a point x,y,z in simulation length units, got '" + text + "'");
-    return p;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
     return runTool("bop-viewer", [&] {
@@ -65,7 +51,7 @@ int main(int argc, char** argv) {
         if (probeFrom.empty() != probeTo.empty()) throw Error("--probe-from/--probe-to", "expected both or neither");
         if (!probeFrom.empty()) {
             if (!headless) throw Error("--probe-from", "a scripted probe is for --headless runs; the window has the mouse");
-            o.probe = viz::ProbeScript{point(probeFrom, "--probe-from"), point(probeTo, "--probe-to"), probeSeconds,
+            o.probe = viz::ProbeScript{parseVector3(probeFrom, "--probe-from"), parseVector3(probeTo, "--probe-to"), probeSeconds,
                                        probeK0, probeK1};
         }
         if (headless && o.frames == 0) o.frames = 10;

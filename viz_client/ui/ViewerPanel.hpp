@@ -37,7 +37,6 @@ struct PanelFigures {
     const LinkStatus* link = nullptr;
     const protocol::SceneInfo* scene = nullptr;
     const protocol::StateFrame* frame = nullptr;  // the newest drawn
-    const Instances* instances = nullptr;
     std::vector<std::size_t> perSpecies;          // particles in the frame by species number
     double receivedHz = 0, drawnHz = 0;           // frames per second
     double frameAgeS = 0;                         // since the newest frame arrived, s
