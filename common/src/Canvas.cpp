@@ -1,5 +1,7 @@
 #include "bop/common/Canvas.hpp"
 
+#include <cstdlib>
+
 #include "bop/common/Error.hpp"
 #include "bop/common/Npy.hpp"  // writeFileAtomic
 
@@ -101,6 +103,18 @@ Rgb Canvas::get(int x, int y) const {
                                 std::to_string(height_));
     const std::size_t i = (std::size_t(y) * std::size_t(width_) + std::size_t(x)) * 3;
     return {pixels_[i], pixels_[i + 1], pixels_[i + 2]};
+}
+
+void Canvas::drawLine(int x0, int y0, int x1, int y1, Rgb c, int width) {
+    const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0), sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
+    const int back = width / 2;
+    for (int err = dx + dy;;) {
+        fillRect(x0 - back, y0 - back, width, width, c);
+        if (x0 == x1 && y0 == y1) return;
+        const int e2 = 2 * err;
+        if (e2 >= dy) err += dy, x0 += sx;
+        if (e2 <= dx) err += dx, y0 += sy;
+    }
 }
 
 void Canvas::fillRect(int x, int y, int w, int h, Rgb c) {

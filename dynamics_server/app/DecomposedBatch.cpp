@@ -1,6 +1,7 @@
 #include "DecomposedBatch.hpp"
 
 #include "BatchReport.hpp"
+#include "CardiacRun.hpp"
 #include "ExtendedXyz.hpp"
 #include "SimulationSetup.hpp"
 #include "shape/GradientMapFile.hpp"
@@ -13,6 +14,7 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <optional>
 
 namespace fs = std::filesystem;
 
@@ -21,6 +23,7 @@ namespace bop::app {
 int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOptions& o) {
     const core::Model& model = *scene.model;
     const long long firstStep = start.firstStep;
+    const std::optional<GradientMap> header = start.options.map ? std::optional(start.options.map->header) : std::nullopt;
     parallel::DecomposedRun run(scene.model, start.particles, std::move(start.options));
     start.particles = {};
     run.setProbe(scene.probe);
@@ -44,9 +47,21 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
         info.periodic = model.box.periodic;
         appendExtendedXyz(path, all, names, info);
     };
+    std::optional<CardiacRun> cardiac;
+    if (scene.pressure && header) cardiac.emplace(scene, *header, run.frameVolumes());
     const auto t0 = std::chrono::steady_clock::now();
     for (long long s = 1; s <= o.steps; ++s) {
         run.step();
+        if (cardiac) {  // collective reductions every step, particles gathered now and then
+            const parallel::Totals t = run.totals();
+            const long long step = firstStep + s;
+            if (cardiac->wantsParticles(step)) {
+                const core::Particles all = run.gather();
+                if (root) cardiac->particles(model, all);
+            }
+            cardiac->step({step, double(step) * model.integration.dt, t.keyframe, t.bloodMv2, t.virialVolume,
+                           t.wallVirial, t.bloodCount, t.bloodVolume, t.cavityVolume});
+        }
         if (o.snapshotEvery > 0 && s % o.snapshotEvery == 0) {
             const core::Particles all = run.gather();  // collective
             if (root) write(trajectory, all, firstStep + s);
@@ -93,12 +108,13 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     if (scene.shape && !o.cache.empty())
         if (auto maps = shape::readGradientMaps(o.cache, shape::hashText(scene.shape->canonical))) {
             core::Model whole = model;
-            whole.map = std::make_shared<GradientMap>(std::move(maps->front()));
+            whole.map = std::make_shared<GradientMap>(std::move(maps->at(std::size_t(t.keyframe.a))));  // the frame in force
             const Fidelity f = measureFidelity(whole, all);
             std::cout << std::setprecision(2) << "shape fidelity: " << 100 * f.surfaceInOwnVoxels << "% of surface particles in their surface voxels, "
                       << 100 * f.volumeInOwnVoxels << "% of volume particles in their volume voxels, median normal angle "
                       << f.medianNormalAngleDeg << " deg\n";
         }
+    if (cardiac) cardiac->finish(o.outDir, std::cout);
     spdlog::info("final state: {}{}", finalFile, o.snapshotEvery > 0 ? ", trajectory: " + trajectory : "");
     return 0;
 }

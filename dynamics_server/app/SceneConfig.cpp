@@ -4,6 +4,7 @@
 
 #include "bop/common/ConfigTable.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace bop::app {
@@ -133,6 +134,27 @@ void readConstruction(const ConfigTable& root, Scene& s) {
     t->finish();
 }
 
+// [keyframes]: the frames come from the shape's image sequence.
+void readKeyframes(const ConfigTable& root, Scene& s) {
+    const auto t = root.optionalTable("keyframes");
+    if (!t) return;
+    if (!s.shape) root.fail("keyframes", "keyframes cycle the frames of a [shape]; the scene has none");
+    core::KeyframeSchedule& k = s.model->keyframes;
+    for (const auto& bag : s.shape->bags) k.frames = std::max(k.frames, bag.source->frameCount());
+    if (k.frames < 2) t->fail("frame_duration", "the shape has one frame; keyframes need an image sequence (a 4D NIfTI or files = [...])");
+    if (t->has("period") == t->has("frame_duration"))
+        t->fail("frame_duration", "give either period or frame_duration (simulation time units), not both or neither");
+    k.frameDuration = t->has("period") ? positive(*t, "period", t->number("period")) / k.frames
+                                       : positive(*t, "frame_duration", t->number("frame_duration"));
+    k.startTime = t->number("start_time", 0.0);
+    if (k.startTime < 0) t->fail("start_time", "expected 0 or more (simulation time units)");
+    k.firstFrame = int(t->integer("first_frame", 0));
+    if (k.firstFrame < 0 || k.firstFrame >= k.frames)
+        t->fail("first_frame", "expected a frame in [0, " + std::to_string(k.frames - 1) + "]");
+    k.blend = t->boolean("blend", true);
+    t->finish();
+}
+
 }  // namespace
 
 void defaultSpecies(core::Model& m, int bags) {
@@ -202,6 +224,21 @@ Scene loadScene(const std::string& path) {
         s.probe.params.k0 = positive(*t, "k0", t->number("k0", 1.0));
         s.probe.params.k1 = t->number("k1", 1.0);
         t->finish();
+    }
+    readKeyframes(root, s);
+    if (const auto t = root.optionalTable("pressure")) {
+        PressureSettings p;
+        p.averageSteps = t->integer("average_steps", p.averageSteps);
+        if (p.averageSteps < 1) t->fail("average_steps", "expected at least 1 step");
+        p.peakMmHg = positive(*t, "peak_mmhg", t->number("peak_mmhg", p.peakMmHg));
+        p.paperEq15 = t->choice("formula", {"standard", "paper_eq15"}, "standard") == "paper_eq15";
+        p.skipCycles = int(t->integer("skip_cycles", p.skipCycles));
+        if (p.skipCycles < 0) t->fail("skip_cycles", "expected 0 or more cycles");
+        p.volumeEverySteps = t->integer("volume_every_steps", p.volumeEverySteps);
+        if (p.volumeEverySteps < 1) t->fail("volume_every_steps", "expected at least 1 step");
+        t->finish();
+        if (!s.shape) t->fail("formula", "the blood pressure is measured in a bag: the scene has no [shape]");
+        s.pressure = p;
     }
     if (const auto t = root.optionalTable("run")) {
         s.run.steps = t->integer("steps", 0);

@@ -27,6 +27,15 @@ struct RunSettings {
     long long reportEverySteps = 0;      // progress line period, steps (0 = about 10 per run)
 };
 
+// The ventricle's blood-pressure curve and volumes (paper §5.2; app/CardiacSeries.hpp).
+struct PressureSettings {
+    long long averageSteps = 10;   // steps per averaged sample (the paper: 10)
+    double peakMmHg = 120;         // the fitted curve is scaled to this peak, mmHg
+    bool paperEq15 = false;        // the paper's eq. 15 (1/N on the virial) instead of the standard formula
+    int skipCycles = 1;            // keyframe cycles left out of the averaged cycle (settling)
+    long long volumeEverySteps = 50;  // period of the particle-filled volume measurement, steps
+};
+
 struct Scene {
     std::string file;
     std::optional<shape::ShapeSpec> shape;   // the bag(s), or nothing for bulk material
@@ -37,6 +46,7 @@ struct Scene {
     core::ProbeState probe;
     std::optional<Eigen::Vector3d> probePositionVoxels;
     RunSettings run;
+    std::optional<PressureSettings> pressure;  // [pressure]: write the pressure curve and volumes
     std::uint64_t seed = 1;
 };
 

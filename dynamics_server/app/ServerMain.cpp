@@ -4,6 +4,7 @@
 // writes extended XYZ snapshots. Under mpirun with more than one rank the run is decomposed
 // over the ranks (DecomposedBatch.cpp, parallel/).
 #include "BatchReport.hpp"
+#include "CardiacRun.hpp"
 #include "DecomposedBatch.hpp"
 #include "ExtendedXyz.hpp"
 #include "SceneConfig.hpp"
@@ -21,6 +22,7 @@
 
 #include <chrono>
 #include <limits>
+#include <optional>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -131,8 +133,16 @@ int run(int argc, char** argv) {
     };
     app::BatchReport report(std::cout, model);
     const auto t0 = std::chrono::steady_clock::now();
+    std::optional<app::CardiacRun> cardiac;
+    if (scene.pressure && sim.model().map) cardiac.emplace(scene, *sim.model().map, sim.frameVolumes());
     for (long long s = 1; s <= steps; ++s) {
         sim.step();
+        if (cardiac) {
+            const core::StepStats& st = sim.stats();
+            if (cardiac->wantsParticles(st.step)) cardiac->particles(sim.model(), sim.particles());
+            cardiac->step({st.step, st.time, st.keyframe, st.blood.mv2, st.forces.virialVolume, st.forces.wallVirial,
+                           st.blood.count, st.bloodVolume, st.cavityVolume});
+        }
         if (snapshotEvery > 0 && s % snapshotEvery == 0) snapshot(trajectory);
         if (s % reportEvery == 0 || s == steps) {
             sim.refreshForces();  // the same forces again, now with the energies
@@ -147,11 +157,12 @@ int run(int argc, char** argv) {
     if (model.map) {
         std::cout << "gradient map: " << std::fixed << std::setprecision(3) << shape::gradientMapBytes(*model.map) / 1e6
                   << " MB (the whole map, one process)\n" << std::defaultfloat;
-        const app::Fidelity f = app::measureFidelity(model, sim.particles());
+        const app::Fidelity f = app::measureFidelity(sim.model(), sim.particles());
         std::cout << "shape fidelity: " << 100 * f.surfaceInOwnVoxels << "% of surface particles in their surface voxels, "
                   << 100 * f.volumeInOwnVoxels << "% of volume particles in their volume voxels, median normal angle "
                   << f.medianNormalAngleDeg << " deg\n";
     }
+    if (cardiac) cardiac->finish(outDir, std::cout);
     spdlog::info("final state: {}{}", finalFile, snapshotEvery > 0 ? ", trajectory: " + trajectory : "");
     return 0;
 }

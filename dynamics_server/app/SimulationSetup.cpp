@@ -52,7 +52,10 @@ DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const st
         if (!view) throw Error(cache, "gradient-map cache not found by this rank: put --cache on a filesystem every rank sees");
         auto shared = std::make_shared<const shape::GradientMapFileView>(std::move(*view));
         placeInMap(scene, shared->header(0));
-        s.options.map = parallel::MapSource{shared->header(0), [shared](const shape::VoxelWindow& w) { return shared->crop(0, w); }};
+        // Every frame when the scene cycles them (keyframes), else the first.
+        const int frames = scene.model->keyframes.animated() ? shared->frames() : 1;
+        s.options.map = parallel::MapSource{shared->header(0),
+                                            [shared](int f, const shape::VoxelWindow& w) { return shared->crop(f, w); }, frames};
     }
     s.particles = initialParticles(scene, restart, s.firstStep);
     s.options.firstStep = s.firstStep;
@@ -65,7 +68,12 @@ std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::strin
     core::Model& model = *scene.model;
     if (scene.shape) {
         shape::ShapeBuild maps = shape::loadOrBuildShape(*scene.shape, cache, false, progress);
-        model.map = std::make_shared<GradientMap>(std::move(maps.frames.front()));
+        if (model.keyframes.animated()) {  // every frame, the first one's map in force
+            for (GradientMap& m : maps.frames) model.frames.push_back(std::make_shared<const GradientMap>(std::move(m)));
+            model.map = model.frames[std::size_t(model.keyframes.firstFrame)];
+        } else {
+            model.map = std::make_shared<GradientMap>(std::move(maps.frames.front()));
+        }
         placeInMap(scene, *model.map);
     }
     long long firstStep = 0;

@@ -93,7 +93,7 @@ std::size_t Construction::deaths(const Model& model, Particles& p, long long ste
     if (marks.empty()) return 0;
     std::vector<std::size_t> count(model.species.size(), 0);
     for (auto s : p.species) ++count[s];
-    const std::vector<std::uint64_t> ids = chooseDeaths(params_, marks, count);
+    const std::vector<std::uint64_t> ids = chooseDeaths(params_, marks, count, birth_);
     std::vector<char> die(p.size(), 0);
     for (std::size_t i = 0; i < p.size(); ++i) die[i] = std::binary_search(ids.begin(), ids.end(), p.id[i]);
     p.removeIf(die);

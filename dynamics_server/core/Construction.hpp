@@ -46,6 +46,7 @@ public:
     Eigen::Vector3d defaultSeedPosition(const Model& model, int species) const;  // simulation units
     void setBirth(int species, bool on);
     bool birthOn(int species) const { return birth_[std::size_t(species)]; }
+    const std::vector<char>& birthSwitches() const { return birth_; }  // per species number (index 0 unused)
     bool building() const;                                   // some species' birth is on
     bool checkDue(long long step) const;                     // a birth/death check runs at this step
     std::vector<ConstructionEvent> eventsAt(long long step) const;  // the timeline's, in order
@@ -53,7 +54,8 @@ public:
 
     // At the start of a step: the timeline's events for this step, then (every everySteps
     // steps, while some species' birth is on) deaths followed by births of every species whose
-    // birth is on. With every birth off the bag is left alone: no check runs.
+    // birth is on. Only those species lose particles; with every birth off the bag is left
+    // alone: no check runs.
     ConstructionCounts update(const Model& model, Particles& p, long long step);
 
     const ConstructionParams& params() const { return params_; }

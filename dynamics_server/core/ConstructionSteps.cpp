@@ -72,7 +72,7 @@ std::vector<DeathMark> markDeaths(const ConstructionParams& params, const Constr
 }
 
 std::vector<std::uint64_t> chooseDeaths(const ConstructionParams& params, std::vector<DeathMark> marks,
-                                        const std::vector<std::size_t>& count) {
+                                        const std::vector<std::size_t>& count, const std::vector<char>& birthOn) {
     std::sort(marks.begin(), marks.end(), [](const DeathMark& a, const DeathMark& b) {
         return a.key != b.key ? a.key < b.key : a.id < b.id;
     });
@@ -80,6 +80,7 @@ std::vector<std::uint64_t> chooseDeaths(const ConstructionParams& params, std::v
     std::vector<std::uint64_t> die;
     for (const DeathMark& m : marks) {
         const std::size_t s = std::size_t(m.species);
+        if (s >= birthOn.size() || !birthOn[s]) continue;
         const std::size_t cap = std::max<std::size_t>(1, std::size_t(std::ceil(params.capFraction * double(count[s]))));
         if (killed[s] >= cap) continue;
         ++killed[s];

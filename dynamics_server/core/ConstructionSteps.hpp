@@ -33,9 +33,11 @@ struct DeathMark {
 // Own particles that have a partner closer than deathR0 and lose to it.
 std::vector<DeathMark> markDeaths(const ConstructionParams& params, const ConstructionView& view, long long step);
 // The ids that die (sorted): marks of the whole model in key order, at most the cap of each
-// species; count[s] is the number of particles of species s in the whole model.
+// species; count[s] is the number of particles of species s in the whole model. Only species
+// whose birth is on (birthOn[s]) die: one switched off keeps its particles (a ventricle's blood
+// is compressed, not thinned).
 std::vector<std::uint64_t> chooseDeaths(const ConstructionParams& params, std::vector<DeathMark> marks,
-                                        const std::vector<std::size_t>& count);
+                                        const std::vector<std::size_t>& count, const std::vector<char>& birthOn);
 
 struct BirthCandidate {
     Eigen::Vector3d pos = Eigen::Vector3d::Zero();  // simulation length units

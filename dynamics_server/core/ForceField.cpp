@@ -35,7 +35,7 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
         p.torque[i].setZero();
     }
     auto t0 = Clock::now();
-    gradientMapForces(model, p);
+    gradientMapForces(model, p, stats);
     if (times) times->gradientMap += since(t0);
     t0 = Clock::now();
     const bool held = heldSinceCompute_;
@@ -61,17 +61,30 @@ bool ForceField::listHolds(const Model& model, const Particles& p) {
     return heldSinceCompute_;
 }
 
-void ForceField::gradientMapForces(const Model& model, Particles& p) {
+void ForceField::gradientMapForces(const Model& model, Particles& p, ForceStats& stats) {
     if (oriented_) cpWeight_.assign(p.size(), 1.0f);  // curvature weights serve the co-planar pairs only
     if (!model.map) return;
     if (fieldMap_ != model.map.get()) {
         field_ = std::make_unique<shape::GmField>(*model.map, model.interpolation);
         fieldMap_ = model.map.get();
     }
+    if (blendMap_ && blendFieldMap_ != blendMap_) {
+        blendField_ = std::make_unique<shape::GmField>(*blendMap_, model.interpolation);
+        blendFieldMap_ = blendMap_;
+    }
+    const double w = blendMap_ ? blendW_ : 0.0;
+    const Dims& whole = model.map->wholeDims();
+    const Eigen::Vector3d centre = 0.5 * Eigen::Vector3d(whole.nx, whole.ny, whole.nz) * field_->voxelSize();
     for (std::size_t i = 0; i < p.size(); ++i) {
         const Species& sp = model.species[p.species[i]];
-        const shape::GmSample g = field_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
+        shape::GmSample g = field_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
+        if (w > 0) {  // keyframes: on the way to the next frame's shape
+            const shape::GmSample n = blendField_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
+            g.force = (1 - w) * g.force + w * n.force;
+            g.torque = (1 - w) * g.torque + w * n.torque;
+        }
         p.force[i] += sp.alphaForceGm * g.force;
+        if (sp.kind == ParticleKind::Volume) stats.wallVirial += (p.pos[i] - centre).dot(sp.alphaForceGm * g.force);
         if (sp.kind == ParticleKind::Surface) {
             p.torque[i] += sp.alphaTorqueGm * g.torque;
             if (oriented_) cpWeight_[i] = curvatureWeight(model, p.pos[i], p.species[i]);

@@ -33,6 +33,9 @@ struct ForceStats {
     double probeEnergy = 0;     // energy of the probe's interaction with the particles
     double virial = 0;          // sum over pairs of r_ij . F_j (conservative pair forces), energy
     double virialVolume = 0;    // the same over pairs of two volume particles only
+    // sum over volume particles of (x - map centre) . F^GM: the gradient map's wall virial on
+    // the blood, -3PV for a gas the map alone contains (energy)
+    double wallVirial = 0;
     Eigen::Vector3d probeReaction = Eigen::Vector3d::Zero();  // force of the particles on the probe
     std::size_t pairsInRange = 0;  // pairs within the largest cutoff
 };
@@ -58,6 +61,10 @@ public:
     bool listHolds(const Model& model, const Particles& particles);
     void requestRebuild() { revision_ = ~std::uint64_t(0); }
 
+    // Keyframe blending: until set again, the gradient-map forces are (1 - w) of the model's map
+    // plus w of `next` (a map on the same grid; null or w = 0: the model's map alone).
+    void setMapBlend(const GradientMap* next, double w) { blendMap_ = w > 0 ? next : nullptr, blendW_ = w; }
+
     // Reference O(N^2) pair forces (for tests): same weights, no cell lists.
     static void computePairsBruteForce(const Model& model, Particles& particles, ForceStats& stats);
 
@@ -71,7 +78,7 @@ private:
     float curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species) const;
     // Any model, energies or not, over one pair list.
     void generalPairs(const NeighbourList::Pairs& pairs, PairKernel::Sums& sums);
-    void gradientMapForces(const Model& model, Particles& particles);
+    void gradientMapForces(const Model& model, Particles& particles, ForceStats& stats);
     void probeForces(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats);
 
     PairKernel kernel_;            // weights and evaluators of this model, built once
@@ -84,6 +91,10 @@ private:
     bool heldSinceCompute_ = false;               // listHolds() said yes since the last compute()
     std::unique_ptr<shape::GmField> field_;
     const GradientMap* fieldMap_ = nullptr;
+    std::unique_ptr<shape::GmField> blendField_;   // of blendMap_
+    const GradientMap* blendFieldMap_ = nullptr;
+    const GradientMap* blendMap_ = nullptr;
+    double blendW_ = 0;
     // Per neighbour-list entry (cell order, ghosts included): copies for the pair loop.
     std::vector<Eigen::Vector3d> sp_, sn_, sf_, st_;
     std::vector<std::uint8_t> ss_;

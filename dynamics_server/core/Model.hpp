@@ -2,6 +2,7 @@
 // The scene model: everything a step reads and never changes (species table, interspecies
 // weights, potentials, integration parameters, box and gradient map). Built once from the
 // scene file; commands from the network replace parts of it only between steps.
+#include "Keyframes.hpp"
 #include "Potentials.hpp"
 
 #include "bop/common/GradientMap.hpp"
@@ -61,7 +62,11 @@ struct Model {
     Integration integration;
     Box box;
     bool curvatureWeighting = true;    // multiply co-planar weights by the map's curvature weight
-    std::shared_ptr<const GradientMap> map;  // shape of the bag(s); null for bulk material
+    std::shared_ptr<const GradientMap> map;  // shape of the bag(s) in force now; null for bulk material
+    // Keyframed shapes (Keyframes.hpp): every frame's map, `map` being one of them. Empty or one
+    // map: a static shape.
+    std::vector<std::shared_ptr<const GradientMap>> frames;
+    KeyframeSchedule keyframes;
     shape::Interpolation interpolation = shape::Interpolation::Trilinear;
 
     int speciesCount() const { return int(species.size()) - 1; }

@@ -1,6 +1,8 @@
 #include "Simulation.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <limits>
 
 namespace bop::core {
 namespace {
@@ -14,6 +16,34 @@ Simulation::Simulation(std::shared_ptr<const Model> model, Particles particles, 
       forces_(*model_) {
     stats_.step = firstStep;
     stats_.time = double(firstStep) * model_->integration.dt;
+    const Eigen::Vector3d all = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    if (model_->frames.size() > 1)
+        for (const auto& f : model_->frames) frameVolumes_.push_back(countMapVolume(*f, -all, all));
+    else if (model_->map)
+        frameVolumes_.push_back(countMapVolume(*model_->map, -all, all));
+    applyKeyframe(stats_.time);
+}
+
+void Simulation::applyKeyframe(double time) {
+    const Model& m = *model_;
+    if (m.map) {
+        const KeyframeAt at = m.keyframes.animated() && m.frames.size() > 1 ? m.keyframes.at(time) : KeyframeAt{};
+        if (m.frames.size() > 1) {
+            if (m.frames[std::size_t(at.a)] != m.map) {
+                auto next = std::make_shared<Model>(m);  // weights and species stay; the map moves on
+                next->map = m.frames[std::size_t(at.a)];
+                model_ = std::move(next);  // the forces of this step's new positions are the new map's
+            }
+            forces_.setMapBlend(model_->frames[std::size_t(at.b)].get(), at.w);
+        }
+        stats_.keyframe = at;
+        const double h3 = std::pow(kR0 / m.map->r0Voxels, 3);
+        std::vector<double> blood, cavity;
+        for (const MapVolume& v : frameVolumes_) blood.push_back(v.volumeVoxels), cavity.push_back(v.bagVoxels);
+        const KeyframeAt pick = frameVolumes_.size() > 1 ? at : KeyframeAt{};
+        stats_.bloodVolume = blendFrames(blood, pick) * h3;
+        stats_.cavityVolume = blendFrames(cavity, pick) * h3;
+    }
 }
 
 void Simulation::setModel(std::shared_ptr<const Model> m) {
@@ -30,6 +60,7 @@ void Simulation::refreshForces() {
 
 void Simulation::step() {
     auto t0 = Clock::now();
+    applyKeyframe(double(stats_.step + 1) * model_->integration.dt);  // the time of this step's forces
     const std::size_t before = p_.size();
     stats_.built = construction_.update(*model_, p_, stats_.step);
     if (p_.size() != before || stats_.built.deaths) forcesValid_ = false;
@@ -42,6 +73,7 @@ void Simulation::step() {
     forces_.compute(*model_, probe_, p_, stats_.forces, &times_.forces, (stats_.step + 1) % energyEvery_ == 0);
     t0 = Clock::now();
     stats_.kinetic = kick(*model_, drag_, p_);
+    stats_.blood = bloodSums(*model_, p_);
     times_.integrate += since(t0);
     ++stats_.step;
     stats_.time += model_->integration.dt;

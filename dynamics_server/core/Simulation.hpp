@@ -1,6 +1,7 @@
 #pragma once
 // One process's simulation: the model (read-only during a step), the particles, the probe and
 // the construction timeline, advanced by step(). Free of MPI, sockets and files.
+#include "BloodPressure.hpp"
 #include "Construction.hpp"
 #include "ForceField.hpp"
 #include "Integrator.hpp"
@@ -15,6 +16,10 @@ struct StepStats {
     double kinetic = 0;          // kinetic energy (translation + rotation)
     ForceStats forces;           // energies, virial and probe reaction of the last force evaluation
     ConstructionCounts built;    // births and deaths at the start of the last step
+    BloodSums blood;             // kinetic sum and count of the volume particles after the step
+    KeyframeAt keyframe;         // the gradient-map frame(s) of the last force evaluation
+    double bloodVolume = 0;      // volume voxels of the map(s) in force, length^3 (eq. 15's V)
+    double cavityVolume = 0;     // every voxel of the bags in the map(s) in force, length^3
     double total() const { return kinetic + forces.pairEnergy + forces.probeEnergy; }
 };
 
@@ -45,6 +50,9 @@ public:
     void resetTimes() { times_ = StepTimes{}; }
     const ForceField& forceField() const { return forces_; }
 
+    // Voxel counts of each keyframe's map (one entry for a static shape, none without a map).
+    const std::vector<MapVolume>& frameVolumes() const { return frameVolumes_; }
+
     // Recomputes forces for the current state (after commands changed particles or the model).
     void refreshForces();
 
@@ -53,7 +61,12 @@ public:
     void setEnergyEvery(long long n) { energyEvery_ = n > 0 ? n : 1; }
 
 private:
+    // The map(s) in force at `time`: the model's map follows the keyframes (construction reads
+    // it), the force field blends towards the next frame.
+    void applyKeyframe(double time);
+
     std::shared_ptr<const Model> model_;
+    std::vector<MapVolume> frameVolumes_;
     Particles p_;
     Construction construction_;
     ProbeState probe_;

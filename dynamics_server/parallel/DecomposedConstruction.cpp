@@ -90,7 +90,8 @@ void DecomposedSimulation::construct(std::vector<core::ConstructionEvent> events
 
         std::vector<std::size_t> count = speciesCounts(comm_, p_, sub_.speciesCount());
         const std::vector<std::uint64_t> die = core::chooseDeaths(
-            params, gatherMarks(comm_, core::markDeaths(params, {sub_, sub_.box, seen, owned}, step_)), count);
+            params, gatherMarks(comm_, core::markDeaths(params, {sub_, sub_.box, seen, owned}, step_)), count,
+            construction_.birthSwitches());
         removeIds(p_, die);
         removeIds(seen, die);
         built.deaths = die.size();

@@ -10,10 +10,12 @@
 namespace bop::parallel {
 
 // Where a rank gets its window of the gradient map: the whole map's grid and r0 (arrays
-// empty) and a function returning any window of it (bop-server reads it from the cache file).
+// empty) and a function returning any window of any of its keyframes (bop-server reads them
+// from the cache file).
 struct MapSource {
     GradientMap header;
-    std::function<GradientMap(const shape::VoxelWindow&)> crop;
+    std::function<GradientMap(int frame, const shape::VoxelWindow&)> crop;
+    int frames = 1;  // keyframes (the model's schedule says when each is in force)
 };
 
 struct DecomposedOptions {

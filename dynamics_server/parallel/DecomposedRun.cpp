@@ -23,6 +23,7 @@ void DecomposedRun::refreshForces() { impl_->sim.refreshForces(); }
 void DecomposedRun::setEnergyEvery(long long n) { impl_->sim.setEnergyEvery(n); }
 void DecomposedRun::setProbe(const core::ProbeState& probe) { impl_->sim.probe() = probe; }
 Totals DecomposedRun::totals() const { return impl_->sim.totals(); }
+const std::vector<core::MapVolume>& DecomposedRun::frameVolumes() const { return impl_->sim.frameVolumes(); }
 core::Particles DecomposedRun::gather() const { return impl_->sim.gather(); }
 void DecomposedRun::submit(const Command& command) { impl_->sim.submit(command); }
 long long DecomposedRun::stepNumber() const { return impl_->sim.stepCount(); }

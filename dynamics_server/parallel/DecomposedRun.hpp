@@ -6,6 +6,7 @@
 #include "DecomposedOptions.hpp"
 #include "Decomposition.hpp"
 #include "core/ForceField.hpp"
+#include "core/Keyframes.hpp"
 #include "core/Particles.hpp"
 
 #include <Eigen/Core>
@@ -17,6 +18,9 @@ namespace bop::parallel {
 
 struct Totals {              // over all ranks, identical on every rank
     double particles = 0, kinetic = 0, pairEnergy = 0, probeEnergy = 0, virial = 0, virialVolume = 0;
+    double bloodMv2 = 0, bloodCount = 0, wallVirial = 0;  // core/BloodPressure.hpp, ForceStats::wallVirial
+    core::KeyframeAt keyframe;                  // the map frame(s) of the last forces
+    double bloodVolume = 0, cavityVolume = 0;   // volume voxels and bag voxels in force, length^3
     Eigen::Vector3d probeReaction = Eigen::Vector3d::Zero();
     double total() const { return kinetic + pairEnergy + probeEnergy; }
 };
@@ -57,6 +61,7 @@ public:
     std::array<double, 4> agree(const std::array<double, 4>& mine);
     long long stepNumber() const;  // steps so far, counted from the scene's first step
     Totals totals() const;
+    const std::vector<core::MapVolume>& frameVolumes() const;  // Simulation::frameVolumes's twin
     RunCounters counters() const;
     core::Particles gather() const;  // every particle sorted by id
     // What a state frame carries, on rank 0 (lighter than gather()), into `into`, whose arrays

@@ -2,6 +2,8 @@
 
 #include "Packing.hpp"
 
+#include "core/BloodPressure.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -33,14 +35,34 @@ DecomposedSimulation::DecomposedSimulation(const CartComm& comm, std::shared_ptr
     if (!mapSource_ && model_->map) {
         GradientMap header = *model_->map;
         header.occ = {}, header.nearest = {}, header.surface = {};
-        mapSource_ = MapSource{std::move(header), [map = model_->map](const shape::VoxelWindow& w) {
-                                   return shape::cropGradientMap(*map, w);
-                               }};
+        std::vector<std::shared_ptr<const GradientMap>> frames = model_->frames;
+        if (frames.size() < 2) frames = {model_->map};
+        const int count = int(frames.size());
+        mapSource_ = MapSource{std::move(header),
+                               [frames = std::move(frames)](int f, const shape::VoxelWindow& w) {
+                                   return shape::cropGradientMap(*frames.at(std::size_t(f)), w);
+                               },
+                               count};
     }
     sub_.map = nullptr;
+    sub_.frames.clear();
     sub_.box = dec_.subdomain(comm_.coords());
     cropMap();
+    if (mapSource_) {  // whole-map voxel counts: each rank counts the voxel centres in its subdomain
+        std::vector<double> mine;
+        for (const auto& f : subFrames_) {
+            const core::MapVolume v = core::countMapVolume(*f, sub_.box.lo, sub_.box.hi);
+            mine.insert(mine.end(), {v.bagVoxels, v.volumeVoxels});
+        }
+        const std::vector<double> counts = comm_.allGather(mine);
+        frameVolumes_.assign(subFrames_.size(), {});
+        for (std::size_t k = 0; k < counts.size(); ++k) {  // rank order: the same sums everywhere
+            core::MapVolume& v = frameVolumes_[(k % mine.size()) / 2];
+            (k % 2 ? v.volumeVoxels : v.bagVoxels) += counts[k];
+        }
+    }
     field_ = core::ForceField(sub_);  // with the map window: the pair terms' curvature weights need to know of a map
+    applyKeyframe(double(step_) * model_->integration.dt);
     for (std::size_t i = 0; i < all.size(); ++i) {
         if (!mine(all.pos[i])) continue;
         const std::size_t k = p_.add(all.pos[i], all.species[i], all.id[i], all.q[i]);
@@ -66,10 +88,20 @@ void DecomposedSimulation::cropMap() {
     const shape::VoxelWindow w = shape::windowAround(whole.dims(), h, sub_.box.lo, sub_.box.hi, margin);
     if (sub_.map && w.lo == window_.lo && w.hi == window_.hi) return;
     window_ = w;
-    // The new window is made while the old one lives, so the force field, which notices a new
-    // map by its address, cannot mistake one for the other.
-    auto next = std::make_shared<const GradientMap>(mapSource_->crop(w));
-    sub_.map = std::move(next);
+    // The new windows are made while the old ones live, so the force field, which notices a
+    // new map by its address, cannot mistake one for the other.
+    std::vector<std::shared_ptr<const GradientMap>> next;
+    for (int f = 0; f < mapSource_->frames; ++f) next.push_back(std::make_shared<const GradientMap>(mapSource_->crop(f, w)));
+    subFrames_ = std::move(next);
+    sub_.map = subFrames_[std::size_t(keyframe_.a)];
+}
+
+void DecomposedSimulation::applyKeyframe(double time) {
+    if (!mapSource_) return;
+    const bool animated = model_->keyframes.animated() && subFrames_.size() > 1;
+    keyframe_ = animated ? model_->keyframes.at(time) : core::KeyframeAt{};
+    sub_.map = subFrames_[std::size_t(keyframe_.a)];
+    field_.setMapBlend(subFrames_[std::size_t(keyframe_.b)].get(), keyframe_.w);
 }
 
 std::size_t DecomposedSimulation::mapBytes() const {
@@ -148,6 +180,7 @@ void DecomposedSimulation::step() {
         events.push_back(e);
     }
     commands_.clear();
+    applyKeyframe(double(step_ + 1) * model_->integration.dt);  // the time of this step's forces
     if (forcesStale_) forces(true);  // the step starts from forces of today's weights, as a single process's does
     forcesStale_ = false;
     construct(std::move(events));
@@ -174,8 +207,10 @@ void DecomposedSimulation::step() {
 
 Totals DecomposedSimulation::totals() const {
     const auto& f = stats_;
+    const core::BloodSums blood = core::bloodSums(sub_, p_);
     const std::vector<double> mine{double(p_.size()), kinetic_, f.pairEnergy, f.probeEnergy, f.virial, f.virialVolume,
-                                   f.probeReaction.x(), f.probeReaction.y(), f.probeReaction.z()};
+                                   f.probeReaction.x(), f.probeReaction.y(), f.probeReaction.z(), blood.mv2,
+                                   blood.count, f.wallVirial};
     const std::vector<double> all = comm_.allGather(mine);
     std::vector<double> sum(mine.size(), 0.0);
     for (std::size_t r = 0; r < std::size_t(comm_.size()); ++r)  // rank order: the same sum everywhere
@@ -188,6 +223,17 @@ Totals DecomposedSimulation::totals() const {
     t.virial = sum[4];
     t.virialVolume = sum[5];
     t.probeReaction = Eigen::Vector3d(sum[6], sum[7], sum[8]);
+    t.bloodMv2 = sum[9];
+    t.bloodCount = sum[10];
+    t.wallVirial = sum[11];
+    t.keyframe = keyframe_;
+    if (mapSource_) {
+        const double h3 = std::pow(core::kR0 / mapSource_->header.r0Voxels, 3);
+        std::vector<double> blood, cavity;
+        for (const core::MapVolume& v : frameVolumes_) blood.push_back(v.volumeVoxels), cavity.push_back(v.bagVoxels);
+        t.bloodVolume = core::blendFrames(blood, keyframe_) * h3;
+        t.cavityVolume = core::blendFrames(cavity, keyframe_) * h3;
+    }
     return t;
 }
 

@@ -21,7 +21,9 @@
 // (DecomposedConstruction.cpp). Ids stay unique by construction (core/ConstructionSteps.hpp).
 //
 // Gradient map: each rank holds the window of its subdomain plus a margin
-// (shape/GradientMapCrop.hpp), taken again from the MapSource when balancing moves it.
+// (shape/GradientMapCrop.hpp), taken again from the MapSource when balancing moves it; with
+// keyframes, that window of every frame, and the frame in force follows the simulation time as
+// in a single process (core/Keyframes.hpp).
 //
 // Halo: staged along the split axes, x then y then z; each stage also forwards the ghosts that
 // earlier stages brought, so edges and corners arrive without extra messages. Axes with one rank
@@ -71,6 +73,8 @@ public:
     double imbalanceNow() const;  // most particles on one rank over the mean (collective)
     double initialImbalance() const { return initialImbalance_; }  // with uniform cuts, before balancing
     Totals totals() const;
+    // Voxel counts of every keyframe's whole map (one entry for a static shape; none without a map).
+    const std::vector<core::MapVolume>& frameVolumes() const { return frameVolumes_; }
     // Every particle, sorted by id, on every rank (for tests and snapshots).
     core::Particles gather() const;
 
@@ -89,7 +93,8 @@ private:
     void buildHalo(double range);
     void construct(std::vector<core::ConstructionEvent> events);  // DecomposedConstruction.cpp
     Eigen::Vector3d defaultSeed(int species) const;              // collective
-    void cropMap();                                              // the window of sub_.box, if it moved
+    void cropMap();                                              // the windows of sub_.box, if it moved
+    void applyKeyframe(double time);                             // Simulation::applyKeyframe's twin
     bool mine(const Eigen::Vector3d& x) const { return dec_.owner(x) == comm_.coords(); }
     void updateHalo();
     void forces(bool energies);
@@ -120,6 +125,9 @@ private:
     bool forcesStale_ = false;  // a command changed the weights since the last forces
     std::optional<MapSource> mapSource_;
     shape::VoxelWindow window_;
+    std::vector<std::shared_ptr<const GradientMap>> subFrames_;  // this window of every keyframe
+    std::vector<core::MapVolume> frameVolumes_;                  // whole-map counts per keyframe
+    core::KeyframeAt keyframe_;
 };
 
 }  // namespace bop::parallel

@@ -42,7 +42,8 @@ struct ShapeSpec {
 ShapeSpec readShapeSpec(const ConfigTable& root);
 
 // Top-level scene tables that other readers own (the server's); shape-only tools accept them.
-inline const std::vector<std::string> kOtherSceneTables = {"species", "interactions", "dynamics", "construction", "probe", "run"};
+inline const std::vector<std::string> kOtherSceneTables = {"species", "interactions", "dynamics", "construction", "probe", "run",
+                                                          "keyframes", "pressure"};
 
 // Convenience for tools that only need the shape: parse the file, read [grid]/[shape], and
 // reject unknown top-level tables other than those listed in `otherTables`.

@@ -53,21 +53,6 @@ void StiffnessCurve::writeCsv(const std::string& path) const {
     for (const StiffnessPoint& p : points()) out << p.depth << ',' << p.force << ',' << p.samples << '\n';
 }
 
-namespace {
-
-void line(Canvas& c, int x0, int y0, int x1, int y1, Rgb colour) {
-    const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0), sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
-    for (int err = dx + dy;;) {
-        c.fillRect(x0 - 1, y0 - 1, 2, 2, colour);
-        if (x0 == x1 && y0 == y1) return;
-        const int e2 = 2 * err;
-        if (e2 >= dy) err += dy, x0 += sx;
-        if (e2 <= dx) err += dx, y0 += sy;
-    }
-}
-
-}  // namespace
-
 void StiffnessCurve::writePng(const std::string& path) const {
     const std::vector<StiffnessPoint> p = points();
     const int w = 640, h = 400, left = 70, right = 20, top = 30, bottom = 50;
@@ -79,10 +64,10 @@ void StiffnessCurve::writePng(const std::string& path) const {
     const auto X = [&](double d) { return left + int(std::lround(d / maxDepth * (w - left - right))); };
     const auto Y = [&](double f) { return h - bottom - int(std::lround((f - minForce) / (maxForce - minForce) * (h - top - bottom))); };
     const Rgb axis{60, 60, 60}, curve{200, 60, 30};
-    line(c, left, Y(minForce), left, top, axis);
-    line(c, left, Y(0), w - right, Y(0), axis);
+    c.drawLine(left, Y(minForce), left, top, axis);
+    c.drawLine(left, Y(0), w - right, Y(0), axis);
     for (std::size_t k = 1; k < p.size(); ++k)
-        line(c, X(p[k - 1].depth), Y(p[k - 1].force), X(p[k].depth), Y(p[k].force), curve);
+        c.drawLine(X(p[k - 1].depth), Y(p[k - 1].force), X(p[k].depth), Y(p[k].force), curve);
     char label[96];
     std::snprintf(label, sizeof label, "force felt (max %.3g, simulation units)", maxForce);
     c.drawText(left, 8, label, axis, 1);

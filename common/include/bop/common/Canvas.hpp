@@ -33,6 +33,10 @@ public:
     // Fills pixels [x, x + w) x [y, y + h), clipped to the canvas.
     void fillRect(int x, int y, int w, int h, Rgb c);
 
+    // A line from (x0, y0) to (x1, y1), `width` px wide (Bresenham steps, each a width x width
+    // square), clipped to the canvas.
+    void drawLine(int x0, int y0, int x1, int y1, Rgb c, int width = 2);
+
     // Draws text with its top-left corner at (x, y); scale is an integer pixel
     // magnification (>= 1). '\n' starts a new line 12 * scale px lower; characters
     // outside printable ASCII are drawn as '?'. Clipped to the canvas.
