@@ -48,8 +48,10 @@ void CardiacSeries::addParticleVolume(double ml) { pendingParticleMl_ = ml; }
 
 CardiacCycle CardiacSeries::cycle() const {
     if (!schedule_.animated()) throw std::runtime_error("the pressure cycle needs a keyframed scene ([keyframes])");
-    const int bins = 4 * schedule_.frames;
     const double period = schedule_.period(), from = schedule_.startTime + settings_.skipCycles * period;
+    // Four bins per frame, but no narrower than the rows' spacing (each bin needs rows).
+    const double spacing = rows_.size() > 1 ? rows_[1].time - rows_[0].time : period;
+    const int bins = std::max(3, std::min(4 * schedule_.frames, int(std::floor(period / spacing + 1e-9))));
     std::vector<double> p(std::size_t(bins), 0), vol(std::size_t(bins), 0), part(std::size_t(bins), 0);
     std::vector<int> n(std::size_t(bins), 0), np(std::size_t(bins), 0);
     double last = from;

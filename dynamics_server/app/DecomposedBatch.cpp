@@ -1,11 +1,9 @@
 #include "DecomposedBatch.hpp"
 
 #include "BatchReport.hpp"
-#include "CardiacRun.hpp"
 #include "ExtendedXyz.hpp"
 #include "SimulationSetup.hpp"
 #include "shape/GradientMapFile.hpp"
-#include "parallel/DecomposedRun.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -19,6 +17,17 @@
 namespace fs = std::filesystem;
 
 namespace bop::app {
+
+void recordCardiac(CardiacRun& cardiac, parallel::DecomposedRun& run, const core::Model& model) {
+    const parallel::Totals t = run.totals();
+    const long long step = run.stepNumber();
+    if (cardiac.wantsParticles(step)) {
+        const core::Particles all = run.gather();
+        if (run.rank() == 0) cardiac.particles(model, all);
+    }
+    cardiac.step({step, double(step) * model.integration.dt, t.keyframe, t.bloodMv2, t.virialVolume, t.wallVirial,
+                  t.bloodCount, t.bloodVolume, t.cavityVolume});
+}
 
 int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOptions& o) {
     const core::Model& model = *scene.model;
@@ -52,16 +61,7 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     const auto t0 = std::chrono::steady_clock::now();
     for (long long s = 1; s <= o.steps; ++s) {
         run.step();
-        if (cardiac) {  // collective reductions every step, particles gathered now and then
-            const parallel::Totals t = run.totals();
-            const long long step = firstStep + s;
-            if (cardiac->wantsParticles(step)) {
-                const core::Particles all = run.gather();
-                if (root) cardiac->particles(model, all);
-            }
-            cardiac->step({step, double(step) * model.integration.dt, t.keyframe, t.bloodMv2, t.virialVolume,
-                           t.wallVirial, t.bloodCount, t.bloodVolume, t.cavityVolume});
-        }
+        if (cardiac) recordCardiac(*cardiac, run, model);
         if (o.snapshotEvery > 0 && s % o.snapshotEvery == 0) {
             const core::Particles all = run.gather();  // collective
             if (root) write(trajectory, all, firstStep + s);

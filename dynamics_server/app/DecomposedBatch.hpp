@@ -3,7 +3,9 @@
 // over a Cartesian grid of subdomains (parallel/), stepped, and reported from rank 0 with the
 // same summary line as a single-process run plus the decomposition's own figures.
 #include "SceneConfig.hpp"
+#include "CardiacRun.hpp"
 #include "SimulationSetup.hpp"
+#include "parallel/DecomposedRun.hpp"
 
 #include <string>
 
@@ -17,5 +19,9 @@ struct BatchOptions {
 
 // Collective: every rank calls it with the same scene and start. Returns the exit code.
 int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOptions& options);
+
+// The ventricle's measurements after a step of a decomposed run (collective: the reductions
+// every step, the particles gathered every volume_every_steps; the series is kept on rank 0).
+void recordCardiac(CardiacRun& cardiac, parallel::DecomposedRun& run, const core::Model& model);
 
 }  // namespace bop::app

@@ -2,7 +2,9 @@
 
 #include "ServedCommands.hpp"
 
+#include "DecomposedBatch.hpp"
 #include "ExtendedXyz.hpp"
+#include "core/BloodPressure.hpp"
 #include "shape/GradientMapFile.hpp"
 #include "parallel/DecomposedRun.hpp"
 
@@ -33,8 +35,11 @@ protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t,
     f.probePosition = desk.probe.position;
     f.probeForce = t.probeReaction;
     f.probeActive = desk.probe.active;
-    f.stats = {t.kinetic, t.pairEnergy + t.probeEnergy, (2 * t.kinetic + t.virial) / (3 * volume), stepRate,
-               std::uint64_t(n), desk.loop};
+    // In a bag: the blood's pressure (core/BloodPressure.hpp); in a bulk box: the whole box's.
+    const double pressure = t.bloodVolume > 0 ? core::virialPressure(t.bloodMv2, t.virialVolume, t.bloodVolume)
+                                              : (2 * t.kinetic + t.virial) / (3 * volume);
+    f.stats = {t.kinetic, t.pairEnergy + t.probeEnergy, pressure, stepRate, std::uint64_t(n), desk.loop, t.cavityVolume,
+               t.keyframe.phase()};
     f.frameParticleCount = std::uint32_t(n);
     f.positions = std::move(a.positions);
     f.normals = std::move(a.normals);
@@ -89,7 +94,10 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
     const core::Model& model = *scene.model;
     const GradientMap* header = start.options.map ? &start.options.map->header : nullptr;
     protocol::SceneInfo info = sceneInfoOf(scene, header);
+    std::optional<CardiacRun> cardiac;  // [pressure]: the curve of a ventricle watched live, written at the end
+    const std::optional<GradientMap> mapHeader = header ? std::optional(*header) : std::nullopt;
     parallel::DecomposedRun run(scene.model, start.particles, std::move(start.options));
+    if (scene.pressure && mapHeader) cardiac.emplace(scene, *mapHeader, run.frameVolumes());
     const bool root = run.rank() == 0;
     run.setProbe(scene.probe);
     run.setEnergyEvery(1);  // frames carry the energies
@@ -190,6 +198,7 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
         if (ctl[1] != 0) {
             run.step();
             ++done, ++rateSteps;
+            if (cardiac) recordCardiac(*cardiac, run, model);
         } else {
             std::this_thread::sleep_for(std::chrono::milliseconds(1));
         }
@@ -235,6 +244,7 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
               << s.bytesSent / 1e6 << " MB, " << s.framesDropped << " replaced before sending), " << s.commands
               << " commands, " << s.probes << " probes, " << s.malformed << " malformed messages refused ("
               << s.oversized << " oversized), " << s.peersRefused << " peers refused (CURVE key not allowed)\n";
+    if (cardiac) cardiac->finish(o.outDir, std::cout);
     spdlog::info("final state: {}", finalFile);
     return 0;
 }

@@ -94,6 +94,7 @@ void DecomposedSimulation::cropMap() {
     for (int f = 0; f < mapSource_->frames; ++f) next.push_back(std::make_shared<const GradientMap>(mapSource_->crop(f, w)));
     subFrames_ = std::move(next);
     sub_.map = subFrames_[std::size_t(keyframe_.a)];
+    field_.setMapBlend(subFrames_[std::size_t(keyframe_.b)].get(), keyframe_.w);  // not the old window's
 }
 
 void DecomposedSimulation::applyKeyframe(double time) {

@@ -65,7 +65,8 @@ void encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std::u
     const FrameStats& s = m.stats;
     const wire::LoopStats haptic = detail::toWire(s.haptic);
     const auto stats =
-        wire::CreateFrameStats(fbb, s.kinetic, s.potential, s.pressure, s.stepRateHz, s.particleCount, &haptic);
+        wire::CreateFrameStats(fbb, s.kinetic, s.potential, s.pressure, s.stepRateHz, s.particleCount, &haptic,
+                               s.cavityVolume, s.mapFrame);
     const wire::Vec3 probePos = detail::toWire(m.probePosition), probeForce = detail::toWire(m.probeForce);
     const wire::Vec3 lo = detail::toWire(m.quantLo), hi = detail::toWire(m.quantHi);
 
@@ -184,7 +185,7 @@ Validation decodeStateFrameInto(const std::uint8_t* buf, std::size_t len, StateF
     m.stats = {};
     if (const wire::FrameStats* s = w.stats())
         m.stats = {s->kinetic_energy(), s->potential_energy(), s->pressure(), s->step_rate_hz(), s->particle_count(),
-                   s->haptic() ? detail::toLoopStats(*s->haptic()) : LoopStats{}};
+                   s->haptic() ? detail::toLoopStats(*s->haptic()) : LoopStats{}, s->cavity_volume(), s->map_frame()};
     m.frameParticleCount = w.frame_particle_count();
     m.firstIndex = w.first_index();
     m.encoding = FrameEncoding(w.encoding());

@@ -92,10 +92,12 @@ struct LoopStats {
 struct FrameStats {
     double kinetic = 0;               // whole system, energy
     double potential = 0;             // whole system, energy
-    double pressure = 0;              // virial pressure, energy / length^3
+    double pressure = 0;              // virial pressure (of the blood, volume particles, in a bag), energy / length^3
     double stepRateHz = 0;            // steps per wall second
     std::uint64_t particleCount = 0;  // particles in the simulation
     LoopStats haptic;                 // of the haptic client probing now (from its probes)
+    double cavityVolume = 0;          // the bag(s) in the map(s) in force, length^3 (0: no map)
+    double mapFrame = 0;              // keyframe in force plus its blend towards the next
 };
 
 // One chunk of a state frame (a whole frame is one chunk with chunkCount 1). The particle arrays

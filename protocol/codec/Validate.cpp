@@ -209,6 +209,7 @@ Validation validate(const StateFrame& m, const FrameLimits& limits) {
         c.finite(m.probePosition, "probe_position") && c.finite(m.probeForce, "probe_force") &&
         c.finite(m.stats.kinetic, "stats.kinetic_energy") && c.finite(m.stats.potential, "stats.potential_energy") &&
         c.finite(m.stats.pressure, "stats.pressure") && c.finite(m.stats.stepRateHz, "stats.step_rate_hz") &&
+        c.finite(m.stats.cavityVolume, "stats.cavity_volume") && c.finite(m.stats.mapFrame, "stats.map_frame") &&
         validLoop(c, m.stats.haptic, "stats.haptic");
     if (!headerOk) return c.result();
     c.speciesArray(m.species.data(), n, 1, maxSpecies, "species") &&

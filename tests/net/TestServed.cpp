@@ -8,12 +8,14 @@
 #include "client/CurveKeys.hpp"
 #include "codec/Codec.hpp"
 #include "recording/SessionReader.hpp"
+#include "shape/KeyframeTestScene.hpp"
 #include "transport/UdpSocket.hpp"
 
 #include <catch2/catch.hpp>
 #include <zmq.hpp>
 
 #include <csignal>
+#include <fstream>
 #include <regex>
 #include <set>
 #include <sys/wait.h>
@@ -119,6 +121,61 @@ TEST_CASE("a client of a 2-rank server gets the scene, frames at the set rate, a
     // force on the probe.
     pokeCentre(c, scene, *first);
     stopCleanly(srv);
+}
+
+TEST_CASE("a keyframed bag served at 2 ranks beats in its frames and writes its pressure curve at the end", "[net][keyframes]") {
+    test::TempDir dir("served-keyframes");
+    // The test ball (radius 6 then 9 voxels, 0.5 time units each) built from seeds while it beats.
+    const std::string scene = test::writeKeyframeScene(dir.path.string(), 0.5, true, R"(
+[[construction.event]]
+step = 0
+action = "seed"
+species = 1
+[[construction.event]]
+step = 0
+action = "birth_on"
+species = 1
+[[construction.event]]
+step = 0
+action = "seed"
+species = 2
+[[construction.event]]
+step = 0
+action = "birth_on"
+species = 2
+[pressure]
+skip_cycles = 0
+volume_every_steps = 20
+)");
+    ServerProcess srv({test::mpiexec(), "-np", "2", "--oversubscribe", test::buildDir() + "/dynamics_server/bop-server",
+                       scene, "--port", "0", "--publish-hz", "30", "-o", dir.file("out")});
+    ClientSession c;
+    c.connect(srv.endpoint(), 20s);
+    std::set<int> frames;
+    double smallest = 1e300, largest = 0;
+    int withPressure = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    while (std::chrono::steady_clock::now() - t0 < 4s)
+        if (auto f = c.receiveFrame(200ms)) {
+            frames.insert(int(f->stats.mapFrame));
+            smallest = std::min(smallest, f->stats.cavityVolume);
+            largest = std::max(largest, f->stats.cavityVolume);
+            withPressure += f->stats.pressure != 0;
+        }
+    INFO("cavity volume " << smallest << " to " << largest << " (length^3)");
+    CHECK(frames == std::set<int>{0, 1});
+    CHECK(largest > 2.5 * smallest);  // (9 / 6)^3 = 3.4 between the frames' balls
+    CHECK(withPressure > 0);
+    stopCleanly(srv);
+    std::ifstream csv(dir.file("out") + "/pressure.csv");
+    std::string header, row;
+    std::getline(csv, header);
+    CHECK(header.rfind("step,time,frame,cavity_ml", 0) == 0);
+    int rows = 0;
+    while (std::getline(csv, row)) ++rows;
+    CHECK(rows > 20);
+    CHECK(srv.output().find("cycle (mean of") != std::string::npos);
+    CHECK(std::filesystem::file_size(dir.file("out") + "/pressure.png") > 1000);
 }
 
 TEST_CASE("malformed, truncated and oversized messages are refused and counted, and a killed client costs nothing", "[net]") {

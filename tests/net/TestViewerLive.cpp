@@ -157,11 +157,13 @@ TEST_CASE("a probe scripted in bop-viewer --headless indents the served torus ba
         std::vector<double> v;
         std::istringstream s(row.substr(row.find(',') + 1));
         for (std::string cell; std::getline(s, cell, ',');) v.push_back(std::stod(cell));
-        REQUIRE(v.size() == 14);  // step .. probe_fz after the picture's name
+        REQUIRE(v.size() == 16);  // step .. map_frame after the picture's name
         const bool active = v[7] != 0;
         const Eigen::Vector3d force(v[11], v[12], v[13]);
         if (active && firstForce < 0) firstForce = force.norm();
         if (active) peakUp = std::max(peakUp, force.z());
+        CHECK(v[14] > 0);   // the torus bag's cavity volume
+        CHECK(v[15] == 0);  // one map: frame 0
     }
     INFO("first force " << firstForce << ", largest upward force " << peakUp);
     CHECK(firstForce >= 0);

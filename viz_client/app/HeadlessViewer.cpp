@@ -38,7 +38,7 @@ int runHeadless(ViewerLink& link, const LoopOptions& o) {
         std::filesystem::create_directories(o.outDir);
         std::ofstream csv(std::filesystem::path(o.outDir) / "frames.csv");
         csv << "picture,step,sim_time,kinetic_energy,potential_energy,pressure,step_rate_hz,particles,"
-               "probe_active,probe_x,probe_y,probe_z,probe_fx,probe_fy,probe_fz\n";
+               "probe_active,probe_x,probe_y,probe_z,probe_fx,probe_fy,probe_fz,cavity_volume,map_frame\n";
         const auto t0 = Clock::now();
         std::optional<double> firstFrameS;
         double lastS = 0;
@@ -86,7 +86,8 @@ int runHeadless(ViewerLink& link, const LoopOptions& o) {
                 << f.stats.potential << ',' << f.stats.pressure << ',' << f.stats.stepRateHz << ',' << f.count()
                 << ',' << int(f.probeActive) << ',' << f.probePosition.x() << ',' << f.probePosition.y() << ','
                 << f.probePosition.z() << ',' << f.probeForce.x() << ',' << f.probeForce.y() << ','
-                << f.probeForce.z() << std::endl;  // whole lines for whoever follows the file
+                << f.probeForce.z() << ',' << f.stats.cavityVolume << ',' << f.stats.mapFrame
+                << std::endl;  // whole lines for whoever follows the file
             std::printf("frame %d: step %llu, %zu particles, probe force %.4g, drawn and written in %.1f ms\n", written,
                         (unsigned long long)f.step, f.count(), f.probeForce.norm(),
                         1000 * std::chrono::duration<double>(Clock::now() - t1).count());

@@ -52,7 +52,7 @@ bool ViewerCore::poll(double nowS) {
     perSpecies_.assign(scene_->species.size() + 1, 0);
     for (std::uint8_t s : f.species)
         if (s < perSpecies_.size()) ++perSpecies_[s];
-    plots_.push({f.simTime, f.stats.kinetic + f.stats.potential, f.stats.pressure, f.probeForce.norm()});
+    plots_.push({f.simTime, f.stats.kinetic + f.stats.potential, f.stats.pressure, f.probeForce.norm(), f.stats.cavityVolume});
     return true;
 }
 

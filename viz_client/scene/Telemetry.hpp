@@ -32,6 +32,7 @@ struct PlotSample {
     double energy = 0;      // kinetic + potential, energy
     double pressure = 0;    // energy / length^3
     double probeForce = 0;  // magnitude of the reaction on the probe, force
+    double cavityVolume = 0;  // the bag(s) in the map(s) in force, length^3 (keyframed bags: it beats)
 };
 
 class PlotHistory {

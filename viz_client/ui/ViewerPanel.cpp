@@ -162,6 +162,10 @@ void drawPanel(PanelState& s, Controls& controls, ViewerLink& link, const PanelF
         plot(*f.plots, &PlotSample::energy, "energy");
         plot(*f.plots, &PlotSample::pressure, "pressure");
         plot(*f.plots, &PlotSample::probeForce, "probe force");
+        if (f.frame && f.frame->stats.cavityVolume > 0) {  // a bag: its volume (a keyframed one beats)
+            plot(*f.plots, &PlotSample::cavityVolume, "cavity volume");
+            ImGui::Text("map frame %.2f", f.frame->stats.mapFrame);
+        }
     }
     for (const std::string& r : f.link->replies) ImGui::TextDisabled("%s", r.c_str());
     ImGui::End();

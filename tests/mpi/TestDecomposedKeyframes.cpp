@@ -1,0 +1,80 @@
+// Keyframed maps across ranks: a bag built while its map cycles (a ball growing and shrinking
+// every few steps) has, at whatever rank count mpiexec gave, the map frame of the schedule at
+// every step, the single process's blood volume and pressure sums, and its particles.
+#include "TestUtil.hpp"
+#include "app/SimulationSetup.hpp"
+#include "parallel/DecomposedSimulation.hpp"
+#include "shape/KeyframeTestScene.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <map>
+
+using namespace bop;
+using parallel::CartComm;
+using parallel::DecomposedSimulation;
+
+TEST_CASE("keyframes switch at the stated times at any rank count, as in one process", "[mpi][keyframes]") {
+    test::TempDir dir("mpi-keyframes");
+    // Frames of 0.5 time units (25 steps); the bag grows from seeds while its map cycles.
+    const std::string scene = test::writeKeyframeScene(dir.path.string(), 0.5, true, R"(
+[[construction.event]]
+step = 0
+action = "seed"
+species = 1
+[[construction.event]]
+step = 0
+action = "birth_on"
+species = 1
+[[construction.event]]
+step = 0
+action = "seed"
+species = 2
+[[construction.event]]
+step = 0
+action = "birth_on"
+species = 2
+)");
+    app::Scene s = app::loadScene(scene);
+    auto serial = app::startSimulation(s, "", "");
+    const CartComm comm(MPI_COMM_WORLD, s.model->box);
+    parallel::DecomposedOptions o;
+    o.construction = core::Construction(s.construction, s.timeline, s.model->speciesCount());
+    DecomposedSimulation run(comm, s.model, core::Particles{}, o);
+    const double dt = s.model->integration.dt;
+    int switches = 0;
+    for (long long step = 1; step <= 200; ++step) {
+        serial->step();
+        run.step();
+        const parallel::Totals t = run.totals();
+        const core::KeyframeAt want = s.model->keyframes.at(double(step) * dt);
+        INFO("step " << step);
+        REQUIRE(t.keyframe.a == want.a);
+        REQUIRE(t.keyframe.w == Approx(want.w).margin(1e-12));
+        CHECK(t.keyframe.a == int((step / 25) % 2));
+        switches += step % 25 == 0;
+        CHECK(t.bloodVolume == Approx(serial->stats().bloodVolume).epsilon(1e-12));
+        CHECK(t.cavityVolume == Approx(serial->stats().cavityVolume).epsilon(1e-12));
+        CHECK(t.particles == double(serial->particles().size()));
+    }
+    CHECK(switches == 8);
+    const parallel::Totals t = run.totals();
+    CHECK(t.bloodCount == Approx(serial->stats().blood.count));
+    CHECK(t.bloodMv2 == Approx(serial->stats().blood.mv2).epsilon(1e-6));
+    CHECK(t.virialVolume == Approx(serial->stats().forces.virialVolume).epsilon(1e-6).margin(1e-9));
+    CHECK(t.wallVirial == Approx(serial->stats().forces.wallVirial).epsilon(1e-6));
+    REQUIRE(serial->construction().totals().births > 30);  // the bag grew under the moving map
+    const core::Particles got = run.gather();
+    const core::Particles& want = serial->particles();
+    std::map<std::uint64_t, std::size_t> at;
+    for (std::size_t i = 0; i < want.size(); ++i) at[want.id[i]] = i;
+    REQUIRE(got.size() == want.size());
+    double worst = 0;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        const auto it = at.find(got.id[i]);
+        REQUIRE(it != at.end());
+        worst = std::max(worst, (got.pos[i] - want.pos[it->second]).norm());
+    }
+    INFO("largest position difference " << worst);
+    CHECK(worst < 1e-8);
+}
