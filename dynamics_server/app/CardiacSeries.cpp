@@ -66,7 +66,7 @@ CardiacCycle CardiacSeries::cycle() const {
         if (r.particleMl >= 0) part[b] += r.particleMl, ++np[b];
         last = r.time;
     }
-    const int cycles = int(std::floor((last - from) / period + 1e-9));
+    const int cycles = int(std::floor((last - from + spacing) / period + 1e-9));  // rows stand for their window
     if (*std::min_element(n.begin(), n.end()) == 0)
         throw std::runtime_error("the pressure cycle needs one whole cycle after the " + std::to_string(settings_.skipCycles) +
                                  " skipped (keyframes start at time " + std::to_string(schedule_.startTime) + ", period " +

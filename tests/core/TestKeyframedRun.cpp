@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <random>
 
 using namespace bop;
@@ -146,4 +147,27 @@ TEST_CASE("the averaged cycle finds a known pressure peak and scales it to 120 m
     CHECK(c.efVoxels == Approx(70.0 / 120));
     CHECK(c.efParticles == Approx(60.0 / 90).margin(0.02));
     CHECK(series.rows().front().pressure == Approx(1.5 + std::cos(2 * M_PI * (0.25 - 0.4))).epsilon(1e-9));
+}
+
+TEST_CASE("bad keyframes and pressure tables stop with the file and key", "[keyframes]") {
+    test::TempDir dir("keyframes-errors");
+    const std::string good = test::writeKeyframeScene(dir.path.string(), 0.5, true);
+    const std::string base = [&] { std::ifstream f(good); return std::string(std::istreambuf_iterator<char>(f), {}); }();
+    const auto fails = [&](const std::string& text, const std::string& name) {
+        const std::string path = test::writeText(dir.file(name + ".toml"), text);
+        try {
+            app::loadScene(path);
+        } catch (const std::exception& e) {
+            return std::string(e.what()).find(path) != std::string::npos ? std::string(e.what()) : std::string("no path");
+        }
+        return std::string("no error");
+    };
+    CHECK_THAT(fails(base + "period = 2.0\n", "both"), Catch::Contains("keyframes.frame_duration") && Catch::Contains("not both"));
+    CHECK_THAT(fails(base + "first_frame = 2\n", "first"), Catch::Contains("keyframes.first_frame") && Catch::Contains("[0, 1]"));
+    CHECK_THAT(fails(base + "[pressure]\naverage_steps = 0\n", "avg"), Catch::Contains("pressure.average_steps"));
+    CHECK_THAT(fails(base + "[pressure]\nformula = 'ideal'\n", "formula"), Catch::Contains("pressure.formula"));
+    const std::string sphere = "[grid]\nvoxel_size_mm = 1.0\n[shape]\n[[shape.bag]]\nsource = 'sphere'\nradius_mm = 5.0\n"
+                               "[keyframes]\nframe_duration = 1.0\n";
+    CHECK_THAT(fails(sphere, "static"), Catch::Contains("one frame"));
+    CHECK_THAT(fails("[box]\n[pressure]\n", "bulk"), Catch::Contains("pressure") && Catch::Contains("no [shape]"));
 }

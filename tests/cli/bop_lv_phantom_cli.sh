@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# bop-lv-phantom from the command line: --help, a 4D file and a numbered series with their
+# ground truth (the ejection fraction it prints against the CSV's volumes), and clear errors
+# with a non-zero exit for bad volumes and a bad file name.
+# Usage: bop_lv_phantom_cli.sh PATH/TO/bop-lv-phantom
+set -u
+exe=$1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail=0
+check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+
+"$exe" --help >"$work/help.txt" 2>&1
+check "--help exits 0 and names the volumes" "grep -q -- '--edv-ml' '$work/help.txt'"
+
+"$exe" "$work/a/lv.nii.gz" --frames 6 --voxel-mm 2.5 >"$work/run.txt" 2>&1
+rc=$?
+cat "$work/run.txt"
+check "a 4D file exits 0" "[ $rc -eq 0 ] && [ -s '$work/a/lv.nii.gz' ] && [ -s '$work/a/lv-truth.csv' ]"
+check "the truth CSV has a row per frame" "[ \$(wc -l <'$work/a/lv-truth.csv') -eq 7 ]"
+# The printed exact EF is (max - min) / max of the CSV's exact volumes.
+ef=$(awk -F, 'NR > 1 {if (max == "" || $3 > max) max = $3; if (min == "" || $3 < min) min = $3} END {printf "%.2f", 100 * (max - min) / max}' "$work/a/lv-truth.csv")
+check "the printed ejection fraction ($ef%) is the CSV's" "grep -q \"ejection fraction: $ef% exact\" '$work/run.txt'"
+
+"$exe" "$work/b/frame.nii" --series >"$work/series.txt" 2>&1
+check "--series writes 8 numbered files" "[ -s '$work/b/frame-00.nii' ] && [ -s '$work/b/frame-07.nii' ] && [ ! -e '$work/b/frame-08.nii' ]"
+
+"$exe" "$work/c/lv.nii" --edv-ml 50 --esv-ml 80 >"$work/e1.txt" 2>&1
+rc=$?
+check "end-systolic above end-diastolic exits non-zero naming --esv-ml" "[ $rc -ne 0 ] && grep -q -- '--esv-ml' '$work/e1.txt'"
+"$exe" "$work/c/lv.png" >"$work/e2.txt" 2>&1
+rc=$?
+check "a file that is not .nii or .nii.gz exits non-zero saying so" "[ $rc -ne 0 ] && grep -q 'expected a .nii or .nii.gz' '$work/e2.txt'"
+exit $fail
