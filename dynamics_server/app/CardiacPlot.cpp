@@ -43,9 +43,9 @@ void curve(Canvas& c, const Panel& p, const std::vector<double>& x, const std::v
 void CardiacSeries::writePng(const std::string& path, const CardiacCycle& cy) {
     Canvas c(860, 640, {255, 255, 255});
     const Rgb bop{200, 50, 30}, typical{120, 120, 120}, voxels{40, 90, 200}, particles{230, 140, 20}, text{30, 30, 30};
-    double low = 0;
-    for (double v : cy.fitMmHg) low = std::min(low, v);
-    Panel pressure{80, 50, 740, 300, std::floor(low / 20) * 20, 140};
+    double low = 0, high = 140;
+    for (double v : cy.fitMmHg) low = std::min(low, v), high = std::max(high, v + 10);
+    Panel pressure{80, 50, 740, 300, std::floor(low / 20) * 20, std::ceil(high / 20) * 20};
     frame(c, pressure, "Pressure through one cardiac cycle (end-diastole at 0), scaled to the peak", "mmHg", 20);
     curve(c, pressure, cy.fitPhase, cy.typicalMmHg, typical);
     curve(c, pressure, cy.fitPhase, cy.fitMmHg, bop);

@@ -22,7 +22,12 @@ CardiacSeries::CardiacSeries(const PressureSettings& settings, const core::Keyfr
 void CardiacSeries::add(const CardiacStep& s) {
     const double v = s.bloodVolume;
     sum_.time += s.time;
-    sum_.frame += s.keyframe.phase();
+    // The keyframe phase, unwrapped against the window's first step (7.9 then 0.1 is 8.1, not a mean of 4).
+    double phase = s.keyframe.phase();
+    if (inWindow_ == 0) firstPhase_ = phase;
+    const double frames = std::max(1, schedule_.frames);
+    phase += frames * std::round((firstPhase_ - phase) / frames);
+    sum_.frame += phase;
     sum_.cavityMl += s.cavityVolume * mlPerLength3_;
     sum_.bloodMl += v * mlPerLength3_;
     sum_.pressure += core::virialPressure(s.mv2, s.virialVolume, v);
@@ -34,7 +39,8 @@ void CardiacSeries::add(const CardiacStep& s) {
     const double n = double(inWindow_);
     CardiacRow r;
     r.step = s.step;
-    r.time = sum_.time / n, r.frame = sum_.frame / n, r.cavityMl = sum_.cavityMl / n, r.bloodMl = sum_.bloodMl / n;
+    r.frame = std::fmod(sum_.frame / n + frames, frames);
+    r.time = sum_.time / n, r.cavityMl = sum_.cavityMl / n, r.bloodMl = sum_.bloodMl / n;
     r.pressure = sum_.pressure / n, r.pressureEq15 = sum_.pressureEq15 / n, r.pressureWall = sum_.pressureWall / n;
     r.temperature = sum_.temperature / n, r.particles = sum_.particles / n;
     r.particleMl = pendingParticleMl_;

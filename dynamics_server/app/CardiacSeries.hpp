@@ -67,6 +67,7 @@ private:
     std::vector<CardiacRow> rows_;
     CardiacRow sum_;
     long long inWindow_ = 0;
+    double firstPhase_ = 0;  // keyframe phase of the window's first step
     double pendingParticleMl_ = -1;
 };
 

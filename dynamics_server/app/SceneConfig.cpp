@@ -141,16 +141,25 @@ void readKeyframes(const ConfigTable& root, Scene& s) {
     if (!s.shape) root.fail("keyframes", "keyframes cycle the frames of a [shape]; the scene has none");
     core::KeyframeSchedule& k = s.model->keyframes;
     for (const auto& bag : s.shape->bags) k.frames = std::max(k.frames, bag.source->frameCount());
-    if (k.frames < 2) t->fail("frame_duration", "the shape has one frame; keyframes need an image sequence (a 4D NIfTI or files = [...])");
+    if (k.frames < 2) root.fail("keyframes", "the shape has one frame; keyframes need an image sequence (a 4D NIfTI or files = [...])");
     if (t->has("period") == t->has("frame_duration"))
         t->fail("frame_duration", "give either period or frame_duration (simulation time units), not both or neither");
-    k.frameDuration = t->has("period") ? positive(*t, "period", t->number("period")) / k.frames
-                                       : positive(*t, "frame_duration", t->number("frame_duration"));
-    k.startTime = t->number("start_time", 0.0);
+    const auto finite = [&](const std::string& key, double v) {
+        if (!std::isfinite(v)) t->fail(key, "expected a finite number");
+        return v;
+    };
+    const double dt = s.model->integration.dt;
+    k.frameDuration = t->has("period") ? finite("period", t->number("period")) / k.frames
+                                       : finite("frame_duration", t->number("frame_duration"));
+    if (!(k.frameDuration >= dt))
+        t->fail(t->has("period") ? "period" : "frame_duration",
+                "each frame must last at least one time step (" + std::to_string(dt) + "), got " +
+                    std::to_string(k.frameDuration) + " per frame");
+    k.startTime = finite("start_time", t->number("start_time", 0.0));
     if (k.startTime < 0) t->fail("start_time", "expected 0 or more (simulation time units)");
-    k.firstFrame = int(t->integer("first_frame", 0));
-    if (k.firstFrame < 0 || k.firstFrame >= k.frames)
-        t->fail("first_frame", "expected a frame in [0, " + std::to_string(k.frames - 1) + "]");
+    const long long first = t->integer("first_frame", 0);
+    if (first < 0 || first >= k.frames) t->fail("first_frame", "expected a frame in [0, " + std::to_string(k.frames - 1) + "]");
+    k.firstFrame = int(first);
     k.blend = t->boolean("blend", true);
     t->finish();
 }

@@ -27,7 +27,7 @@ std::int64_t nowNs() {
 }
 
 protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t, const Desk& desk, long long step,
-                             double dt, double volume, double stepRate) {
+                             double dt, double volume, double stepRate, bool paperEq15) {
     protocol::StateFrame f;
     const std::size_t n = a.species.size();
     f.step = std::uint64_t(step);
@@ -35,9 +35,10 @@ protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t,
     f.probePosition = desk.probe.position;
     f.probeForce = t.probeReaction;
     f.probeActive = desk.probe.active;
-    // In a bag: the blood's pressure (core/BloodPressure.hpp); in a bulk box: the whole box's.
-    const double pressure = t.bloodVolume > 0 ? core::virialPressure(t.bloodMv2, t.virialVolume, t.bloodVolume)
-                                              : (2 * t.kinetic + t.virial) / (3 * volume);
+    // In a bag: the blood's pressure (core/BloodPressure.hpp; the scene's formula); in a bulk box: the whole box's.
+    const double pressure = t.bloodVolume <= 0 ? (2 * t.kinetic + t.virial) / (3 * volume)
+                            : paperEq15     ? core::paperEq15Pressure(t.bloodMv2, t.virialVolume, t.bloodCount, t.bloodVolume)
+                                            : core::virialPressure(t.bloodMv2, t.virialVolume, t.bloodVolume);
     f.stats = {t.kinetic, t.pairEnergy + t.probeEnergy, pressure, stepRate, std::uint64_t(n), desk.loop, t.cavityVolume,
                t.keyframe.phase()};
     f.frameParticleCount = std::uint32_t(n);
@@ -218,7 +219,8 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
         if (o.replay)  // a replay is compared frame by frame: none may be replaced unsent
             while (front->framePending()) std::this_thread::sleep_for(std::chrono::microseconds(200));
         front->setParticleCount(arrays.species.size());
-        front->offerFrame(frameOf(std::move(arrays), t, desk, run.stepNumber(), model.integration.dt, volume, stepRate));
+        front->offerFrame(frameOf(std::move(arrays), t, desk, run.stepNumber(), model.integration.dt, volume, stepRate,
+                                  scene.pressure && scene.pressure->paperEq15));
     }
     const core::Particles all = run.gather();
     if (!root) return 0;

@@ -140,7 +140,7 @@ int run(int argc, char** argv) {
         if (cardiac) {
             const core::StepStats& st = sim.stats();
             if (cardiac->wantsParticles(st.step)) cardiac->particles(sim.model(), sim.particles());
-            cardiac->step({st.step, st.time, st.keyframe, st.blood.mv2, st.forces.virialVolume, st.forces.wallVirial,
+            cardiac->step({st.step, double(st.step) * sim.model().integration.dt, st.keyframe, st.blood.mv2, st.forces.virialVolume, st.forces.wallVirial,
                            st.blood.count, st.bloodVolume, st.cavityVolume});
         }
         if (snapshotEvery > 0 && s % snapshotEvery == 0) snapshot(trajectory);
@@ -155,8 +155,11 @@ int run(int argc, char** argv) {
     snapshot(finalFile);
     report.summary(sim, steps, seconds);
     if (model.map) {
-        std::cout << "gradient map: " << std::fixed << std::setprecision(3) << shape::gradientMapBytes(*model.map) / 1e6
-                  << " MB (the whole map, one process)\n" << std::defaultfloat;
+        std::size_t bytes = 0;
+        for (const auto& f : sim.model().frames) bytes += shape::gradientMapBytes(*f);
+        if (bytes == 0) bytes = shape::gradientMapBytes(*model.map);
+        std::cout << "gradient map: " << std::fixed << std::setprecision(3) << bytes / 1e6 << " MB (the whole map"
+                  << (sim.model().frames.size() > 1 ? ", every keyframe" : "") << ", one process)\n" << std::defaultfloat;
         const app::Fidelity f = app::measureFidelity(sim.model(), sim.particles());
         std::cout << "shape fidelity: " << 100 * f.surfaceInOwnVoxels << "% of surface particles in their surface voxels, "
                   << 100 * f.volumeInOwnVoxels << "% of volume particles in their volume voxels, median normal angle "

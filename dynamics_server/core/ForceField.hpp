@@ -63,7 +63,10 @@ public:
 
     // Keyframe blending: until set again, the gradient-map forces are (1 - w) of the model's map
     // plus w of `next` (a map on the same grid; null or w = 0: the model's map alone).
-    void setMapBlend(const GradientMap* next, double w) { blendMap_ = w > 0 ? next : nullptr, blendW_ = w; }
+    void setMapBlend(const GradientMap* next, double w) {
+        if (next != blendFieldMap_) blendField_.reset(), blendFieldMap_ = nullptr;  // never a field of a freed map
+        blendMap_ = w > 0 ? next : nullptr, blendW_ = w;
+    }
 
     // Reference O(N^2) pair forces (for tests): same weights, no cell lists.
     static void computePairsBruteForce(const Model& model, Particles& particles, ForceStats& stats);

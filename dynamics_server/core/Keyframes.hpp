@@ -1,7 +1,7 @@
 #pragma once
 // Gradient maps as keyframes (paper §5.2): a bag whose shape changes by cycling through a
-// sequence of maps, one per gated image frame. Frame k's map is in force from
-// start + k·duration; with blending, the shape forces move linearly from one frame's map to the
+// sequence of maps, one per gated image frame. Before `startTime` the first frame f holds; from
+// then on frame (f + k) mod frames is in force from start + k·duration; with blending, the shape forces move linearly from one frame's map to the
 // next's across each frame's interval, so they never jump. The schedule depends on the
 // simulation time alone, so every rank of a decomposed run picks the same frames.
 #include "bop/common/GradientMap.hpp"

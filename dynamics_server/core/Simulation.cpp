@@ -25,7 +25,8 @@ Simulation::Simulation(std::shared_ptr<const Model> model, Particles particles, 
 }
 
 void Simulation::applyKeyframe(double time) {
-    const Model& m = *model_;
+    const std::shared_ptr<const Model> keep = model_;  // alive while a switch replaces model_
+    const Model& m = *keep;
     if (m.map) {
         const KeyframeAt at = m.keyframes.animated() && m.frames.size() > 1 ? m.keyframes.at(time) : KeyframeAt{};
         if (m.frames.size() > 1) {

@@ -106,7 +106,9 @@ void DecomposedSimulation::applyKeyframe(double time) {
 }
 
 std::size_t DecomposedSimulation::mapBytes() const {
-    return sub_.map ? shape::gradientMapBytes(*sub_.map) : 0;
+    std::size_t bytes = 0;
+    for (const auto& f : subFrames_) bytes += shape::gradientMapBytes(*f);  // every keyframe's window
+    return bytes;
 }
 
 void DecomposedSimulation::forces(bool energies) {

@@ -64,7 +64,7 @@ public:
     core::ProbeState& probe() { return probe_; }
     long long stepCount() const { return step_; }  // step number (firstStep + steps done)
     const core::Construction& construction() const { return construction_; }
-    std::size_t mapBytes() const;  // this rank's window of the gradient map
+    std::size_t mapBytes() const;  // this rank's window of the gradient map (of every keyframe)
     std::size_t haloBytesPerStep() const { return haloBytes_; }  // sent by this rank, last update
     std::size_t migrations() const { return migrations_; }       // particles this rank sent away
     std::size_t rebuilds() const { return rebuilds_; }           // halo and list rebuilds

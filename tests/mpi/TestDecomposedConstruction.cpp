@@ -162,7 +162,8 @@ TEST_CASE("deaths across ranks take the single process's victims and keep ids un
     core::ConstructionParams params;
     params.everySteps = 5;
     using A = core::ConstructionEvent::Action;
-    const std::vector<core::ConstructionEvent> timeline{{0, A::BirthOn, 1, {}}};  // checks run; no map, no births
+    // Checks run and both species may die (only species whose birth is on lose particles); no map, no births.
+    const std::vector<core::ConstructionEvent> timeline{{0, A::BirthOn, 1, {}}, {0, A::BirthOn, 2, {}}};
     const long long steps = 200;
     core::Simulation serial(m, all, core::Construction(params, timeline, 2));
     serial.run(steps);
