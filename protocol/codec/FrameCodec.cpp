@@ -195,7 +195,8 @@ Validation decodeStateFrameInto(const std::uint8_t* buf, std::size_t len, StateF
     if (m.encoding == FrameEncoding::Quantised16) {
         // Decoded straight from the verified buffer: aligned (VerifiedBuffer), its arrays read the
         // way FlatBuffers' own accessors read them.
-        const auto* qpositions = reinterpret_cast<const std::uint16_t*>(w.qpositions()->Data());
+        // An empty chunk may leave qpositions out altogether (0 values: checkWireLengths passed it).
+        const auto* qpositions = w.qpositions() ? reinterpret_cast<const std::uint16_t*>(w.qpositions()->Data()) : nullptr;
         const auto* qnormals = w.qnormals() ? reinterpret_cast<const std::uint16_t*>(w.qnormals()->Data()) : nullptr;
         m.quantLo = detail::toEigen(*w.quant_lo());
         m.quantHi = detail::toEigen(*w.quant_hi());

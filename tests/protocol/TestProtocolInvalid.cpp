@@ -113,6 +113,18 @@ TEST_CASE("frame chunks with inconsistent arrays are refused", "[protocol]") {
     q.hiX = 1;
     q.encoding = 9;
     CHECK(frameError(q) == DecodeError::Unsupported);
+
+    // An empty quantised chunk may leave every array out (a fuzz finding: qpositions was read
+    // without a check that it is there).
+    RawFrame empty;
+    empty.encoding = 1;
+    empty.bounds = true;
+    empty.frameCount = 0;
+    empty.positions.clear();
+    empty.species.clear();
+    const Buffer b = build(empty);
+    const auto decoded = decodeStateFrame(b.data(), b.size(), FrameLimits{});
+    CHECK(decoded.error == DecodeError::None);
 }
 
 TEST_CASE("frame chunks out of range are refused", "[protocol]") {
