@@ -26,7 +26,7 @@ if [[ "${1:-}" != "--no-sanitize" ]]; then
     ctest --test-dir build-asan -L unit -j "$jobs" --output-on-failure
   # Open MPI keeps its allocations until exit by design: leak checks off for the MPI tests only.
   ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
-    ctest --test-dir build-asan -R '^mpi[.]np' --output-on-failure
+    ctest --test-dir build-asan -R '^mpi[.]np' -j "$jobs" --output-on-failure
   echo "== fuzzing the decoders (libFuzzer, ${BOP_FUZZ_SECONDS:-5} s each) =="
   BOP_FUZZ_SECONDS=${BOP_FUZZ_SECONDS:-5} scripts/fuzz.sh
 fi

@@ -1,6 +1,8 @@
 #include "DecomposedBatch.hpp"
 
 #include "BatchReport.hpp"
+#include "Checkpoint.hpp"
+#include "SingleBatch.hpp"
 #include "ExtendedXyz.hpp"
 #include "SimulationSetup.hpp"
 #include "shape/GradientMapFile.hpp"
@@ -58,9 +60,16 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     };
     std::optional<CardiacRun> cardiac;
     if (scene.pressure && header) cardiac.emplace(scene, *header, run.frameVolumes());
+    const std::string checkpoint = o.outDir + "/checkpoint.xyz";
+    long long done = 0;
+    if (o.steps == 0) {  // nothing to step: the start itself is the checkpoint
+        const core::Particles all = run.gather();
+        if (root) writeCheckpoint(checkpoint, all, model, run.construction(), run.stepNumber());
+    }
     const auto t0 = std::chrono::steady_clock::now();
     for (long long s = 1; s <= o.steps; ++s) {
         run.step();
+        done = s;
         if (cardiac) recordCardiac(*cardiac, run, model);
         if (o.snapshotEvery > 0 && s % o.snapshotEvery == 0) {
             const core::Particles all = run.gather();  // collective
@@ -79,7 +88,25 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
             if (root && (c.births > 0 || c.deaths > 0))
                 std::cout << "  construction so far: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths\n";
         }
+        // Rank 0's signal decides for every rank (mpirun passes SIGTERM to them all, not at once).
+        const bool stop = run.agree({batchStopRequested() ? 1.0 : 0.0, 0, 0, 0})[0] != 0;
+        const long long step = run.stepNumber();
+        const bool last = stop || s == o.steps;
+        if ((o.checkpointEvery > 0 && step % o.checkpointEvery == 0) || last) {
+            const core::Particles all = run.gather();  // collective
+            if (root) writeCheckpoint(checkpoint, all, model, run.construction(), step);
+            if (last) break;
+            run.agree({0, 0, 0, 0});  // the file is whole before any rank reads it
+            // Go on from the file, as a restart would: the same decomposition, the same lists.
+            long long first = 0;
+            core::Construction construction({}, {}, model.speciesCount());
+            const core::Particles back = initialParticles(scene, checkpoint, first, construction);
+            run.reseat(back, construction, first);
+            run.refreshForces();
+        }
     }
+    if (root && batchStopRequested())
+        std::cout << "stopped by a signal after step " << firstStep + done << "; checkpoint: " << checkpoint << std::endl;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const parallel::Totals t = run.totals();
     const parallel::RunCounters c = run.counters();
@@ -87,9 +114,9 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     if (!root) return 0;
     const std::string finalFile = o.outDir + "/final.xyz";
     fs::remove(finalFile);
-    write(finalFile, all, firstStep + o.steps);
+    write(finalFile, all, firstStep + done);
     const auto [surface, volume] = countKinds(model, all);
-    const double rate = double(o.steps) / std::max(seconds, 1e-12);
+    const double rate = double(done) / std::max(seconds, 1e-12);
     std::cout << "\n            Surface  Volume   Total   steps/s   particle-steps/s\n"
               << "this run  " << std::setw(9) << surface << std::setw(8) << volume << std::setw(8) << surface + volume
               << std::setw(10) << std::setprecision(1) << rate << std::setw(19) << std::setprecision(0)

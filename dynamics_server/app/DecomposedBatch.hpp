@@ -13,6 +13,7 @@ namespace bop::app {
 
 struct BatchOptions {
     long long steps = 0, snapshotEvery = 0, reportEvery = 1;
+    long long checkpointEvery = 0;  // steps between checkpoints (0: only on SIGINT/SIGTERM)
     std::string outDir;  // final.xyz and trajectory.xyz go here (written by rank 0)
     std::string cache;   // the gradient-map cache (rank 0 reads it whole at the end for the fidelity figures)
 };

@@ -72,6 +72,14 @@ std::string commentLine(const XyzFrameInfo& info) {
     putNumber(s, info.time);
     s += " Step=";
     putInteger(s, info.step);
+    if (!info.births.empty()) {
+        s += " Births=";
+        for (char b : info.births) s += b ? '1' : '0';
+    }
+    if (info.seeds >= 0) {
+        s += " Seeds=";
+        putInteger(s, info.seeds);
+    }
     s += " pbc=\"";
     for (int k = 0; k < 3; ++k) {
         if (k > 0) s += ' ';

@@ -32,6 +32,10 @@ struct XyzFrameInfo {
     Eigen::Vector3d boxLo = Eigen::Vector3d::Zero();  // simulation box, simulation length units
     Eigen::Vector3d boxHi = Eigen::Vector3d::Zero();
     std::array<bool, 3> periodic{false, false, false};  // x y z
+    // Checkpoints (docs/file-formats.md): the construction's state, so that a restart goes on as
+    // the run would have. Births: one 0/1 per species number from 1; Seeds: seeds placed so far.
+    std::vector<char> births;  // empty: not recorded
+    long long seeds = -1;      // -1: not recorded
 };
 
 struct XyzFrame {

@@ -110,6 +110,14 @@ XyzFrameInfo parseInfo(const Reader& r, long long line, const KeyValues& kv) {
         r.fail(line, "Time=" + t->second + ", expected a number");
     if (auto st = kv.find("step"); st != kv.end() && !parseWhole(std::string_view(st->second), info.step))
         r.fail(line, "Step=" + st->second + ", expected an integer");
+    if (auto b = kv.find("births"); b != kv.end()) {
+        for (char c : b->second) {
+            if (c != '0' && c != '1') r.fail(line, "Births=" + b->second + ", expected one 0 or 1 per species");
+            info.births.push_back(c == '1');
+        }
+    }
+    if (auto sd = kv.find("seeds"); sd != kv.end() && (!parseWhole(std::string_view(sd->second), info.seeds) || info.seeds < 0))
+        r.fail(line, "Seeds=" + sd->second + ", expected a count of 0 or more");
     return info;
 }
 

@@ -2,6 +2,7 @@
 
 #include "ServedCommands.hpp"
 
+#include "Checkpoint.hpp"
 #include "DecomposedBatch.hpp"
 #include "ExtendedXyz.hpp"
 #include "core/BloodPressure.hpp"
@@ -200,6 +201,10 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
             run.step();
             ++done, ++rateSteps;
             if (cardiac) recordCardiac(*cardiac, run, model);
+            if (o.checkpointEvery > 0 && run.stepNumber() % o.checkpointEvery == 0) {
+                const core::Particles all = run.gather();  // collective
+                if (root) writeCheckpoint(o.outDir + "/checkpoint.xyz", all, model, run.construction(), run.stepNumber());
+            }
         } else {
             std::this_thread::sleep_for(std::chrono::milliseconds(1));
         }
@@ -224,6 +229,8 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
     }
     const core::Particles all = run.gather();
     if (!root) return 0;
+    std::filesystem::create_directories(o.outDir);
+    writeCheckpoint(o.outDir + "/checkpoint.xyz", all, model, run.construction(), run.stepNumber());
     front->finish();  // the recording, if any, is complete from here
     const protocol::FrontStats s = front->stats();
     front.reset();
@@ -247,7 +254,7 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
               << " commands, " << s.probes << " probes, " << s.malformed << " malformed messages refused ("
               << s.oversized << " oversized), " << s.peersRefused << " peers refused (CURVE key not allowed)\n";
     if (cardiac) cardiac->finish(o.outDir, std::cout);
-    spdlog::info("final state: {}", finalFile);
+    spdlog::info("final state: {}; checkpoint: {}/checkpoint.xyz", finalFile, o.outDir);
     return 0;
 }
 

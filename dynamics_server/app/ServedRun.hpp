@@ -23,6 +23,7 @@ struct ServeOptions {
     // its commands and probes at the steps they were applied, frames at the steps it has
     // frames of, and stop after the last of them.
     std::optional<protocol::RecordedSession> replay;
+    long long checkpointEvery = 0;  // steps between checkpoints; one is always written when the run stops
 };
 
 // Collective: every rank calls it. Returns the exit code.

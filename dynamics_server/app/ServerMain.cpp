@@ -4,7 +4,7 @@
 // writes extended XYZ snapshots. Under mpirun with more than one rank the run is decomposed
 // over the ranks (DecomposedBatch.cpp, parallel/).
 #include "BatchReport.hpp"
-#include "CardiacRun.hpp"
+#include "SingleBatch.hpp"
 #include "DecomposedBatch.hpp"
 #include "ExtendedXyz.hpp"
 #include "SceneConfig.hpp"
@@ -47,7 +47,12 @@ int run(int argc, char** argv) {
     app.add_option("-o,--out", outDir, "output folder (default: out/<scene name>)");
     app.add_option("--snapshot-every", snapshotEvery, "extended XYZ snapshot period in steps (0 = only the final state)");
     app.add_option("--report-every", reportEvery, "progress line period in steps");
-    app.add_option("--restart", restart, "start from the last frame of an extended XYZ file");
+    app.add_option("--restart", restart, "start from the last frame of an extended XYZ file (a checkpoint.xyz goes "
+                                         "on where its run stopped, at any rank count)");
+    long long checkpointEvery = 0;
+    app.add_option("--checkpoint-every", checkpointEvery, "write <out>/checkpoint.xyz every N steps (0: only when "
+                                                          "SIGINT/SIGTERM or --steps ends the run)")
+        ->check(CLI::NonNegativeNumber);
     app.add_option("--cache", cache, "gradient-map cache (default: <out>/gradient-map.bopgm)");
     app.add_option("--port", front.basePort, "base port P: commands P, frames P+1, UDP probes P+2 (0 = ephemeral)")
         ->check(CLI::Range(0, 65533));
@@ -95,7 +100,6 @@ int run(int argc, char** argv) {
     if (model.ljParams.mode == core::LjCutoff::Truncated)
         spdlog::warn("paper mode: LJ truncated at {} r0; bulk material collapses with this cutoff (docs/dynamics.md)",
                      model.ljParams.rCutR0);
-    const auto t00 = std::chrono::steady_clock::now();
     const auto progress = [](const std::string& m) { spdlog::info("{}", m); };
     if (!noListen) {
         front.recordMeta = {{"scene", fs::absolute(scenePath).string()}, {"ranks", std::to_string(ranks)},
@@ -103,71 +107,18 @@ int run(int argc, char** argv) {
         if (scene.shape) front.mapFile = cache;  // haptic clients download it (MapRequest)
         app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
                                                           parallel::MpiSession::barrier, progress);
-        app::ServeOptions serve{front, stepsGiven ? steps : 0, waitForClient, outDir, std::nullopt};
+        app::ServeOptions serve{front, stepsGiven ? steps : 0, waitForClient, outDir, std::nullopt, checkpointEvery};
         if (!replayInputs.empty()) serve.replay = protocol::readSession(replayInputs);
         return app::runServed(scene, std::move(start), serve);
     }
+    const app::BatchOptions batch{steps, snapshotEvery, reportEvery, checkpointEvery, outDir, cache};
+    app::installBatchSignals();  // a signal ends the batch run with a checkpoint
     if (ranks > 1) {
         app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
                                                           parallel::MpiSession::barrier, progress);
-        return app::runDecomposedBatch(scene, std::move(start), {steps, snapshotEvery, reportEvery, outDir, cache});
+        return app::runDecomposedBatch(scene, std::move(start), batch);
     }
-    std::unique_ptr<core::Simulation> simPtr = app::startSimulation(scene, cache, restart, progress);
-    core::Simulation& sim = *simPtr;
-    sim.refreshForces();  // set-up: the first neighbour list and forces, outside the timed steps
-    sim.resetTimes();
-    spdlog::info("ready in {:.2f} s: {} particles at step {}", std::chrono::duration<double>(std::chrono::steady_clock::now() - t00).count(),
-                 sim.particles().size(), sim.stats().step);
-    const std::vector<std::string> names = app::speciesNames(model);
-    sim.setEnergyEvery(std::numeric_limits<long long>::max());  // energies only for the reports below
-    const std::string trajectory = outDir + "/trajectory.xyz";
-    if (snapshotEvery > 0) fs::remove(trajectory);
-    auto snapshot = [&](const std::string& path) {
-        app::XyzFrameInfo info;
-        info.step = sim.stats().step;
-        info.time = sim.stats().time;
-        info.boxLo = model.box.lo;
-        info.boxHi = model.box.hi;
-        info.periodic = model.box.periodic;
-        app::appendExtendedXyz(path, sim.particles(), names, info);
-    };
-    app::BatchReport report(std::cout, model);
-    const auto t0 = std::chrono::steady_clock::now();
-    std::optional<app::CardiacRun> cardiac;
-    if (scene.pressure && sim.model().map) cardiac.emplace(scene, *sim.model().map, sim.frameVolumes());
-    for (long long s = 1; s <= steps; ++s) {
-        sim.step();
-        if (cardiac) {
-            const core::StepStats& st = sim.stats();
-            if (cardiac->wantsParticles(st.step)) cardiac->particles(sim.model(), sim.particles());
-            cardiac->step({st.step, double(st.step) * sim.model().integration.dt, st.keyframe, st.blood.mv2, st.forces.virialVolume, st.forces.wallVirial,
-                           st.blood.count, st.bloodVolume, st.cavityVolume});
-        }
-        if (snapshotEvery > 0 && s % snapshotEvery == 0) snapshot(trajectory);
-        if (s % reportEvery == 0 || s == steps) {
-            sim.refreshForces();  // the same forces again, now with the energies
-            report.progress(sim, s, steps, t0);
-        }
-    }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const std::string finalFile = outDir + "/final.xyz";
-    fs::remove(finalFile);
-    snapshot(finalFile);
-    report.summary(sim, steps, seconds);
-    if (model.map) {
-        std::size_t bytes = 0;
-        for (const auto& f : sim.model().frames) bytes += shape::gradientMapBytes(*f);
-        if (bytes == 0) bytes = shape::gradientMapBytes(*model.map);
-        std::cout << "gradient map: " << std::fixed << std::setprecision(3) << bytes / 1e6 << " MB (the whole map"
-                  << (sim.model().frames.size() > 1 ? ", every keyframe" : "") << ", one process)\n" << std::defaultfloat;
-        const app::Fidelity f = app::measureFidelity(sim.model(), sim.particles());
-        std::cout << "shape fidelity: " << 100 * f.surfaceInOwnVoxels << "% of surface particles in their surface voxels, "
-                  << 100 * f.volumeInOwnVoxels << "% of volume particles in their volume voxels, median normal angle "
-                  << f.medianNormalAngleDeg << " deg\n";
-    }
-    if (cardiac) cardiac->finish(outDir, std::cout);
-    spdlog::info("final state: {}{}", finalFile, snapshotEvery > 0 ? ", trajectory: " + trajectory : "");
-    return 0;
+    return app::runSingleBatch(scene, restart, batch, progress);
 }
 
 }  // namespace

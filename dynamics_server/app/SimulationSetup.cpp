@@ -27,17 +27,26 @@ void placeInMap(Scene& scene, const GradientMap& map) {
     if (scene.probePositionVoxels) scene.probe.position = *scene.probePositionVoxels * h;
 }
 
-core::Particles initialParticles(const Scene& scene, const std::string& restart, long long& firstStep) {
+}  // namespace
+
+core::Particles initialParticles(const Scene& scene, const std::string& restart, long long& firstStep,
+                                 core::Construction& construction) {
     firstStep = 0;
+    construction = core::Construction(scene.construction, scene.timeline, scene.model->speciesCount());
     if (!restart.empty()) {
         XyzFrame f = readExtendedXyz(restart, speciesNames(*scene.model));
         firstStep = f.info.step;
+        if (!f.info.births.empty()) {
+            try {
+                construction.restore(f.info.births, std::uint64_t(std::max(0LL, f.info.seeds)));
+            } catch (const std::invalid_argument& e) {
+                throw Error(restart, e.what());
+            }
+        }
         return std::move(f.particles);
     }
     return scene.bulk ? bulkLattice(scene) : core::Particles{};
 }
-
-}  // namespace
 
 DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const std::string& restart, bool root,
                                 const std::function<void()>& waitForAll, const shape::ProgressFn& progress) {
@@ -57,9 +66,10 @@ DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const st
         s.options.map = parallel::MapSource{shared->header(0),
                                             [shared](int f, const shape::VoxelWindow& w) { return shared->crop(f, w); }, frames};
     }
-    s.particles = initialParticles(scene, restart, s.firstStep);
+    core::Construction construction({}, {}, scene.model->speciesCount());
+    s.particles = initialParticles(scene, restart, s.firstStep, construction);
     s.options.firstStep = s.firstStep;
-    s.options.construction = core::Construction(scene.construction, scene.timeline, scene.model->speciesCount());
+    s.options.construction = std::move(construction);
     return s;
 }
 
@@ -77,10 +87,9 @@ std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::strin
         placeInMap(scene, *model.map);
     }
     long long firstStep = 0;
-    core::Particles particles = initialParticles(scene, restart, firstStep);
-    auto sim = std::make_unique<core::Simulation>(
-        scene.model, std::move(particles), core::Construction(scene.construction, scene.timeline, model.speciesCount()),
-        firstStep);
+    core::Construction construction({}, {}, model.speciesCount());
+    core::Particles particles = initialParticles(scene, restart, firstStep, construction);
+    auto sim = std::make_unique<core::Simulation>(scene.model, std::move(particles), std::move(construction), firstStep);
     sim->probe() = scene.probe;
     return sim;
 }

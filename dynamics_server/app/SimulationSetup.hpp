@@ -30,6 +30,12 @@ struct DecomposedStart {
 DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const std::string& restart, bool root,
                                 const std::function<void()>& waitForAll, const shape::ProgressFn& progress = {});
 
+// The particles to start from (a restart file's, a bulk lattice, or none) and the construction:
+// the scene's timeline, with a checkpoint's birth switches and seed count when the restart file
+// is one (app/Checkpoint.hpp). firstStep: the file's step, else 0.
+core::Particles initialParticles(const Scene& scene, const std::string& restart, long long& firstStep,
+                                 core::Construction& construction);
+
 // Species names by number (index 0 unused), as snapshots write them.
 std::vector<std::string> speciesNames(const core::Model& model);
 

@@ -35,6 +35,14 @@ void Construction::setBirth(int species, bool on) {
     birth_[std::size_t(species)] = on;
 }
 
+void Construction::restore(const std::vector<char>& births, std::uint64_t seeds) {
+    if (births.size() + 1 != birth_.size())
+        throw std::invalid_argument("checkpoint has birth switches for " + std::to_string(births.size()) +
+                                    " species, the scene has " + std::to_string(birth_.size() - 1));
+    std::copy(births.begin(), births.end(), birth_.begin() + 1);
+    seeds_ = seeds;
+}
+
 bool Construction::building() const { return std::find(birth_.begin(), birth_.end(), char(1)) != birth_.end(); }
 
 bool Construction::checkDue(long long step) const {

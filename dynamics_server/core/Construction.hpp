@@ -47,6 +47,11 @@ public:
     void setBirth(int species, bool on);
     bool birthOn(int species) const { return birth_[std::size_t(species)]; }
     const std::vector<char>& birthSwitches() const { return birth_; }  // per species number (index 0 unused)
+    std::uint64_t seedCount() const { return seeds_; }  // seeds placed so far
+    // A restart from a checkpoint: its birth switches (per species number from 1) and seed count.
+    // (A snapshot without them restarts with every birth off.) std::invalid_argument for a count
+    // of switches other than the species count.
+    void restore(const std::vector<char>& births, std::uint64_t seeds);
     bool building() const;                                   // some species' birth is on
     bool checkDue(long long step) const;                     // a birth/death check runs at this step
     std::vector<ConstructionEvent> eventsAt(long long step) const;  // the timeline's, in order

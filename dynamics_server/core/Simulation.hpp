@@ -48,6 +48,7 @@ public:
     const StepStats& stats() const { return stats_; }
     const StepTimes& times() const { return times_; }
     void resetTimes() { times_ = StepTimes{}; }
+    void setTimes(const StepTimes& t) { times_ = t; }  // carried over when a run continues from a checkpoint
     const ForceField& forceField() const { return forces_; }
 
     // Voxel counts of each keyframe's map (one entry for a static shape, none without a map).

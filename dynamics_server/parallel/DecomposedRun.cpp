@@ -8,9 +8,13 @@ namespace bop::parallel {
 
 struct DecomposedRun::Impl {
     CartComm comm;
-    DecomposedSimulation sim;
-    Impl(std::shared_ptr<const core::Model> model, const core::Particles& all, DecomposedOptions options)
-        : comm(MPI_COMM_WORLD, model->box), sim(comm, model, all, std::move(options)) {}
+    std::shared_ptr<const core::Model> model;
+    DecomposedOptions options;  // the start's (its map source serves a reseat too)
+    std::unique_ptr<DecomposedSimulation> simPtr;
+    long long energyEvery = 1;
+    Impl(std::shared_ptr<const core::Model> m, const core::Particles& all, DecomposedOptions o)
+        : comm(MPI_COMM_WORLD, m->box), model(std::move(m)), options(o),
+          simPtr(std::make_unique<DecomposedSimulation>(comm, model, all, std::move(o))) {}
 };
 
 DecomposedRun::DecomposedRun(std::shared_ptr<const core::Model> model, const core::Particles& all,
@@ -18,15 +22,31 @@ DecomposedRun::DecomposedRun(std::shared_ptr<const core::Model> model, const cor
     : impl_(std::make_unique<Impl>(std::move(model), all, std::move(options))) {}
 DecomposedRun::~DecomposedRun() = default;
 
-void DecomposedRun::step() { impl_->sim.step(); }
-void DecomposedRun::refreshForces() { impl_->sim.refreshForces(); }
-void DecomposedRun::setEnergyEvery(long long n) { impl_->sim.setEnergyEvery(n); }
-void DecomposedRun::setProbe(const core::ProbeState& probe) { impl_->sim.probe() = probe; }
-Totals DecomposedRun::totals() const { return impl_->sim.totals(); }
-const std::vector<core::MapVolume>& DecomposedRun::frameVolumes() const { return impl_->sim.frameVolumes(); }
-core::Particles DecomposedRun::gather() const { return impl_->sim.gather(); }
-void DecomposedRun::submit(const Command& command) { impl_->sim.submit(command); }
-long long DecomposedRun::stepNumber() const { return impl_->sim.stepCount(); }
+void DecomposedRun::step() { impl_->simPtr->step(); }
+void DecomposedRun::refreshForces() { impl_->simPtr->refreshForces(); }
+void DecomposedRun::setEnergyEvery(long long n) {
+    impl_->energyEvery = n;
+    impl_->simPtr->setEnergyEvery(n);
+}
+const core::Construction& DecomposedRun::construction() const { return impl_->simPtr->construction(); }
+
+void DecomposedRun::reseat(const core::Particles& all, const core::Construction& construction, long long step) {
+    Impl& i = *impl_;
+    const core::ProbeState probe = i.simPtr->probe();
+    DecomposedOptions o = i.options;
+    o.construction = construction;
+    o.firstStep = step;
+    i.simPtr.reset();  // the old run's memory goes first
+    i.simPtr = std::make_unique<DecomposedSimulation>(i.comm, i.model, all, std::move(o));
+    i.simPtr->probe() = probe;
+    i.simPtr->setEnergyEvery(i.energyEvery);
+}
+void DecomposedRun::setProbe(const core::ProbeState& probe) { impl_->simPtr->probe() = probe; }
+Totals DecomposedRun::totals() const { return impl_->simPtr->totals(); }
+const std::vector<core::MapVolume>& DecomposedRun::frameVolumes() const { return impl_->simPtr->frameVolumes(); }
+core::Particles DecomposedRun::gather() const { return impl_->simPtr->gather(); }
+void DecomposedRun::submit(const Command& command) { impl_->simPtr->submit(command); }
+long long DecomposedRun::stepNumber() const { return impl_->simPtr->stepCount(); }
 
 std::array<double, 4> DecomposedRun::agree(const std::array<double, 4>& mine) {
     std::vector<double> v(mine.begin(), mine.end());
@@ -37,7 +57,7 @@ std::array<double, 4> DecomposedRun::agree(const std::array<double, 4>& mine) {
 }
 
 void DecomposedRun::gatherFrame(FrameArrays& f) const {
-    const core::Particles& p = impl_->sim.particles();
+    const core::Particles& p = impl_->simPtr->particles();
     if (size() == 1) {  // straight into the frame's arrays
         const std::size_t n = p.size();
         f.positions.resize(3 * n);
@@ -83,7 +103,7 @@ int DecomposedRun::size() const { return impl_->comm.size(); }
 Coords DecomposedRun::dims() const { return impl_->comm.dims(); }
 
 RunCounters DecomposedRun::counters() const {
-    const auto& s = impl_->sim;
+    const auto& s = *impl_->simPtr;
     const std::vector<double> all = impl_->comm.allGather(
         {double(s.haloBytesPerStep()), double(s.migrations()), double(s.rebuilds()), double(s.particles().size()),
          s.exchangeSeconds(), double(s.mapBytes())});

@@ -64,6 +64,11 @@ public:
     const std::vector<core::MapVolume>& frameVolumes() const;  // Simulation::frameVolumes's twin
     RunCounters counters() const;
     core::Particles gather() const;  // every particle sorted by id
+    const core::Construction& construction() const;
+    // Goes on from `all` (every particle, as read from a checkpoint, the same on every rank) at
+    // `step` with `construction`: a fresh decomposition, as a restart from that file makes, with
+    // this run's probe, energy period and map. Collective.
+    void reseat(const core::Particles& all, const core::Construction& construction, long long step);
     // What a state frame carries, on rank 0 (lighter than gather()), into `into`, whose arrays
     // keep their capacity (a frame's memory reused for the next one).
     void gatherFrame(FrameArrays& into) const;

@@ -60,6 +60,10 @@ int main(int argc, char** argv) {
         app.add_option("--k1", o.k1, "probe strength (paper eq. 9; default: the server's)")->check(CLI::PositiveNumber);
         app.add_flag("--udp", o.udp, "probes and feedback as datagrams (the server's UDP port)");
         app.add_option("--map-max-mb", o.mapMaxMb, "largest gradient map to download, MB")->check(CLI::PositiveNumber);
+        app.add_option("--server-key", o.serverKeyFile, "the server's CURVE public key file (bop-keys PREFIX.pub): encrypt "
+                                                        "the session and accept only that server")->check(CLI::ExistingFile);
+        app.add_option("--client-key", o.clientKeyPrefix, "this client's CURVE key pair PREFIX (.pub and .key), for a "
+                                                           "server that lets in listed clients only");
         CLI11_PARSE(app, argc, argv);
         if (!target.empty()) o.target = parseVector3(target, "--target");
         if (!workspaceCentre.empty()) o.workspaceCentre = parseVector3(workspaceCentre, "--workspace-centre");

@@ -80,6 +80,7 @@ int runHaptic(const RunOptions& o) {
     co.clientName = "bop-haptic";
     co.probeOverUdp = o.udp;
     co.frameRateHz = 1;  // frames are not used here: the slowest tier
+    protocol::useCurveKeys(co, o.serverKeyFile, o.clientKeyPrefix);
     protocol::ClientSession session(co);
     const protocol::SceneInfo scene = session.connect(o.endpoint, std::chrono::seconds(30));
     std::printf("bop-haptic: connected to %s\n", o.endpoint.c_str());

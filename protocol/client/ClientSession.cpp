@@ -282,4 +282,14 @@ ClientStats ClientSession::stats() const {
     return impl_->stats;
 }
 
+void useCurveKeys(ClientOptions& o, const std::string& serverKeyFile, const std::string& clientPrefix) {
+    if (!clientPrefix.empty() && serverKeyFile.empty())
+        throw Error("--client-key", "needs --server-key: a client key pair is used in CURVE sessions only");
+    if (serverKeyFile.empty()) return;
+    o.curveServerKey = readCurveKey(serverKeyFile);
+    if (clientPrefix.empty()) return;
+    o.curvePublicKey = readCurveKey(clientPrefix + ".pub");
+    o.curveSecretKey = readCurveKey(clientPrefix + ".key");
+}
+
 }  // namespace bop::protocol

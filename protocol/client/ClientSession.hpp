@@ -146,4 +146,11 @@ private:
 // floor(log2(publish / wanted)) in 0..7, 0 when either rate is unknown (0) or wanted >= publish.
 int frameTierFor(float publishHz, float wantedHz);
 
+// The clients' --server-key and --client-key: the server's public key from its file (bop-keys'
+// PREFIX.pub) and, when `clientPrefix` is given, this client's pair from PREFIX.pub and
+// PREFIX.key (for a server that lets in listed clients only). Empty names leave CURVE off.
+// bop::Error naming the file or option when a key cannot be read or a pair comes without a
+// server key.
+void useCurveKeys(ClientOptions& options, const std::string& serverKeyFile, const std::string& clientPrefix);
+
 }  // namespace bop::protocol

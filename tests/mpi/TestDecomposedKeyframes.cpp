@@ -51,7 +51,7 @@ TEST_CASE("keyframes switch at the stated times at any rank count, as in one pro
     DecomposedSimulation run(comm, s.model, core::Particles{}, o);
     const double dt = s.model->integration.dt;
     int switches = 0;
-    for (long long step = 1; step <= 200; ++step) {
+    for (long long step = 1; step <= 125; ++step) {
         serial->step();
         run.step();
         const parallel::Totals t = run.totals();
@@ -65,13 +65,13 @@ TEST_CASE("keyframes switch at the stated times at any rank count, as in one pro
         CHECK(t.cavityVolume == Approx(serial->stats().cavityVolume).epsilon(1e-12));
         CHECK(t.particles == double(serial->particles().size()));
     }
-    CHECK(switches == 8);
+    CHECK(switches == 5);
     const parallel::Totals t = run.totals();
     CHECK(t.bloodCount == Approx(serial->stats().blood.count));
     CHECK(t.bloodMv2 == Approx(serial->stats().blood.mv2).epsilon(1e-6));
     CHECK(t.virialVolume == Approx(serial->stats().forces.virialVolume).epsilon(1e-6).margin(1e-9));
     CHECK(t.wallVirial == Approx(serial->stats().forces.wallVirial).epsilon(1e-6));
-    REQUIRE(serial->construction().totals().births > 30);  // the bag grew under the moving map
+    REQUIRE(serial->construction().totals().births > 20);  // the bag grew under the moving map
     const core::Particles got = run.gather();
     const core::Particles& want = serial->particles();
     std::map<std::uint64_t, std::size_t> at;
@@ -105,7 +105,7 @@ TEST_CASE("bop-server's start under mpirun reads every keyframe's window from th
     auto serial = app::startSimulation(serialScene, "", "");
     const CartComm comm(MPI_COMM_WORLD, s.model->box);
     DecomposedSimulation run(comm, s.model, start.particles, std::move(start.options));
-    for (long long step = 1; step <= 100; ++step) {
+    for (long long step = 1; step <= 60; ++step) {
         serial->step();
         run.step();
         const parallel::Totals t = run.totals();

@@ -376,6 +376,19 @@ TEST_CASE("with CURVE on, a client without the server's key gets nothing and com
         raw.set(zmq::sockopt::rcvtimeo, 1000);
         CHECK_FALSE(raw.recv(reply));
     }
+    // The haptic client from the command line: with --server-key it gets through the encrypted
+    // handshake and probes for a second (the bulk box has no map: no field force).
+    const auto [code, out] = test::runCommand(test::buildDir() + "/haptic_client/bop-haptic " + srv.endpoint() +
+                                              " --seconds 1 --out " + dir.file("haptic") + " --server-key " +
+                                              dir.file("server.pub") + " 2>&1");
+    INFO(out);
+    CHECK(code == 0);
+    CHECK(out.find("bop-haptic: connected to") != std::string::npos);
+    CHECK(out.find("probe round trip") != std::string::npos);
+    const auto [plainCode, plainOut] = test::runCommand(test::buildDir() + "/haptic_client/bop-haptic " + srv.endpoint() +
+                                                        " --seconds 1 --client-key " + dir.file("server") + " 2>&1");
+    CHECK(plainCode != 0);
+    CHECK(plainOut.find("--client-key: needs --server-key") != std::string::npos);
     stopCleanly(srv);
     CHECK(printed(srv.output(), "commands") == 0);  // none reached the server
 }

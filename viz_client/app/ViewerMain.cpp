@@ -46,6 +46,11 @@ int main(int argc, char** argv) {
             ->check(CLI::PositiveNumber);
         app.add_option("--probe-k1", probeK1, "headless: the probe's strength k1 (paper eq. 9; default: the server's)")
             ->check(CLI::PositiveNumber);
+        std::string serverKey, clientKey;
+        app.add_option("--server-key", serverKey, "the server's CURVE public key file (bop-keys PREFIX.pub): encrypt the "
+                                                  "session and accept only that server")->check(CLI::ExistingFile);
+        app.add_option("--client-key", clientKey, "this client's CURVE key pair PREFIX (.pub and .key), for a server "
+                                                  "that lets in listed clients only");
         CLI11_PARSE(app, argc, argv);
         o.panel = !noPanel;
         if (probeFrom.empty() != probeTo.empty()) throw Error("--probe-from/--probe-to", "expected both or neither");
@@ -59,6 +64,7 @@ int main(int argc, char** argv) {
         protocol::ClientOptions client;
         client.clientName = "bop-viewer";
         client.frameRateHz = float(wantedHz);
+        protocol::useCurveKeys(client, serverKey, clientKey);
         viz::LinkOptions link;
         link.giveUpAfter = std::chrono::milliseconds(long(1000 * connectS));
         link.lostAfter = std::chrono::seconds(long(lostAfterS + 0.5));

@@ -1,0 +1,122 @@
+#include "SingleBatch.hpp"
+
+#include "BatchReport.hpp"
+#include "CardiacRun.hpp"
+#include "Checkpoint.hpp"
+#include "ExtendedXyz.hpp"
+#include "shape/GradientMapCrop.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <optional>
+
+namespace fs = std::filesystem;
+
+namespace bop::app {
+namespace {
+
+volatile std::sig_atomic_t gStop = 0;
+void onSignal(int) { gStop = 1; }
+
+}  // namespace
+
+void installBatchSignals() {
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+}
+
+bool batchStopRequested() { return gStop != 0; }
+
+int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions& o, const shape::ProgressFn& progress) {
+    const auto t00 = std::chrono::steady_clock::now();
+    const core::Model& model = *scene.model;
+    std::unique_ptr<core::Simulation> sim = startSimulation(scene, o.cache, restart, progress);
+    sim->refreshForces();  // set-up: the first neighbour list and forces, outside the timed steps
+    sim->resetTimes();
+    spdlog::info("ready in {:.2f} s: {} particles at step {}",
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t00).count(), sim->particles().size(),
+                 sim->stats().step);
+    const std::vector<std::string> names = speciesNames(model);
+    sim->setEnergyEvery(std::numeric_limits<long long>::max());  // energies only for the reports below
+    const std::string trajectory = o.outDir + "/trajectory.xyz", checkpoint = o.outDir + "/checkpoint.xyz";
+    if (o.snapshotEvery > 0) fs::remove(trajectory);
+    auto snapshot = [&](const std::string& path) {
+        XyzFrameInfo info;
+        info.step = sim->stats().step;
+        info.time = double(info.step) * model.integration.dt;
+        info.boxLo = model.box.lo;
+        info.boxHi = model.box.hi;
+        info.periodic = model.box.periodic;
+        appendExtendedXyz(path, sim->particles(), names, info);
+    };
+    // A checkpoint, and the run goes on from it exactly as a restart from the file would.
+    auto takeCheckpoint = [&](bool goOn) {
+        const long long step = sim->stats().step;
+        writeCheckpoint(checkpoint, sim->particles(), model, sim->construction(), step);
+        if (!goOn) return;
+        const core::StepTimes times = sim->times();
+        long long first = 0;
+        core::Construction construction({}, {}, model.speciesCount());
+        core::Particles p = initialParticles(scene, checkpoint, first, construction);
+        const core::ProbeState probe = sim->probe();
+        sim = std::make_unique<core::Simulation>(scene.model, std::move(p), std::move(construction), first);
+        sim->probe() = probe;
+        sim->refreshForces();
+        sim->setTimes(times);
+        sim->setEnergyEvery(std::numeric_limits<long long>::max());
+    };
+    BatchReport report(std::cout, model);
+    const auto t0 = std::chrono::steady_clock::now();
+    std::optional<CardiacRun> cardiac;
+    if (scene.pressure && sim->model().map) cardiac.emplace(scene, *sim->model().map, sim->frameVolumes());
+    long long done = 0;
+    if (o.steps == 0) takeCheckpoint(false);
+    for (long long s = 1; s <= o.steps; ++s) {
+        sim->step();
+        done = s;
+        if (cardiac) {
+            const core::StepStats& st = sim->stats();
+            if (cardiac->wantsParticles(st.step)) cardiac->particles(sim->model(), sim->particles());
+            cardiac->step({st.step, double(st.step) * model.integration.dt, st.keyframe, st.blood.mv2,
+                           st.forces.virialVolume, st.forces.wallVirial, st.blood.count, st.bloodVolume, st.cavityVolume});
+        }
+        if (o.snapshotEvery > 0 && s % o.snapshotEvery == 0) snapshot(trajectory);
+        if (s % o.reportEvery == 0 || s == o.steps) {
+            sim->refreshForces();  // the same forces again, now with the energies
+            report.progress(*sim, s, o.steps, t0);
+        }
+        const bool stop = batchStopRequested(), last = stop || s == o.steps;
+        if ((o.checkpointEvery > 0 && sim->stats().step % o.checkpointEvery == 0) || last) takeCheckpoint(!last);
+        if (stop) {
+            spdlog::info("stopped by a signal after step {}; checkpoint: {}", sim->stats().step, checkpoint);
+            break;
+        }
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::string finalFile = o.outDir + "/final.xyz";
+    fs::remove(finalFile);
+    snapshot(finalFile);
+    report.summary(*sim, done, seconds);
+    if (model.map) {
+        std::size_t bytes = 0;
+        for (const auto& f : sim->model().frames) bytes += shape::gradientMapBytes(*f);
+        if (bytes == 0) bytes = shape::gradientMapBytes(*model.map);
+        std::cout << "gradient map: " << std::fixed << std::setprecision(3) << bytes / 1e6 << " MB (the whole map"
+                  << (sim->model().frames.size() > 1 ? ", every keyframe" : "") << ", one process)\n" << std::defaultfloat;
+        const Fidelity f = measureFidelity(sim->model(), sim->particles());
+        std::cout << "shape fidelity: " << 100 * f.surfaceInOwnVoxels << "% of surface particles in their surface voxels, "
+                  << 100 * f.volumeInOwnVoxels << "% of volume particles in their volume voxels, median normal angle "
+                  << f.medianNormalAngleDeg << " deg\n";
+    }
+    if (cardiac) cardiac->finish(o.outDir, std::cout);
+    spdlog::info("final state: {}{}", finalFile, o.snapshotEvery > 0 ? ", trajectory: " + trajectory : "");
+    return 0;
+}
+
+}  // namespace bop::app

@@ -1,0 +1,19 @@
+#pragma once
+// bop-server's batch run in one process (--no-listen at one rank): the core Simulation stepped with progress reports, snapshots, checkpoints (every
+// `checkpointEvery` steps and on SIGINT/SIGTERM, app/Checkpoint.hpp), the ventricle's pressure
+// series when the scene asks for it, and the Table-1 style summary.
+#include "DecomposedBatch.hpp"
+
+#include "shape/ShapeBuilder.hpp"
+
+namespace bop::app {
+
+// Returns the exit code. A signal ends the run after the step in progress, with a checkpoint.
+int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions& options,
+                   const shape::ProgressFn& progress);
+
+// Set by SIGINT/SIGTERM once installBatchSignals() ran: batch runs stop at the next step.
+void installBatchSignals();
+bool batchStopRequested();
+
+}  // namespace bop::app

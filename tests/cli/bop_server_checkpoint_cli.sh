@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Checkpoints of bop-server batch runs: a run stopped at a checkpoint and restarted from it ends
+# bit for bit where an uninterrupted run ends (1 rank and 2 ranks; the torus built by births, its
+# volume seeded after the restart); SIGTERM to mpirun writes a whole checkpoint and stops; a
+# restart at 1 and at 3 ranks holds every particle of it.
+# Usage: bop_server_checkpoint_cli.sh PATH/TO/bop-server PATH/TO/mpiexec SOURCE_DIR
+set -u
+exe=$1
+mpi=$2
+src=$3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail=0
+check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+scene=$src/config/scenes/torus.toml
+server() {  # ranks, then bop-server's options
+  local n=$1
+  shift
+  if [[ $n == 1 ]]; then "$exe" "$scene" --no-listen --cache "$work/map.bopgm" "$@"
+  else "$mpi" --oversubscribe -np "$n" "$exe" "$scene" --no-listen --cache "$work/map.bopgm" "$@"; fi
+}
+ids() { awk 'NR > 2 {print $(NF - 1)}' "$1" | sort; }  # the id column of an extended XYZ frame
+
+for ranks in 1 2; do
+  # The volume is seeded at step 1500: after the restart at 900, so the seed count must carry over.
+  server "$ranks" --steps 1800 --checkpoint-every 900 --report-every 300 -o "$work/a$ranks" >"$work/a$ranks.log" 2>&1
+  server "$ranks" --steps 900 --report-every 300 -o "$work/b$ranks" >"$work/b$ranks.log" 2>&1
+  server "$ranks" --steps 900 --checkpoint-every 900 --report-every 300 -o "$work/c$ranks" \
+    --restart "$work/b$ranks/checkpoint.xyz" >"$work/c$ranks.log" 2>&1
+  check "$ranks rank(s): the checkpoint at the end of a run is at step 900" \
+    "grep -q 'Step=900 Births=' '$work/b$ranks/checkpoint.xyz'"
+  check "$ranks rank(s): stopped at 900 and restarted, the run ends bit for bit as the uninterrupted one" \
+    "cmp -s '$work/a$ranks/final.xyz' '$work/c$ranks/final.xyz'"
+  check "$ranks rank(s): ... with the volume seeded after the restart" \
+    "[ \$(grep -c '^torus-volume ' '$work/c$ranks/final.xyz') -gt 10 ]"
+done
+
+# SIGTERM to mpirun: a whole checkpoint, then a restart at other rank counts.
+"$mpi" --oversubscribe -np 2 "$exe" "$scene" --no-listen --cache "$work/map.bopgm" --steps 10000000 \
+  --report-every 200 -o "$work/t" >"$work/t.log" 2>&1 &
+pid=$!
+for _ in $(seq 1 300); do grep -q '^step ' "$work/t.log" && break; sleep 0.1; done
+sleep 1
+kill -TERM "$pid"
+wait "$pid"
+cat "$work/t.log" | tail -3
+check "SIGTERM stops the run and says where the checkpoint is" "grep -q 'stopped by a signal after step' '$work/t.log'"
+check "the checkpoint is whole: its count line matches its rows, no temporary file left" \
+  "[ -s '$work/t/checkpoint.xyz' ] && [ ! -e '$work/t/checkpoint.xyz.tmp' ] && \
+   [ \$((\$(wc -l <'$work/t/checkpoint.xyz') - 2)) = \$(head -1 '$work/t/checkpoint.xyz') ]"
+for ranks in 1 3; do
+  server "$ranks" --steps 0 --restart "$work/t/checkpoint.xyz" -o "$work/r$ranks" >"$work/r$ranks.log" 2>&1
+  check "a restart at $ranks rank(s) holds every particle of the checkpoint" \
+    "[ -s '$work/r$ranks/final.xyz' ] && diff -q <(ids '$work/t/checkpoint.xyz') <(ids '$work/r$ranks/final.xyz') >/dev/null"
+done
+exit $fail
