@@ -28,7 +28,8 @@ pids=()
 cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
 mpirun --oversubscribe -np 2 build/dynamics_server/bop-server config/scenes/torus.toml \
-  --restart "$out/torus/final.xyz" --port 0 --publish-hz 30 -o "$out/served" >"$out/server.log" 2>&1 &
+  --restart "$out/torus/final.xyz" --cache "$out/torus/gradient-map.bopgm" --port 0 --publish-hz 30 \
+  -o "$out/served" >"$out/server.log" 2>&1 &
 server=$!
 pids+=("$server")
 endpoint=""
@@ -67,12 +68,17 @@ else
   kill "$viewer" 2>/dev/null || true
 fi
 kill -INT "$server" 2>/dev/null || true
+for _ in $(seq 1 300); do kill -0 "$server" 2>/dev/null || break; sleep 0.1; done  # up to 30 s to stop
+if kill -0 "$server" 2>/dev/null; then
+  echo "demo: the server did not stop within 30 s; killed (see $out/server.log)" >&2
+  kill -KILL "$server" 2>/dev/null || true
+fi
 wait "$server" 2>/dev/null || true
 trap - EXIT
 
 mp4=""
 if [[ $headless == 1 ]] && command -v ffmpeg >/dev/null; then
-  ffmpeg -loglevel error -y -framerate 10 -i "$out/viewer/frame-%06d.png" -pix_fmt yuv420p \
+  ffmpeg -loglevel error -y -framerate "$fps" -i "$out/viewer/frame-%06d.png" -pix_fmt yuv420p \
     -vf "pad=ceil(iw/2)*2:ceil(ih/2)*2" "$out/viewer/demo.mp4" && mp4="$out/viewer/demo.mp4"
 fi
 
@@ -81,6 +87,7 @@ csv=$out/viewer/frames.csv
 summary=$out/summary.txt
 {
   echo "BoP demo: the torus served at 2 ranks for ${seconds} s, poked by sim:poke, watched by bop-viewer"
+  [[ $headless == 1 ]] || echo "(the viewer had a window: its rates were on its panel)"
   if [[ -s $csv ]]; then
     awk -F, 'NR > 1 {n++; if (n == 1) {t0 = $3; s0 = $2} t1 = $3; s1 = $2; p = $8; r += $7}
              END {if (n) printf "particles: %d\nserver step rate: %.0f steps/s (mean over %d frames)\n", p, r / n, n}' "$csv"
@@ -95,7 +102,11 @@ summary=$out/summary.txt
 
 echo
 echo "Summary:   $summary"
-echo "Pictures:  $out/viewer/frame-*.png (the viewer's frames$([[ -n $mp4 ]] && echo ", and $mp4"))"
+if [[ $headless == 1 ]]; then
+  echo "Pictures:  $out/viewer/frame-*.png (the viewer's frames$([[ -n $mp4 ]] && echo ", and $mp4"))"
+else
+  echo "Pictures:  the viewer's screenshots (S in its window) in $out/viewer"
+fi
 echo "Force:     $out/haptic/stiffness.png (force felt against depth), $out/haptic/haptic-trace.csv (every tick)"
 echo "Map:       $out/torus/slice-{xy,xz,yz}.png (labels, signed distance, co-planar weight)"
 echo "Particles: $out/torus/final.xyz and $out/served/final.xyz (extended XYZ; OVITO opens them)"

@@ -2,7 +2,7 @@
 // Checkpoints: every particle and the construction's state as one extended XYZ frame
 // (docs/file-formats.md), written atomically (a temporary file, fsync, rename) so that a crash
 // leaves the previous checkpoint whole. `bop-server --restart FILE` goes on from one at any rank
-// count; at the same rank count and report period, bit for bit as the run would have gone on.
+// count; from a periodic one at the same rank count, bit for bit as the run went on from it.
 #include "core/Construction.hpp"
 #include "core/Model.hpp"
 #include "core/Particles.hpp"

@@ -62,20 +62,23 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     if (scene.pressure && header) cardiac.emplace(scene, *header, run.frameVolumes());
     const std::string checkpoint = o.outDir + "/checkpoint.xyz";
     long long done = 0;
+    bool stopped = false;
     if (o.steps == 0) {  // nothing to step: the start itself is the checkpoint
         const core::Particles all = run.gather();
         if (root) writeCheckpoint(checkpoint, all, model, run.construction(), run.stepNumber());
     }
+    installBatchSignals();  // from here a signal ends the run with a checkpoint
     const auto t0 = std::chrono::steady_clock::now();
     for (long long s = 1; s <= o.steps; ++s) {
         run.step();
         done = s;
         if (cardiac) recordCardiac(*cardiac, run, model);
-        if (o.snapshotEvery > 0 && s % o.snapshotEvery == 0) {
+        // Periods count absolute steps, so that a restarted run reports where the run did.
+        if (o.snapshotEvery > 0 && (firstStep + s) % o.snapshotEvery == 0) {
             const core::Particles all = run.gather();  // collective
             if (root) write(trajectory, all, firstStep + s);
         }
-        if (s % o.reportEvery == 0 || s == o.steps) {
+        if ((firstStep + s) % o.reportEvery == 0 || s == o.steps) {
             run.refreshForces();  // the same forces again, now with the energies
             const parallel::Totals t = run.totals();
             const parallel::RunCounters c = run.counters();
@@ -89,24 +92,27 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
                 std::cout << "  construction so far: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths\n";
         }
         // Rank 0's signal decides for every rank (mpirun passes SIGTERM to them all, not at once).
-        const bool stop = run.agree({batchStopRequested() ? 1.0 : 0.0, 0, 0, 0})[0] != 0;
+        stopped = run.agree({batchStopRequested() ? 1.0 : 0.0, 0, 0, 0})[0] != 0;
         const long long step = run.stepNumber();
-        const bool last = stop || s == o.steps;
+        const bool last = stopped || s == o.steps;
         if ((o.checkpointEvery > 0 && step % o.checkpointEvery == 0) || last) {
-            const core::Particles all = run.gather();  // collective
+            const core::Particles all = run.gather();  // collective: every particle on every rank, by id
             if (root) writeCheckpoint(checkpoint, all, model, run.construction(), step);
             if (last) break;
-            run.agree({0, 0, 0, 0});  // the file is whole before any rank reads it
-            // Go on from the file, as a restart would: the same decomposition, the same lists.
-            long long first = 0;
-            core::Construction construction({}, {}, model.speciesCount());
-            const core::Particles back = initialParticles(scene, checkpoint, first, construction);
-            run.reseat(back, construction, first);
+            // Go on from it as a restart from the file would (the same decomposition and lists): the
+            // gathered values are the file's (%.17g reads back exactly), so no rank reads the file.
+            core::Construction construction(scene.construction, scene.timeline, model.speciesCount());
+            construction.restore({run.construction().birthSwitches().begin() + 1, run.construction().birthSwitches().end()},
+                                 run.construction().seedCount());
+            construction.addToTotals(run.construction().totals());
+            run.reseat(all, construction, step);
             run.refreshForces();
         }
     }
-    if (root && batchStopRequested())
-        std::cout << "stopped by a signal after step " << firstStep + done << "; checkpoint: " << checkpoint << std::endl;
+    if (stopped) {
+        run.refreshForces();  // the summary's energies of this state
+        if (root) std::cout << "stopped by a signal after step " << firstStep + done << "; checkpoint: " << checkpoint << std::endl;
+    }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const parallel::Totals t = run.totals();
     const parallel::RunCounters c = run.counters();

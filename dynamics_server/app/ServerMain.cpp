@@ -112,7 +112,6 @@ int run(int argc, char** argv) {
         return app::runServed(scene, std::move(start), serve);
     }
     const app::BatchOptions batch{steps, snapshotEvery, reportEvery, checkpointEvery, outDir, cache};
-    app::installBatchSignals();  // a signal ends the batch run with a checkpoint
     if (ranks > 1) {
         app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
                                                           parallel::MpiSession::barrier, progress);

@@ -22,13 +22,20 @@ namespace bop::app {
 namespace {
 
 volatile std::sig_atomic_t gStop = 0;
-void onSignal(int) { gStop = 1; }
+void onSignal(int sig) {
+    if (gStop) {  // a second signal: no more waiting for the step in progress
+        std::signal(sig, SIG_DFL);
+        std::raise(sig);
+    }
+    gStop = 1;
+}
 
 }  // namespace
 
 void installBatchSignals() {
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
+    std::signal(SIGUSR1, onSignal);  // mpirun passes it to the ranks without killing them after 1 s
 }
 
 bool batchStopRequested() { return gStop != 0; }
@@ -64,6 +71,7 @@ int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions&
         long long first = 0;
         core::Construction construction({}, {}, model.speciesCount());
         core::Particles p = initialParticles(scene, checkpoint, first, construction);
+        construction.addToTotals(sim->construction().totals());  // the run's births and deaths so far
         const core::ProbeState probe = sim->probe();
         sim = std::make_unique<core::Simulation>(scene.model, std::move(p), std::move(construction), first);
         sim->probe() = probe;
@@ -76,7 +84,9 @@ int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions&
     std::optional<CardiacRun> cardiac;
     if (scene.pressure && sim->model().map) cardiac.emplace(scene, *sim->model().map, sim->frameVolumes());
     long long done = 0;
+    bool stopped = false;
     if (o.steps == 0) takeCheckpoint(false);
+    installBatchSignals();  // from here a signal ends the run with a checkpoint
     for (long long s = 1; s <= o.steps; ++s) {
         sim->step();
         done = s;
@@ -86,15 +96,19 @@ int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions&
             cardiac->step({st.step, double(st.step) * model.integration.dt, st.keyframe, st.blood.mv2,
                            st.forces.virialVolume, st.forces.wallVirial, st.blood.count, st.bloodVolume, st.cavityVolume});
         }
-        if (o.snapshotEvery > 0 && s % o.snapshotEvery == 0) snapshot(trajectory);
-        if (s % o.reportEvery == 0 || s == o.steps) {
+        // Periods count absolute steps, so that a restarted run reports where the run did.
+        const long long step = sim->stats().step;
+        if (o.snapshotEvery > 0 && step % o.snapshotEvery == 0) snapshot(trajectory);
+        if (step % o.reportEvery == 0 || s == o.steps) {
             sim->refreshForces();  // the same forces again, now with the energies
             report.progress(*sim, s, o.steps, t0);
         }
-        const bool stop = batchStopRequested(), last = stop || s == o.steps;
-        if ((o.checkpointEvery > 0 && sim->stats().step % o.checkpointEvery == 0) || last) takeCheckpoint(!last);
-        if (stop) {
-            spdlog::info("stopped by a signal after step {}; checkpoint: {}", sim->stats().step, checkpoint);
+        stopped = batchStopRequested();
+        const bool last = stopped || s == o.steps;
+        if ((o.checkpointEvery > 0 && step % o.checkpointEvery == 0) || last) takeCheckpoint(!last);
+        if (stopped) {
+            spdlog::info("stopped by a signal after step {}; checkpoint: {}", step, checkpoint);
+            sim->refreshForces();  // the summary's energies of this state
             break;
         }
     }

@@ -12,6 +12,8 @@ struct DecomposedRun::Impl {
     DecomposedOptions options;  // the start's (its map source serves a reseat too)
     std::unique_ptr<DecomposedSimulation> simPtr;
     long long energyEvery = 1;
+    // This rank's counters of the simulations a reseat let go (the run's totals go on).
+    double carriedMigrations = 0, carriedRebuilds = 0, carriedExchange = 0, carriedRebalances = 0;
     Impl(std::shared_ptr<const core::Model> m, const core::Particles& all, DecomposedOptions o)
         : comm(MPI_COMM_WORLD, m->box), model(std::move(m)), options(o),
           simPtr(std::make_unique<DecomposedSimulation>(comm, model, all, std::move(o))) {}
@@ -36,6 +38,10 @@ void DecomposedRun::reseat(const core::Particles& all, const core::Construction&
     DecomposedOptions o = i.options;
     o.construction = construction;
     o.firstStep = step;
+    i.carriedMigrations += double(i.simPtr->migrations());
+    i.carriedRebuilds += double(i.simPtr->rebuilds());
+    i.carriedExchange += i.simPtr->exchangeSeconds();
+    i.carriedRebalances += double(i.simPtr->rebalances());
     i.simPtr.reset();  // the old run's memory goes first
     i.simPtr = std::make_unique<DecomposedSimulation>(i.comm, i.model, all, std::move(o));
     i.simPtr->probe() = probe;
@@ -104,9 +110,10 @@ Coords DecomposedRun::dims() const { return impl_->comm.dims(); }
 
 RunCounters DecomposedRun::counters() const {
     const auto& s = *impl_->simPtr;
+    const Impl& i = *impl_;
     const std::vector<double> all = impl_->comm.allGather(
-        {double(s.haloBytesPerStep()), double(s.migrations()), double(s.rebuilds()), double(s.particles().size()),
-         s.exchangeSeconds(), double(s.mapBytes())});
+        {double(s.haloBytesPerStep()), double(s.migrations()) + i.carriedMigrations, double(s.rebuilds()) + i.carriedRebuilds,
+         double(s.particles().size()), s.exchangeSeconds() + i.carriedExchange, double(s.mapBytes())});
     RunCounters c;
     double most = 0, sum = 0;
     for (std::size_t r = 0; r < all.size(); r += 6) {
@@ -120,7 +127,7 @@ RunCounters DecomposedRun::counters() const {
     }
     c.imbalance = sum > 0 ? most * double(size()) / sum : 1.0;
     c.initialImbalance = s.initialImbalance();
-    c.rebalances = double(s.rebalances());
+    c.rebalances = double(s.rebalances()) + i.carriedRebalances;
     c.births = double(s.construction().totals().births);
     c.deaths = double(s.construction().totals().deaths);
     return c;

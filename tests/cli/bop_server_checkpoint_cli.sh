@@ -49,6 +49,17 @@ check "SIGTERM stops the run and says where the checkpoint is" "grep -q 'stopped
 check "the checkpoint is whole: its count line matches its rows, no temporary file left" \
   "[ -s '$work/t/checkpoint.xyz' ] && [ ! -e '$work/t/checkpoint.xyz.tmp' ] && \
    [ \$((\$(wc -l <'$work/t/checkpoint.xyz') - 2)) = \$(head -1 '$work/t/checkpoint.xyz') ]"
+# SIGUSR1, which mpirun passes on without killing the ranks a second later: the same stop.
+"$mpi" --oversubscribe -np 2 "$exe" "$scene" --no-listen --cache "$work/map.bopgm" --steps 10000000 \
+  --report-every 200 -o "$work/u" >"$work/u.log" 2>&1 &
+pid=$!
+for _ in $(seq 1 300); do grep -q '^step ' "$work/u.log" && break; sleep 0.1; done
+kill -USR1 "$pid"
+wait "$pid"
+rc=$?
+check "SIGUSR1 to mpirun stops the run with a checkpoint and exit code 0 (got $rc)" \
+  "[ $rc -eq 0 ] && grep -q 'stopped by a signal after step' '$work/u.log' && [ -s '$work/u/checkpoint.xyz' ]"
+
 for ranks in 1 3; do
   server "$ranks" --steps 0 --restart "$work/t/checkpoint.xyz" -o "$work/r$ranks" >"$work/r$ranks.log" 2>&1
   check "a restart at $ranks rank(s) holds every particle of the checkpoint" \
