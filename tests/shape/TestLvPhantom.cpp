@@ -82,3 +82,29 @@ TEST_CASE("the ventricle scene's 8 maps hold the cavity volumes: ejection fracti
     CHECK(std::abs(ejectionFraction(ml) - truth.ejectionFraction()) < 0.01);
     CHECK(std::min_element(ml.begin(), ml.end()) - ml.begin() == 3);  // end-systole at frame 3
 }
+
+TEST_CASE("a numbered series of 3D files loads as the same 8 keyframes as the 4D file", "[lv]") {
+    test::TempDir dir("lv-series");
+    const LvPhantom lv = makeLvPhantom(LvPhantomParams{});
+    std::string files;
+    for (std::size_t f = 0; f < lv.frames.size(); ++f) {
+        const std::string name = "lv-" + std::to_string(f) + ".nii.gz";
+        writeNifti(dir.file(name), lv.frames[f], "uint8");
+        files += (f ? ", '" : "'") + name + "'";
+    }
+    const std::string scene = test::writeText(dir.file("series.toml"),
+        "[grid]\nr0_voxels = 2.0\n[shape]\n[[shape.bag]]\nsource = 'nifti'\nfiles = [" + files + "]\nlabel = 1\n"
+        "[keyframes]\nperiod = 32.0\n");
+    const app::Scene s = app::loadScene(scene);
+    CHECK(s.model->keyframes.frames == 8);
+    CHECK(s.model->keyframes.frameDuration == Approx(4.0));
+    const ShapeBuild b = buildShape(*s.shape);
+    REQUIRE(b.frames.size() == 8);
+    std::vector<double> ml;
+    for (const GradientMap& m : b.frames) {
+        const Eigen::Vector3d all = Eigen::Vector3d::Constant(1e300);
+        ml.push_back(core::countMapVolume(m, -all, all).bagVoxels * std::pow(m.grid.voxelMm, 3) / 1000);
+    }
+    for (std::size_t f = 0; f < 8; ++f) CHECK(ml[f] == Approx(lv.voxelVolumeMl[f]).epsilon(1e-9));  // every voxel kept
+    CHECK(std::abs(ejectionFraction(ml) - lv.ejectionFraction()) < 0.01);
+}
