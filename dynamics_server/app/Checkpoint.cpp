@@ -1,6 +1,5 @@
 #include "Checkpoint.hpp"
 
-#include "ExtendedXyz.hpp"
 #include "SimulationSetup.hpp"
 
 #include "bop/common/Npy.hpp"  // writeFileAtomic
@@ -9,14 +8,19 @@
 
 namespace bop::app {
 
-void writeCheckpoint(const std::string& path, const core::Particles& all, const core::Model& model,
-                     const core::Construction& construction, long long step) {
+XyzFrameInfo snapshotInfo(const core::Model& model, long long step) {
     XyzFrameInfo info;
     info.step = step;
     info.time = double(step) * model.integration.dt;
     info.boxLo = model.box.lo;
     info.boxHi = model.box.hi;
     info.periodic = model.box.periodic;
+    return info;
+}
+
+void writeCheckpoint(const std::string& path, const core::Particles& all, const core::Model& model,
+                     const core::Construction& construction, long long step) {
+    XyzFrameInfo info = snapshotInfo(model, step);
     info.births.assign(construction.birthSwitches().begin() + 1, construction.birthSwitches().end());
     info.seeds = static_cast<long long>(construction.seedCount());
     std::ostringstream text;

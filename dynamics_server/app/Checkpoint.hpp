@@ -3,6 +3,7 @@
 // (docs/file-formats.md), written atomically (a temporary file, fsync, rename) so that a crash
 // leaves the previous checkpoint whole. `bop-server --restart FILE` goes on from one at any rank
 // count; from a periodic one at the same rank count, bit for bit as the run went on from it.
+#include "ExtendedXyz.hpp"
 #include "core/Construction.hpp"
 #include "core/Model.hpp"
 #include "core/Particles.hpp"
@@ -10,6 +11,10 @@
 #include <string>
 
 namespace bop::app {
+
+// The header of a snapshot of `model`'s box at `step` (time = step x dt): what final.xyz,
+// trajectories and checkpoints carry.
+XyzFrameInfo snapshotInfo(const core::Model& model, long long step);
 
 // all: every particle of the run (sorted by id, as a decomposed run gathers them).
 // bop::Error naming the file when it cannot be written.

@@ -50,13 +50,7 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     const std::string trajectory = o.outDir + "/trajectory.xyz";
     if (root && o.snapshotEvery > 0) fs::remove(trajectory);
     auto write = [&](const std::string& path, const core::Particles& all, long long step) {
-        XyzFrameInfo info;
-        info.step = step;
-        info.time = double(step) * model.integration.dt;
-        info.boxLo = model.box.lo;
-        info.boxHi = model.box.hi;
-        info.periodic = model.box.periodic;
-        appendExtendedXyz(path, all, names, info);
+        appendExtendedXyz(path, all, names, snapshotInfo(model, step));
     };
     std::optional<CardiacRun> cardiac;
     if (scene.pressure && header) cardiac.emplace(scene, *header, run.frameVolumes());

@@ -242,12 +242,7 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
     std::filesystem::create_directories(o.outDir);
     const std::string finalFile = o.outDir + "/final.xyz";
     std::filesystem::remove(finalFile);
-    XyzFrameInfo fi;
-    fi.step = run.stepNumber();
-    fi.time = double(fi.step) * model.integration.dt;
-    fi.boxLo = model.box.lo;
-    fi.boxHi = model.box.hi;
-    fi.periodic = model.box.periodic;
+    const XyzFrameInfo fi = snapshotInfo(model, run.stepNumber());
     appendExtendedXyz(finalFile, all, speciesNames(model), fi);
     std::cout << "served " << done << " steps to " << s.clients << " clients: " << s.framesSent << " frames ("
               << s.bytesSent / 1e6 << " MB, " << s.framesDropped << " replaced before sending), " << s.commands

@@ -54,13 +54,7 @@ int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions&
     const std::string trajectory = o.outDir + "/trajectory.xyz", checkpoint = o.outDir + "/checkpoint.xyz";
     if (o.snapshotEvery > 0) fs::remove(trajectory);
     auto snapshot = [&](const std::string& path) {
-        XyzFrameInfo info;
-        info.step = sim->stats().step;
-        info.time = double(info.step) * model.integration.dt;
-        info.boxLo = model.box.lo;
-        info.boxHi = model.box.hi;
-        info.periodic = model.box.periodic;
-        appendExtendedXyz(path, sim->particles(), names, info);
+        appendExtendedXyz(path, sim->particles(), names, snapshotInfo(model, sim->stats().step));
     };
     // A checkpoint, and the run goes on from it exactly as a restart from the file would.
     auto takeCheckpoint = [&](bool goOn) {

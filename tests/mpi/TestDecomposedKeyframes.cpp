@@ -16,33 +16,9 @@ using namespace bop;
 using parallel::CartComm;
 using parallel::DecomposedSimulation;
 
-namespace {
-
-// Frames of 0.5 time units (25 steps); the bag grows from seeds while its map cycles.
-const char* kGrowing = R"(
-[[construction.event]]
-step = 0
-action = "seed"
-species = 1
-[[construction.event]]
-step = 0
-action = "birth_on"
-species = 1
-[[construction.event]]
-step = 0
-action = "seed"
-species = 2
-[[construction.event]]
-step = 0
-action = "birth_on"
-species = 2
-)";
-
-}  // namespace
-
 TEST_CASE("keyframes switch at the stated times at any rank count, as in one process", "[mpi][keyframes]") {
-    test::TempDir dir("mpi-keyframes");
-    const std::string scene = test::writeKeyframeScene(dir.path.string(), 0.5, true, kGrowing);
+    test::TempDir dir("mpi-keyframes");  // frames of 0.5 time units (25 steps); the bag grows while its map cycles
+    const std::string scene = test::writeKeyframeScene(dir.path.string(), 0.5, true, test::kGrowFromSeeds);
     app::Scene s = app::loadScene(scene);
     auto serial = app::startSimulation(s, "", "");
     const CartComm comm(MPI_COMM_WORLD, s.model->box);
@@ -94,7 +70,7 @@ TEST_CASE("bop-server's start under mpirun reads every keyframe's window from th
     if (root) {
         std::filesystem::remove_all(dir);
         std::filesystem::create_directories(dir);
-        test::writeKeyframeScene(dir, 0.5, true, kGrowing);
+        test::writeKeyframeScene(dir, 0.5, true, test::kGrowFromSeeds);
     }
     parallel::MpiSession::barrier();
     app::Scene s = app::loadScene(dir + "/keyframes.toml");

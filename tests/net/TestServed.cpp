@@ -126,27 +126,9 @@ TEST_CASE("a client of a 2-rank server gets the scene, frames at the set rate, a
 TEST_CASE("a keyframed bag served at 2 ranks beats in its frames and writes its pressure curve at the end", "[net][keyframes]") {
     test::TempDir dir("served-keyframes");
     // The test ball (radius 6 then 9 voxels, 0.5 time units each) built from seeds while it beats.
-    const std::string scene = test::writeKeyframeScene(dir.path.string(), 0.5, true, R"(
-[[construction.event]]
-step = 0
-action = "seed"
-species = 1
-[[construction.event]]
-step = 0
-action = "birth_on"
-species = 1
-[[construction.event]]
-step = 0
-action = "seed"
-species = 2
-[[construction.event]]
-step = 0
-action = "birth_on"
-species = 2
-[pressure]
-skip_cycles = 0
-volume_every_steps = 20
-)");
+    const std::string scene = test::writeKeyframeScene(dir.path.string(), 0.5, true,
+                                                       std::string(test::kGrowFromSeeds) +
+                                                           "[pressure]\nskip_cycles = 0\nvolume_every_steps = 20\n");
     ServerProcess srv({test::mpiexec(), "-np", "2", "--oversubscribe", test::buildDir() + "/dynamics_server/bop-server",
                        scene, "--port", "0", "--publish-hz", "30", "-o", dir.file("out")});
     ClientSession c;

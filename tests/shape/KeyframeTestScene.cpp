@@ -7,6 +7,25 @@
 
 namespace bop::test {
 
+const char* const kGrowFromSeeds = R"(
+[[construction.event]]
+step = 0
+action = "seed"
+species = 1
+[[construction.event]]
+step = 0
+action = "birth_on"
+species = 1
+[[construction.event]]
+step = 0
+action = "seed"
+species = 2
+[[construction.event]]
+step = 0
+action = "birth_on"
+species = 2
+)";
+
 std::string writeKeyframeScene(const std::string& dir, double frameDuration, bool blend, const std::string& extra) {
     std::vector<shape::ScalarImage> frames;
     for (double radius : {6.0, 9.0}) {

@@ -6,6 +6,9 @@
 
 namespace bop::test {
 
+// A construction timeline: both species seeded and growing from step 0 (TOML, for `extra`).
+extern const char* const kGrowFromSeeds;
+
 std::string writeKeyframeScene(const std::string& dir, double frameDuration, bool blend, const std::string& extra = "");
 
 }  // namespace bop::test
