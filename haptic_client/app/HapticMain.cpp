@@ -59,6 +59,9 @@ int main(int argc, char** argv) {
         app.add_option("--k0", o.k0, "probe range scale (paper eq. 9; default: the server's)")->check(CLI::PositiveNumber);
         app.add_option("--k1", o.k1, "probe strength (paper eq. 9; default: the server's)")->check(CLI::PositiveNumber);
         app.add_flag("--udp", o.udp, "probes and feedback as datagrams (the server's UDP port)");
+        app.add_option("--reconnect-after", o.reconnectAfterS, "no feedback for this long, s: connect to the server "
+                                                              "again, every second until it answers (0: never)")
+            ->check(CLI::NonNegativeNumber);
         app.add_option("--map-max-mb", o.mapMaxMb, "largest gradient map to download, MB")->check(CLI::PositiveNumber);
         app.add_option("--server-key", o.serverKeyFile, "the server's CURVE public key file (bop-keys PREFIX.pub): encrypt "
                                                         "the session and accept only that server")->check(CLI::ExistingFile);

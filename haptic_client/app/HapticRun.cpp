@@ -1,5 +1,6 @@
 #include "app/HapticRun.hpp"
 
+#include "app/HapticLink.hpp"
 #include "app/HapticMap.hpp"
 #include "app/Traces.hpp"
 #include "control/RateLoop.hpp"
@@ -81,10 +82,11 @@ int runHaptic(const RunOptions& o) {
     co.probeOverUdp = o.udp;
     co.frameRateHz = 1;  // frames are not used here: the slowest tier
     protocol::useCurveKeys(co, o.serverKeyFile, o.clientKeyPrefix);
-    protocol::ClientSession session(co);
-    const protocol::SceneInfo scene = session.connect(o.endpoint, std::chrono::seconds(30));
+    HapticLink link(co, o.endpoint, o.reconnectAfterS);
+    const protocol::SceneInfo scene = link.connect(std::chrono::seconds(30));
     std::printf("bop-haptic: connected to %s\n", o.endpoint.c_str());
-    const std::optional<FieldForce> field = downloadField(session, scene, o.fieldStiffness, o.mapMaxMb);
+    std::fflush(stdout);
+    const std::optional<FieldForce> field = downloadField(link.session(), scene, o.fieldStiffness, o.mapMaxMb);
     DeviceOptions script = o.script;
     script.target = o.target ? *o.target : topOfBag(field, scene);
     Workspace w = Workspace::fit(o.limits.workspaceMm, Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), o.newtonsPerForce);
@@ -128,20 +130,22 @@ int runHaptic(const RunOptions& o) {
     } letGo{[&] {
         device->render(Eigen::Vector3d::Zero(), 0);
         try {
-            session.sendProbe({++seq, wallNs(), lastProxy.allFinite() ? lastProxy : script.target, false, k0, k1, stats,
+            link.session().sendProbe({++seq, wallNs(), lastProxy.allFinite() ? lastProxy : script.target, false, k0, k1, stats,
                                {0, 0, 0}});
-            session.waitFeedback(Clock::now() + std::chrono::milliseconds(50));
+            link.session().waitFeedback(Clock::now() + std::chrono::milliseconds(50));
         } catch (const std::exception&) {  // the server is gone: nothing to switch off
         }
     }};
     loop.run([&](const LoopTick& t) {
         const DeviceState state = device->read(t.tS);
         const Eigen::Vector3d x = w.toScene(state.positionMm);
-        if (const auto fb = session.pollFeedback()) {
+        const auto fb = link.session().pollFeedback();
+        if (fb) {
             model.feedback(fb->force, t.tS);
             roundTrip.feedback(fb->probeSeq, wallS());
             ++feedbacks;
         }
+        link.tick(t.tS, fb.has_value());
         const ForceOutput out = model.tick(t.tS, t.dtS, x);
         lastProxy = out.proxy;
         const Eigen::Vector3d n = clampNorm(w.forceToDevice(out.force), device->limits().maxForceN);
@@ -152,7 +156,7 @@ int runHaptic(const RunOptions& o) {
             stats = {float(r.rateHz), float(r.p99Us), r.missed + r.late};
         }
         protocol::Probe p{++seq, wallNs(), out.proxy, true, k0, k1, stats, w.forceToScene(n)};
-        session.sendProbe(p);
+        link.session().sendProbe(p);
         roundTrip.sent(seq, wallS());
         trace.row(t, x, out, n);
         if (scripted(o.device)) curve.add(x, w.forceToScene(n));  // as felt: after the device's clamp
@@ -162,6 +166,7 @@ int runHaptic(const RunOptions& o) {
     std::printf("probe round trip: p50 %.2f ms, p99 %.2f ms, max %.2f ms over %zu probes; %llu feedback messages\n",
                 roundTrip.percentileMs(50), roundTrip.percentileMs(99), roundTrip.percentileMs(100), roundTrip.count(),
                 (unsigned long long)feedbacks);
+    if (link.reconnections() > 0) std::printf("reconnections: %u\n", link.reconnections());
     std::printf("largest force rendered: %.3f N; trace in %s/haptic-trace.csv\n", largestN, o.outDir.c_str());
     if (scripted(o.device) && !curve.points().empty()) {
         curve.writeCsv(o.outDir + "/stiffness.csv");

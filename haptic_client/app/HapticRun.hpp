@@ -28,6 +28,7 @@ struct RunOptions {
     double k0 = 0, k1 = 0;                  // 0: the server's
     bool udp = false;
     double mapMaxMb = 512;
+    double reconnectAfterS = 2;             // no feedback for this long: connect again (0: never)
     std::string serverKeyFile, clientKeyPrefix;  // CURVE: the server's public key file, this client's pair prefix
 };
 

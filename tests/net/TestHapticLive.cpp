@@ -1,6 +1,7 @@
 // bop-haptic against a served torus bag (2 ranks): a scripted poke feels a reaction that opposes
 // the poke and grows with depth, and moves the bag's surface; a server stopped mid-poke leaves
-// the device without force within 50 ms; a simulated fingertip pressed on the bag comes to rest.
+// the device without force within 50 ms, and one restarted on its port is connected to again;
+// a simulated fingertip pressed on the bag comes to rest.
 // Traces stay in build/test-output/haptic/.
 #include "ServerProcess.hpp"
 #include "TestUtil.hpp"
@@ -26,22 +27,9 @@ using namespace std::chrono_literals;
 
 namespace {
 
-// The torus as its construction timeline builds it (4,000 steps, one rank), once per test run.
-const std::string& builtTorus() {
-    static test::TempDir dir("haptic-torus");
-    static const std::string xyz = [] {
-        const auto [code, out] = test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + test::sourceDir() +
-                                                  "/config/scenes/torus.toml --no-listen -o " + dir.file("build") + " 2>&1");
-        INFO(out);
-        REQUIRE(code == 0);
-        return dir.file("build") + "/final.xyz";
-    }();
-    return xyz;
-}
-
 std::vector<std::string> torusServer(const std::string& outDir) {
     return {test::mpiexec(), "-np", "2", "--oversubscribe", test::buildDir() + "/dynamics_server/bop-server",
-            test::sourceDir() + "/config/scenes/torus.toml", "--restart", builtTorus(), "--port", "0",
+            test::sourceDir() + "/config/scenes/torus.toml", "--restart", test::builtTorus(), "--port", "0",
             "--publish-hz", "10", "--frame-ids", "-o", outDir};
 }
 
@@ -81,6 +69,25 @@ struct Csv {
         return std::size_t(it - names.begin());
     }
 };
+
+// Waits (up to 30 s) until the trace, written as the loop runs, holds `rows` rows from the
+// `afterS`-th second on with a force above 0.5 N on the device.
+void waitUntilPushing(const std::string& trace, std::size_t rows, double afterS = 0) {
+    const auto pushing = [&] {
+        std::ifstream in(trace);
+        std::string line;
+        std::getline(in, line);
+        std::size_t found = 0;
+        while (std::getline(in, line)) {
+            std::vector<std::string> cells;
+            std::istringstream s(line);
+            for (std::string c; std::getline(s, c, ',');) cells.push_back(c);
+            if (cells.size() == 20 && std::stod(cells[0]) > afterS && std::stod(cells[16]) > 0.5) ++found;  // t_s, force_n
+        }
+        return found >= rows;
+    };
+    for (int k = 0; k < 300 && !pushing(); ++k) std::this_thread::sleep_for(100ms);
+}
 
 }  // namespace
 
@@ -164,21 +171,8 @@ TEST_CASE("bop-haptic: a server stopped mid-poke leaves the device without force
         result = test::runCommand(haptic(srv.endpoint(), "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 10 "
                                                          "--seconds 8 --out " + out));
     });
-    // Wait until the device pushes back (the trace, written as the loop runs), then stop the server.
-    const auto pushing = [&] {
-        std::ifstream in(out + "/haptic-trace.csv");
-        std::string line;
-        std::getline(in, line);
-        std::size_t rows = 0;
-        for (; std::getline(in, line); ++rows) {
-            std::vector<std::string> cells;
-            std::istringstream s(line);
-            for (std::string c; std::getline(s, c, ',');) cells.push_back(c);
-            if (cells.size() == 20 && std::stod(cells[16]) > 0.5) return true;  // force_n
-        }
-        return false;
-    };
-    for (int k = 0; k < 300 && !pushing(); ++k) std::this_thread::sleep_for(100ms);
+    // Wait until the device pushes back, then stop the server.
+    waitUntilPushing(out + "/haptic-trace.csv", 1);
     std::this_thread::sleep_for(500ms);
     srv.stop(SIGTERM);
     run.join();
@@ -201,6 +195,48 @@ TEST_CASE("bop-haptic: a server stopped mid-poke leaves the device without force
     INFO("force at 0 " << ms << " ms after the last feedback");
     CHECK(ms <= 50);
     for (std::size_t k = zero; k < trace.rows.size(); ++k) CHECK(trace.rows[k][n] == 0);  // and stays there
+}
+
+TEST_CASE("bop-haptic connects again on its own when the server restarts on its port, and feels it push back", "[net][haptic]") {
+    test::TempDir dir("haptic-reconnect");
+    auto first = std::make_unique<test::ServerProcess>(torusServer(dir.file("a")));
+    const std::string endpoint = first->endpoint();
+    const std::string out = test::outputDir("haptic", "reconnect");
+    std::pair<int, std::string> result;
+    std::thread run([&] {
+        result = test::runCommand(haptic(endpoint, "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 60 "
+                                                   "--seconds 30 --reconnect-after 1 --out " + out));
+    });
+    waitUntilPushing(out + "/haptic-trace.csv", 1);
+    first->stop(SIGTERM);
+    first.reset();
+    const double goneS = Csv(out + "/haptic-trace.csv").rows.back()[0];
+    // The same scene from the same checkpoint on the same port.
+    std::vector<std::string> again = torusServer(dir.file("b"));
+    REQUIRE(again[8] == "--port");
+    again[9] = endpoint.substr(endpoint.rfind(':') + 1);  // "0" -> the first server's port
+    test::ServerProcess second(again);
+    waitUntilPushing(out + "/haptic-trace.csv", 500, goneS + 1);  // half a second of pushing after the gap
+    second.stop(SIGTERM);
+    run.join();
+    INFO(result.second);
+    REQUIRE(result.first == 0);
+    CHECK(result.second.find("connected again to " + endpoint + " (connection 2)") != std::string::npos);
+    CHECK(result.second.find("reconnections: 1") != std::string::npos);
+    const Csv trace(out + "/haptic-trace.csv");
+    const std::size_t t = trace.col("t_s"), n = trace.col("force_n"), age = trace.col("feedback_age_ms");
+    // A gap without feedback, then fresh feedback and force again from the second server.
+    double gapMs = 0, lastFresh = -1, pushedAfter = 0;
+    for (const auto& r : trace.rows) {
+        if (r[age] < 5) {
+            if (lastFresh >= 0) gapMs = std::max(gapMs, 1000 * (r[t] - lastFresh));
+            lastFresh = r[t];
+        }
+        if (r[t] > goneS + 1 && r[age] < 5) pushedAfter = std::max(pushedAfter, r[n]);
+    }
+    INFO("longest gap in feedback " << gapMs << " ms; largest force after it " << pushedAfter << " N");
+    CHECK(gapMs > 1000);
+    CHECK(pushedAfter > 0.5);
 }
 
 TEST_CASE("bop-haptic sim:finger pressed on the served torus comes to rest at its surface", "[net][haptic]") {
