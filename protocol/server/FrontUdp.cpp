@@ -2,6 +2,8 @@
 
 #include "codec/MessageKind.hpp"
 
+#include <cstdio>
+
 namespace bop::protocol {
 namespace {
 
@@ -41,8 +43,13 @@ void FrontUdp::feedback(const Buffer& b, Clock::time_point now) {
             it = probers_.erase(it);
             continue;
         }
-        socket_.sendTo(endpointOf(it->first), b);  // a drop is a lost datagram, as UDP allows
-        ++it;
+        try {
+            socket_.sendTo(endpointOf(it->first), b);  // a drop is a lost datagram, as UDP allows
+            ++it;
+        } catch (const std::exception& e) {  // that client's trouble, not the server's: forget it
+            std::fprintf(stderr, "bop-server: feedback datagrams to %s stopped: %s\n", it->first.c_str(), e.what());
+            it = probers_.erase(it);
+        }
     }
 }
 
@@ -66,8 +73,16 @@ void FrontUdp::setFrameClient(const std::string& id, const std::string& address,
 
 void FrontUdp::frame(const Buffer& whole, std::uint64_t frameNumber) {
     std::lock_guard lock(frameMutex_);
-    for (auto& [_, c] : frameClients_)
-        if (frameNumber % (std::uint64_t(1) << c.tier) == 0) c.sender->send(kFrameStream, whole);
+    for (auto it = frameClients_.begin(); it != frameClients_.end();) {
+        try {
+            if (frameNumber % (std::uint64_t(1) << it->second.tier) == 0) it->second.sender->send(kFrameStream, whole);
+            ++it;
+        } catch (const std::exception& e) {  // that client's trouble, not the server's: it gets no more
+            std::fprintf(stderr, "bop-server: frame datagrams to %s stopped: %s\n",
+                         it->second.sender->destination().text().c_str(), e.what());
+            it = frameClients_.erase(it);
+        }
+    }
 }
 
 bool FrontUdp::wantsFrame(std::uint64_t frameNumber) const {

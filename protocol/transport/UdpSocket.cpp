@@ -121,6 +121,8 @@ bool UdpSocket::sendTo(const Endpoint& to, std::span<const std::uint8_t> bytes) 
             case ENETUNREACH:
             case EHOSTDOWN:
             case ENETDOWN:
+            case EPERM:          // a packet filter on this host refused it: lost, as on the wire
+            case EADDRNOTAVAIL:  // the local address went away with its interface
                 return false;
             default:
                 throw Error("UDP " + local_.text() + " -> " + to.text(),
