@@ -24,8 +24,8 @@ packages=(
   libglfw3-dev libimgui-dev xvfb xauth libglx-mesa0
   # the haptic client's 3Dconnexion adapter (spacenavd's client library)
   libspnav-dev
-  # tests
-  catch2 python3 python3-numpy
+  # tests; the two-host tests' namespaces, veth pair, netem and datagram loss (scripts/two-host.sh)
+  catch2 python3 python3-numpy iproute2 nftables
 )
 if [[ "${1:-}" == "--bench" ]]; then
   packages+=(python3-scipy lammps time)

@@ -1,5 +1,7 @@
 #include "ServerProcess.hpp"
 
+#include "TestUtil.hpp"
+
 #include <filesystem>
 
 #include <fcntl.h>
@@ -39,7 +41,7 @@ std::pair<int, std::string> runCommand(const std::string& command) {
 }
 std::string mpiexec() { return BOP_MPIEXEC; }
 
-ServerProcess::ServerProcess(std::vector<std::string> argv, std::chrono::milliseconds timeout) {
+ServerProcess::ServerProcess(std::vector<std::string> argv, std::chrono::milliseconds timeout, const std::string& ready) {
     allowMpiAsRoot();
     int pipeFds[2];
     if (pipe(pipeFds) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
@@ -63,8 +65,9 @@ ServerProcess::ServerProcess(std::vector<std::string> argv, std::chrono::millise
     const auto until = std::chrono::steady_clock::now() + timeout;
     while (std::chrono::steady_clock::now() < until) {
         drain(50);
+        if (ready != "listening on " && out_.find(ready) != std::string::npos) return;
         const auto at = out_.find("listening on ");
-        if (at != std::string::npos) {
+        if (ready == "listening on " && at != std::string::npos) {
             const auto end = out_.find_first_of(" \n", at + 13);
             if (end != std::string::npos) {
                 endpoint_ = out_.substr(at + 13, end - at - 13);
@@ -74,7 +77,7 @@ ServerProcess::ServerProcess(std::vector<std::string> argv, std::chrono::millise
         if (!running()) break;
     }
     kill(-pid_, SIGKILL);
-    throw std::runtime_error("server did not start listening; its output:\n" + out_);
+    throw std::runtime_error(argv[0] + " did not print '" + ready + "'; its output:\n" + out_);
 }
 
 ServerProcess::~ServerProcess() {
@@ -123,6 +126,17 @@ int ServerProcess::stop(int signal, std::chrono::milliseconds timeout) {
 std::string ServerProcess::output() {
     drain(0);
     return out_;
+}
+
+const std::string& builtTorus() {
+    static TempDir dir("built-torus");
+    static const std::string xyz = [] {
+        const auto [code, out] = runCommand(buildDir() + "/dynamics_server/bop-server " + sourceDir() +
+                                            "/config/scenes/torus.toml --no-listen -o " + dir.file("build") + " 2>&1");
+        if (code != 0) throw std::runtime_error("the torus batch run failed:\n" + out);
+        return dir.file("build") + "/final.xyz";
+    }();
+    return xyz;
 }
 
 std::string outputDir(const std::string& group, const std::string& name) {

@@ -1,7 +1,8 @@
 #pragma once
 // A bop-server (or any tool that prints "listening on ENDPOINT") run as a child process for the
 // integration tests: started with its arguments, its control endpoint read from its output,
-// stopped by a signal, its whole output kept for assertions.
+// stopped by a signal, its whole output kept for assertions. A client runs the same way, waited
+// for until it prints its own `ready` text.
 #include <chrono>
 #include <string>
 #include <utility>
@@ -11,9 +12,11 @@ namespace bop::test {
 
 class ServerProcess {
 public:
-    // Starts argv[0] with the arguments; waits up to `timeout` for the "listening on" line
-    // (std::runtime_error with the output so far if it does not come).
-    ServerProcess(std::vector<std::string> argv, std::chrono::milliseconds timeout = std::chrono::seconds(60));
+    // Starts argv[0] with the arguments; waits up to `timeout` for `ready` in its output
+    // (std::runtime_error with the output so far if it does not come). The endpoint is read
+    // after "listening on ".
+    ServerProcess(std::vector<std::string> argv, std::chrono::milliseconds timeout = std::chrono::seconds(60),
+                  const std::string& ready = "listening on ");
     ~ServerProcess();  // SIGKILL if still running
     ServerProcess(const ServerProcess&) = delete;
     ServerProcess& operator=(const ServerProcess&) = delete;
@@ -39,6 +42,10 @@ std::pair<int, std::string> runCommand(const std::string& command);
 // The build folder's executables (BOP_BUILD_DIR), MPI launcher (BOP_MPIEXEC) and sources.
 std::string buildDir();
 std::string mpiexec();
+
+// The torus bag as its construction timeline builds it (4,000 steps, one rank): the final.xyz
+// of a batch run made once per test process.
+const std::string& builtTorus();
 
 // build/test-output/GROUP/NAME, emptied: where a test leaves files to look at.
 std::string outputDir(const std::string& group, const std::string& name);

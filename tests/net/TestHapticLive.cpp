@@ -202,11 +202,9 @@ TEST_CASE("bop-haptic connects again on its own when the server restarts on its 
     auto first = std::make_unique<test::ServerProcess>(torusServer(dir.file("a")));
     const std::string endpoint = first->endpoint();
     const std::string out = test::outputDir("haptic", "reconnect");
-    std::pair<int, std::string> result;
-    std::thread run([&] {
-        result = test::runCommand(haptic(endpoint, "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 60 "
-                                                   "--seconds 30 --reconnect-after 1 --out " + out));
-    });
+    test::ServerProcess client({test::buildDir() + "/haptic_client/bop-haptic", endpoint, "--device", "sim:poke", "--standoff",
+                                "3", "--depth", "1.5", "--speed", "1", "--hold", "60", "--reconnect-after", "1", "--out", out},
+                               30s, "bop-haptic: sim:poke at");
     waitUntilPushing(out + "/haptic-trace.csv", 1);
     first->stop(SIGTERM);
     first.reset();
@@ -217,12 +215,12 @@ TEST_CASE("bop-haptic connects again on its own when the server restarts on its 
     again[9] = endpoint.substr(endpoint.rfind(':') + 1);  // "0" -> the first server's port
     test::ServerProcess second(again);
     waitUntilPushing(out + "/haptic-trace.csv", 500, goneS + 1);  // half a second of pushing after the gap
+    REQUIRE(client.stop(SIGINT) == 0);
     second.stop(SIGTERM);
-    run.join();
-    INFO(result.second);
-    REQUIRE(result.first == 0);
-    CHECK(result.second.find("connected again to " + endpoint + " (connection 2)") != std::string::npos);
-    CHECK(result.second.find("reconnections: 1") != std::string::npos);
+    const std::string printed = client.output();
+    INFO(printed);
+    CHECK(printed.find("connected again to " + endpoint + " (connection 2)") != std::string::npos);
+    CHECK(printed.find("reconnections: 1") != std::string::npos);
     const Csv trace(out + "/haptic-trace.csv");
     const std::size_t t = trace.col("t_s"), n = trace.col("force_n"), age = trace.col("feedback_age_ms");
     // A gap without feedback, then fresh feedback and force again from the second server.

@@ -94,6 +94,12 @@ int runHeadless(ViewerLink& link, const LoopOptions& o) {
             std::fflush(stdout);
         }
         std::printf("bop-viewer: %d frames and frames.csv in %s\n", o.frames, o.outDir.c_str());
+        const protocol::ClientStats c = link.status().client;
+        std::printf("bop-viewer: frames received whole %llu, lost %llu (%llu of them sent as datagrams, from %llu "
+                    "datagrams read), malformed %llu, inconsistent %llu\n",
+                    (unsigned long long)c.framesReceived, (unsigned long long)(c.framesLost + c.udpFramesLost),
+                    (unsigned long long)c.udpFramesLost, (unsigned long long)c.udpDatagrams,
+                    (unsigned long long)c.malformed, (unsigned long long)c.inconsistentFrames);
     }
     ImGui_ImplOpenGL3_Shutdown();
     ImGui::DestroyContext();

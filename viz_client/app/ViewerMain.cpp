@@ -46,6 +46,10 @@ int main(int argc, char** argv) {
             ->check(CLI::PositiveNumber);
         app.add_option("--probe-k1", probeK1, "headless: the probe's strength k1 (paper eq. 9; default: the server's)")
             ->check(CLI::PositiveNumber);
+        int udpPort = 0;
+        app.add_option("--udp-port", udpPort, "frames as datagrams to this local UDP port (the server's datagram mode: "
+                                              "a frame with a datagram lost is dropped and counted; 0: frames over TCP)")
+            ->check(CLI::Range(0, 65535));
         std::string serverKey, clientKey;
         app.add_option("--server-key", serverKey, "the server's CURVE public key file (bop-keys PREFIX.pub): encrypt the "
                                                   "session and accept only that server")->check(CLI::ExistingFile);
@@ -64,6 +68,7 @@ int main(int argc, char** argv) {
         protocol::ClientOptions client;
         client.clientName = "bop-viewer";
         client.frameRateHz = float(wantedHz);
+        client.udpFramePort = std::uint16_t(udpPort);
         protocol::useCurveKeys(client, serverKey, clientKey);
         viz::LinkOptions link;
         link.giveUpAfter = std::chrono::milliseconds(long(1000 * connectS));

@@ -1,0 +1,41 @@
+#include "TwoHost.hpp"
+
+#include "ServerProcess.hpp"
+#include "TestUtil.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+
+#include <unistd.h>
+
+namespace bop::test {
+namespace {
+std::string script() { return sourceDir() + "/scripts/two-host.sh"; }
+}  // namespace
+
+TwoHost::TwoHost(const std::string& impairments) : name_("bth" + std::to_string(getpid())) {
+    const auto [check, why] = runCommand(script() + " check " + impairments + " 2>&1");
+    if (check == 77) {  // not possible here: the whole test is skipped, saying why
+        std::printf("%s", why.c_str());
+        std::fflush(stdout);
+        std::exit(77);
+    }
+    if (check != 0) throw std::runtime_error("two-host.sh check " + impairments + " failed:\n" + why);
+    const auto [code, out] = runCommand(script() + " up " + name_ + " " + impairments + " 2>&1");
+    if (code != 0) throw std::runtime_error("two-host.sh up failed:\n" + out);
+    std::printf("%s", out.c_str());
+}
+
+TwoHost::~TwoHost() { runCommand(script() + " down " + name_); }
+
+std::vector<std::string> TwoHost::on(const std::string& host, std::vector<std::string> argv) const {
+    argv.insert(argv.begin(), {"ip", "netns", "exec", name_ + "-" + host});
+    return argv;
+}
+
+std::string TwoHost::shell(const std::string& host, const std::string& command) const {
+    return "ip netns exec " + name_ + "-" + host + " " + command;
+}
+
+}  // namespace bop::test
