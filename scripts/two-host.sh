@@ -9,16 +9,21 @@
 #   scripts/two-host.sh down NAME                removes them (and whatever still runs in them)
 #   scripts/two-host.sh check [IMPAIRMENTS]      exit 0 when this machine can make them, else 77 and why
 # IMPAIRMENTS, each way (a round trip meets each twice):
-#   --delay MS    added latency (netem)         --jitter MS  its spread, with --delay (netem)
+#   --delay MS    added latency                 --jitter MS  its spread, with --delay
+#                 (tc netem; on a kernel without it, build/tools/bop-netdelay holding the packets
+#                 an iptables NFQUEUE rule hands it)
 #   --loss PCT    UDP datagrams dropped at random on arrival (nftables); TCP is left whole, as its
 #                 losses would only show as delay
 # Processes in a host: ip netns exec NAME-dyn COMMAND (or NAME-gfx). Exit code 77: not possible
-# here (no root, namespaces not permitted, netem or nftables missing), with the reason on stderr.
+# here (no root, namespaces not permitted, neither netem nor bop-netdelay for a delay, nftables
+# missing), with the reason on stderr. BOP_BUILD_DIR: where bop-netdelay is built (build).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 readonly dynAddr=10.213.0.1 gfxAddr=10.213.0.2
+readonly netdelay=${BOP_BUILD_DIR:-build}/tools/bop-netdelay
+netem=1  # check() finds out
 
-usage() { sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; }
 skip() { echo "two-host: skipped: $*" >&2; exit 77; }
 die() { echo "two-host: $*" >&2; exit 2; }
 
@@ -54,10 +59,19 @@ check() {
   ip -n "$probe" link set lo up
   if ! err=$(ip -n "$probe" link add vcheck0 type veth peer name vcheck1 2>&1); then
     why="veth pairs are not permitted here: $err"
-  elif [[ -n $delay ]] && ! err=$(ip netns exec "$probe" tc qdisc add dev vcheck0 root netem delay 1ms 2>&1); then
-    why="tc netem is not available on this kernel (no sch_netem), so no --delay or --jitter: $err"
-  elif [[ -n $loss ]] && ! err=$(ip netns exec "$probe" nft add table inet bop 2>&1); then
-    why="nftables is not permitted here: $err"
+  else
+    if [[ -n $delay ]] && ! err=$(ip netns exec "$probe" tc qdisc add dev vcheck0 root netem delay 1ms 2>&1); then
+      netem=0
+      [[ -x $netdelay ]] && command -v iptables >/dev/null ||
+        why="tc netem is not available on this kernel (no sch_netem: $err), and $netdelay (with iptables) is not there to stand in, so no --delay or --jitter"
+    fi
+    if [[ -z $why && -n $loss ]] && ! err=$(ip netns exec "$probe" nft add table inet bop 2>&1); then
+      why="nftables is not permitted here: $err"
+    fi
+    if [[ -z $why && $netem == 0 ]] &&
+      ! err=$(ip netns exec "$probe" iptables -A OUTPUT -o vcheck0 -j NFQUEUE --queue-num 0 --queue-bypass 2>&1); then
+      why="tc netem is not available on this kernel, and its stand-in needs iptables' NFQUEUE, which is not: $err"
+    fi
   fi
   ip netns del "$probe"
   [[ -z $why ]] || skip "$why"
@@ -65,22 +79,16 @@ check() {
 
 impair() {  # namespace, interface
   local ns=$1 dev=$2
-  if [[ -n $delay ]]; then
+  if [[ -n $delay && $netem == 1 ]]; then
     ip netns exec "$ns" tc qdisc add dev "$dev" root netem delay "${delay}ms" ${jitter:+"${jitter}ms" distribution normal}
-  fi
-  if [[ -n $loss ]]; then
-    # On arrival, as a wire loses them: the sender is told nothing (a drop on the way out would
-    # fail its send with EPERM). numgen gives 0..9999.
-    local cut
-    cut=$(awk -v l="$loss" 'BEGIN {printf "%d", l * 100 + 0.5}')
-    ip netns exec "$ns" nft -f - <<EOF
-table inet bop {
-  chain in {
-    type filter hook input priority 0;
-    meta l4proto udp iifname "$dev" numgen random mod 10000 < $cut counter drop
-  }
-}
-EOF
+  elif [[ -n $delay ]]; then  # every packet out through bop-netdelay, which lets each go late
+    local log=/tmp/two-host-netdelay-$ns.log
+    ip netns exec "$ns" "$netdelay" --delay-ms "$delay" --jitter-ms "${jitter:-0}" >"$log" 2>&1 &
+    for _ in $(seq 1 100); do grep -q ready "$log" && break; sleep 0.05; done
+    grep -q ready "$log" || die "bop-netdelay did not start: $(cat "$log")"
+    # xt's NFQUEUE (iptables): nftables' own queue statement needs nft_queue, which kernels
+    # without netem tend to lack too. bypass: with nobody on the queue, packets pass at once.
+    ip netns exec "$ns" iptables -A OUTPUT -o "$dev" -j NFQUEUE --queue-num 0 --queue-bypass
   fi
 }
 
@@ -99,11 +107,16 @@ up() {
     impair "$ns" eth0
   done
   echo "two-host: $name-dyn ($dynAddr) and $name-gfx ($gfxAddr) up;" \
-       "delay ${delay:-0} ms, jitter ${jitter:-0} ms, datagram loss ${loss:-0}% each way"
+       "delay ${delay:-0} ms, jitter ${jitter:-0} ms$([[ -n $delay && $netem == 0 ]] && echo " (bop-netdelay)")," \
+       "datagram loss ${loss:-0}% each way"
 }
 
 down() {
   local name=$1 ns
+  for ns in "$name-dyn" "$name-gfx"; do
+    ip netns pids "$ns" 2>/dev/null | xargs -r kill -TERM 2>/dev/null || true
+  done
+  sleep 0.2  # a moment to let go: bop-netdelay hands back what it holds
   for ns in "$name-dyn" "$name-gfx"; do
     ip netns pids "$ns" 2>/dev/null | xargs -r kill -KILL 2>/dev/null || true
     ip netns del "$ns" 2>/dev/null || true

@@ -15,6 +15,7 @@ std::string script() { return sourceDir() + "/scripts/two-host.sh"; }
 }  // namespace
 
 TwoHost::TwoHost(const std::string& impairments) : name_("bth" + std::to_string(getpid())) {
+    setenv("BOP_BUILD_DIR", buildDir().c_str(), 1);  // where the script finds bop-netdelay
     const auto [check, why] = runCommand(script() + " check " + impairments + " 2>&1");
     if (check == 77) {  // not possible here: the whole test is skipped, saying why
         std::printf("%s", why.c_str());
