@@ -4,9 +4,9 @@
 #     missed deadlines;
 #  2. probe -> feedback round trip against the torus served at 2 ranks on loopback, probes over
 #     TCP (DEALER) and over UDP, a sim:poke of 10 s each;
-#  3. the same over a veth pair between two network namespaces with 2 ms added one-way delay
-#     (tc netem on both ends), when this machine permits namespaces (root, iproute2); skipped
-#     with a message otherwise.
+#  3. the same over two hosts (scripts/two-host.sh: namespaces and a veth pair) with 2 ms added
+#     each way (netem, or bop-netdelay without it); skipped with the script's reason where the
+#     machine cannot.
 #   scripts/bench/haptic.sh          (CSV in out/bench/haptic.csv)
 #   BOP_HAPTIC_SECONDS=10            seconds per case
 set -euo pipefail
@@ -16,6 +16,7 @@ seconds=${BOP_HAPTIC_SECONDS:-10}
 scripts/install-deps.sh >/dev/null
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "${BOP_JOBS:-2}" --target bop-haptic bop-server >/dev/null
+cmake --build build -j "${BOP_JOBS:-2}" --target bop-netdelay >/dev/null 2>&1 || true  # where libnetfilter-queue is
 out=out/bench/haptic
 mkdir -p "$out"
 csv=out/bench/haptic.csv
@@ -67,27 +68,12 @@ for transport in tcp udp; do
 done
 kill -INT "$server_pid"; wait "$server_pid" || true; server_pid=""
 
-echo "== 3. round trip with 2 ms one-way delay between two network namespaces =="
-a=bopdyn$$ b=bopgfx$$
-cleanup() {
-  [[ -n $server_pid ]] && kill -INT "$server_pid" 2>/dev/null || true
-  ip netns del "$a" 2>/dev/null || true; ip netns del "$b" 2>/dev/null || true
-}
-trap cleanup EXIT
-# Every step may be refused on a machine without the privileges or the kernel's netem module.
-netns_ready() {
-  ip netns add "$a" && ip netns add "$b" && ip link add vdyn$$ type veth peer name vgfx$$ &&
-    ip link set vdyn$$ netns "$a" && ip link set vgfx$$ netns "$b" &&
-    ip -n "$a" addr add 10.77.0.1/24 dev vdyn$$ && ip -n "$b" addr add 10.77.0.2/24 dev vgfx$$ &&
-    ip -n "$a" link set lo up && ip -n "$b" link set lo up && ip -n "$a" link set vdyn$$ up &&
-    ip -n "$b" link set vgfx$$ up || { echo "network namespaces or a veth pair are not permitted"; return 1; }
-  ip netns exec "$a" tc qdisc add dev vdyn$$ root netem delay 2ms &&
-    ip netns exec "$b" tc qdisc add dev vgfx$$ root netem delay 2ms ||
-    { echo "tc netem is not available (the kernel's sch_netem module)"; return 1; }
-}
-if why=$(netns_ready 2>&1); then
-  serve "ip netns exec $a" 10.77.0.1 "$out/server-netns.log"
-  ip netns exec "$b" build/haptic_client/bop-haptic "$endpoint" --device sim:poke --seconds "$seconds" \
+echo "== 3. round trip with 2 ms each way between two hosts (scripts/two-host.sh) =="
+hosts=bophap$$
+trap '[[ -n $server_pid ]] && kill -INT "$server_pid" 2>/dev/null; scripts/two-host.sh down '"$hosts"' 2>/dev/null || true' EXIT
+if why=$(scripts/two-host.sh up "$hosts" --delay 2 2>&1); then
+  serve "ip netns exec $hosts-dyn" 10.213.0.1 "$out/server-netns.log"
+  ip netns exec "$hosts-gfx" build/haptic_client/bop-haptic "$endpoint" --device sim:poke --seconds "$seconds" \
     --out "$out/netns" | tee "$out/netns.log"
   row "netns-2ms-tcp" "$out/netns.log"
   kill -INT "$server_pid"; wait "$server_pid" || true; server_pid=""
