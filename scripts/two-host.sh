@@ -46,6 +46,7 @@ parseImpairments() {
     [[ -z $v || $v =~ ^[0-9]+([.][0-9]+)?$ ]] || die "expected a non-negative number, got '$v'"
   done
   [[ -z $jitter || -n $delay ]] || die "--jitter needs --delay"
+  [[ $seconds =~ ^[0-9]+$ && $ranks =~ ^[1-9][0-9]*$ ]] || die "--seconds and --ranks expect whole numbers"
   [[ -z $loss ]] || awk -v l="$loss" 'BEGIN {exit !(l <= 100)}' || die "--loss is a percentage, 0 to 100; got $loss"
 }
 
@@ -68,9 +69,13 @@ check() {
     if [[ -z $why && -n $loss ]] && ! err=$(ip netns exec "$probe" nft add table inet bop 2>&1); then
       why="nftables is not permitted here: $err"
     fi
-    if [[ -z $why && $netem == 0 ]] &&
-      ! err=$(ip netns exec "$probe" iptables -A OUTPUT -o vcheck0 -j NFQUEUE --queue-num 0 --queue-bypass 2>&1); then
-      why="tc netem is not available on this kernel, and its stand-in needs iptables' NFQUEUE, which is not: $err"
+    if [[ -z $why && $netem == 0 ]]; then  # the stand-in: an NFQUEUE rule and a process bound to the queue
+      if ! err=$(ip netns exec "$probe" iptables -A OUTPUT -o vcheck0 -j NFQUEUE --queue-num 0 --queue-bypass 2>&1); then
+        why="tc netem is not available on this kernel, and its stand-in needs iptables' NFQUEUE, which is not: $err"
+      else
+        err=$(timeout 0.5 ip netns exec "$probe" "$netdelay" --delay-ms 1 2>&1) && true
+        [[ $? == 124 ]] || why="tc netem is not available on this kernel, and its stand-in bop-netdelay cannot run: $err"
+      fi
     fi
   fi
   ip netns del "$probe"
@@ -82,13 +87,33 @@ impair() {  # namespace, interface
   if [[ -n $delay && $netem == 1 ]]; then
     ip netns exec "$ns" tc qdisc add dev "$dev" root netem delay "${delay}ms" ${jitter:+"${jitter}ms" distribution normal}
   elif [[ -n $delay ]]; then  # every packet out through bop-netdelay, which lets each go late
-    local log=/tmp/two-host-netdelay-$ns.log
+    local log pid
+    log=$(mktemp /tmp/two-host-netdelay.XXXXXX)
     ip netns exec "$ns" "$netdelay" --delay-ms "$delay" --jitter-ms "${jitter:-0}" >"$log" 2>&1 &
-    for _ in $(seq 1 100); do grep -q ready "$log" && break; sleep 0.05; done
+    pid=$!
+    for _ in $(seq 1 100); do
+      grep -q ready "$log" && break
+      kill -0 "$pid" 2>/dev/null || break
+      sleep 0.05
+    done
     grep -q ready "$log" || die "bop-netdelay did not start: $(cat "$log")"
     # xt's NFQUEUE (iptables): nftables' own queue statement needs nft_queue, which kernels
     # without netem tend to lack too. bypass: with nobody on the queue, packets pass at once.
     ip netns exec "$ns" iptables -A OUTPUT -o "$dev" -j NFQUEUE --queue-num 0 --queue-bypass
+  fi
+  if [[ -n $loss ]]; then
+    # On arrival, as a wire loses them: the sender is told nothing (a drop on the way out would
+    # fail its send with EPERM). numgen gives 0..9999.
+    local cut
+    cut=$(awk -v l="$loss" 'BEGIN {printf "%d", l * 100 + 0.5}')
+    ip netns exec "$ns" nft -f - <<EOF
+table inet bop {
+  chain in {
+    type filter hook input priority 0;
+    meta l4proto udp iifname "$dev" numgen random mod 10000 < $cut counter drop
+  }
+}
+EOF
   fi
 }
 
@@ -96,6 +121,7 @@ up() {
   local name=$1
   check
   down "$name" 2>/dev/null || true
+  trap 'down "'"$name"'" 2>/dev/null' EXIT  # half-made hosts go; lifted once they are up
   ip netns add "$name-dyn"
   ip netns add "$name-gfx"
   ip -n "$name-dyn" link add eth0 type veth peer name eth0 netns "$name-gfx"
@@ -106,6 +132,7 @@ up() {
     ip -n "$ns" link set eth0 up
     impair "$ns" eth0
   done
+  trap - EXIT
   echo "two-host: $name-dyn ($dynAddr) and $name-gfx ($gfxAddr) up;" \
        "delay ${delay:-0} ms, jitter ${jitter:-0} ms$([[ -n $delay && $netem == 0 ]] && echo " (bop-netdelay)")," \
        "datagram loss ${loss:-0}% each way"
@@ -124,7 +151,7 @@ down() {
 }
 
 run() {
-  local name=bop-run-$$ bin=build
+  local name=bop-run-$$ bin=${BOP_BUILD_DIR:-build}
   for t in dynamics_server/bop-server viz_client/bop-viewer haptic_client/bop-haptic; do
     [[ -x $bin/$t ]] || die "$bin/$t is not built (cmake --build build; scripts/demo.sh builds everything)"
   done

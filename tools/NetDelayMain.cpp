@@ -1,5 +1,5 @@
-// bop-netdelay --delay-ms D [--jitter-ms J] [--queue N]: holds the packets an nftables rule
-// queues to netfilter queue N (`queue num N bypass`) for D ms (plus jitter) before letting them
+// bop-netdelay --delay-ms D [--jitter-ms J] [--queue N]: holds the packets an iptables rule
+// queues to netfilter queue N (`-j NFQUEUE --queue-num N --queue-bypass`) for D ms (plus jitter) before letting them
 // go: scripts/two-host.sh's delay on kernels without tc netem. Runs until SIGINT/SIGTERM, then
 // lets every held packet go and prints how many it delayed.
 #include "NetDelayQueue.hpp"
@@ -21,7 +21,8 @@ void onSignal(int) { gStop = 1; }
 
 int main(int argc, char** argv) {
     return bop::runTool("bop-netdelay", [&] {
-        CLI::App app{"bop-netdelay: delays the packets an nftables rule queues to it (queue num N bypass), for "
+        CLI::App app{"bop-netdelay: delays the packets an iptables rule queues to it (-j NFQUEUE --queue-num N "
+                     "--queue-bypass), for "
                      "scripts/two-host.sh on kernels without tc netem. Needs root."};
         double delayMs = 0, jitterMs = 0;
         std::uint16_t queue = 0;

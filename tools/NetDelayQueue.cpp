@@ -35,7 +35,9 @@ DelayQueue::DelayQueue(std::uint16_t queue, double delayMs, double jitterMs, std
         throw Error(where, "cannot bind it (another process holds it, or no permission)");
     }
     // Metadata only: the kernel keeps the packet until our verdict.
-    if (nfq_set_mode(queue_, NFQNL_COPY_META, 0) < 0 || nfq_set_queue_maxlen(queue_, 65536) < 0) {
+    // A full queue lets packets through undelayed rather than dropping them (fail open).
+    if (nfq_set_mode(queue_, NFQNL_COPY_META, 0) < 0 || nfq_set_queue_maxlen(queue_, 65536) < 0 ||
+        nfq_set_queue_flags(queue_, NFQA_CFG_F_FAIL_OPEN, NFQA_CFG_F_FAIL_OPEN) < 0) {
         nfq_destroy_queue(queue_);
         nfq_close(handle_);
         throw Error(where, "cannot configure it");
@@ -63,7 +65,7 @@ void DelayQueue::receive() {
             nfq_handle_packet(handle_, buffer_.data(), int(n));
             continue;
         }
-        if (n < 0 && errno == ENOBUFS) {  // notifications lost; their packets wait for the queue's timeout
+        if (n < 0 && errno == ENOBUFS) {  // notifications lost: their packets stay queued until we exit
             ++stats_.overflows;
             continue;
         }

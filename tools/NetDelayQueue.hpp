@@ -1,6 +1,6 @@
 #pragma once
 // A netfilter queue whose packets are let through late: each packet the kernel queues (an
-// nftables rule `queue num N`) is held for a delay, plus a normally distributed jitter, cut at
+// iptables rule `-j NFQUEUE --queue-num N`) is held for a delay, plus a normally distributed jitter, cut at
 // zero, and then accepted. Only the packet's metadata crosses to this process; the kernel keeps
 // the packet. Packets may overtake each other with jitter, as with netem.
 #include <chrono>

@@ -23,39 +23,47 @@ HapticLink::~HapticLink() {
 
 protocol::SceneInfo HapticLink::connect(std::chrono::milliseconds timeout) { return session_->connect(endpoint_, timeout); }
 
+// The loop's side: only try_lock, never a wait; what is to be said is said by the helper.
 bool HapticLink::tick(double nowS, bool fed) {
     if (lostAfterS_ <= 0) return false;
     if (fed || lastFedS_ < 0) lastFedS_ = nowS;
-    if (!wanted_ && nowS - lastFedS_ > lostAfterS_) {
-        std::unique_lock lock(m_, std::try_to_lock);
-        if (lock.owns_lock()) {  // else next tick: the loop never waits for the helper
-            want_ = wanted_ = true;
-            std::printf("bop-haptic: no feedback for %.1f s; connecting to %s again\n", nowS - lastFedS_, endpoint_.c_str());
-            std::fflush(stdout);
-            lock.unlock();
-            wake_.notify_all();
-        }
+    std::unique_lock lock(m_, std::try_to_lock);
+    if (!lock.owns_lock()) return false;  // next tick
+    if (!wanted_) {
+        if (nowS - lastFedS_ <= lostAfterS_) return false;
+        want_ = wanted_ = true;
+        silentS_ = nowS - lastFedS_;
+        lock.unlock();
+        wake_.notify_all();
         return false;
     }
-    if (!wanted_) return false;
-    std::unique_lock lock(m_, std::try_to_lock);
-    if (!lock.owns_lock() || !ready_) return false;
+    if (fed) {  // the old session answers again (a network blip): no new one after all
+        want_ = wanted_ = false;
+        if (ready_ && !retired_) retired_ = std::move(ready_);  // else it waits for the next silence
+        lock.unlock();
+        wake_.notify_all();
+        return false;
+    }
+    if (!ready_ || retired_) return false;  // the helper is still closing one: never here
     retired_ = std::move(session_);
     session_ = std::move(ready_);
     wanted_ = false;
     lastFedS_ = nowS;  // the new server has `lostAfterS` to answer
-    ++reconnections_;
+    taken_ = ++reconnections_;
     lock.unlock();
-    wake_.notify_all();  // the helper closes the old session
-    std::printf("bop-haptic: connected again to %s (connection %u)\n", endpoint_.c_str(), reconnections_ + 1);
-    std::fflush(stdout);
+    wake_.notify_all();  // the helper closes the old session and says so
     return true;
 }
 
 void HapticLink::helperLoop() {
     std::unique_lock lock(m_);
     while (!stop_) {
-        wake_.wait(lock, [&] { return stop_ || want_ || retired_; });
+        wake_.wait(lock, [&] { return stop_ || want_ || retired_ || taken_; });
+        if (taken_) {
+            std::printf("bop-haptic: connected again to %s (connection %u)\n", endpoint_.c_str(), taken_ + 1);
+            std::fflush(stdout);
+            taken_ = 0;
+        }
         if (retired_) {
             auto old = std::move(retired_);
             lock.unlock();
@@ -64,20 +72,30 @@ void HapticLink::helperLoop() {
             continue;
         }
         if (stop_ || !want_) continue;
+        if (silentS_ > 0) {
+            std::printf("bop-haptic: no feedback for %.1f s; connecting to %s again\n", silentS_, endpoint_.c_str());
+            std::fflush(stdout);
+            silentS_ = 0;
+        }
+        const auto attempt = std::chrono::steady_clock::now();
         lock.unlock();
         std::unique_ptr<protocol::ClientSession> fresh;
         try {
             fresh = std::make_unique<protocol::ClientSession>(options_);
             fresh->connect(endpoint_, 1s);
-        } catch (const std::exception&) {  // nobody there yet: try again in a second
+        } catch (const std::exception&) {  // nobody there yet: again, a second after this attempt began
             fresh.reset();
         }
         lock.lock();
-        if (fresh) {
+        if (!fresh) {
+            wake_.wait_until(lock, attempt + 1s, [&] { return stop_ || !want_; });
+        } else if (want_) {
             ready_ = std::move(fresh);
             want_ = false;
-        } else {
-            wake_.wait_for(lock, 1s, [&] { return stop_; });
+        } else {  // called off meanwhile
+            lock.unlock();
+            fresh.reset();
+            lock.lock();
         }
     }
 }

@@ -47,7 +47,10 @@ void FrontUdp::feedback(const Buffer& b, Clock::time_point now) {
             socket_.sendTo(endpointOf(it->first), b);  // a drop is a lost datagram, as UDP allows
             ++it;
         } catch (const std::exception& e) {  // that client's trouble, not the server's: forget it
-            std::fprintf(stderr, "bop-server: feedback datagrams to %s stopped: %s\n", it->first.c_str(), e.what());
+            // It comes back with its next probe: the first few and then every 1000th are said.
+            if (++sendFailures_ <= 3 || sendFailures_ % 1000 == 0)
+                std::fprintf(stderr, "bop-server: feedback datagrams to %s stopped (%llu failures so far): %s\n",
+                             it->first.c_str(), (unsigned long long)sendFailures_, e.what());
             it = probers_.erase(it);
         }
     }

@@ -43,6 +43,7 @@ public:
 private:
     UdpSocket socket_;
     std::map<std::string, Clock::time_point> probers_;  // "address:port" -> last probe
+    std::uint64_t sendFailures_ = 0;  // datagrams that could not be sent (said on stderr, sparingly)
     struct FrameClient {
         std::unique_ptr<UdpSender> sender;
         int tier = 0;

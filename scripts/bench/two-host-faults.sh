@@ -22,12 +22,17 @@ name=bop-bench-$$ endpoint=tcp://10.213.0.1:7300
 
 echo "== the torus bag (a batch run) =="
 build/dynamics_server/bop-server config/scenes/torus.toml --no-listen -o "$out/torus" | tail -1
-scripts/two-host.sh up "$name"
 trap 'scripts/two-host.sh down '"$name"' 2>/dev/null' EXIT
+scripts/two-host.sh up "$name"
 ip netns exec "$name-dyn" mpirun --oversubscribe -np 2 build/dynamics_server/bop-server config/scenes/torus.toml \
   --restart "$out/torus/final.xyz" --bind 10.213.0.1 --port 7300 --publish-hz 20 -o "$out/served" >"$out/server.log" 2>&1 &
 server=$!
-until grep -q '^listening on' "$out/server.log"; do sleep 0.2; done
+for _ in $(seq 1 600); do
+  grep -q '^listening on' "$out/server.log" && break
+  kill -0 "$server" 2>/dev/null || { cat "$out/server.log"; echo "two-host-faults: the server stopped" >&2; exit 1; }
+  sleep 0.1
+done
+grep -q '^listening on' "$out/server.log" || { echo "two-host-faults: the server did not start listening" >&2; exit 1; }
 # Started in the background on the graphics host; $! is the client itself (ip netns exec execs it).
 viewer() { ip netns exec "$name-gfx" build/viz_client/bop-viewer "$endpoint" --headless --no-panel --fps 10 --frames 1000000 --width 64 \
   --height 48 --out "$out/$1" >"$out/$1.log" 2>&1 & }
@@ -65,6 +70,7 @@ done
 awk -F, 'NR > 1 {q[NR - 1] = $2; a[NR - 1] = $3; n++}
   function med(x, n,   i, j, t) { for (i = 1; i <= n; i++) for (j = i + 1; j <= n; j++) if (x[j] < x[i]) {t = x[i]; x[i] = x[j]; x[j] = t}
                                   return n % 2 ? x[(n + 1) / 2] : (x[n / 2] + x[n / 2 + 1]) / 2 }
-  END {mq = med(q, n); ma = med(a, n)
+  END {if (n == 0) {print "two-host-faults: no cycle measured"; exit 1}
+       mq = med(q, n); ma = med(a, n); if (mq <= 0) {print "two-host-faults: no step rate in the frames"; exit 1}
        printf "median over %d cycles: %.1f steps/s quiet, %.1f after the kills: ratio %.3f (target >= 0.95): %s\n",
               n, mq, ma, ma / mq, (ma / mq >= 0.95 ? "met" : "NOT met")}' "$out/rates.csv" | tee "$out/summary.txt"

@@ -23,8 +23,14 @@ TwoHost::TwoHost(const std::string& impairments) : name_("bth" + std::to_string(
         std::exit(77);
     }
     if (check != 0) throw std::runtime_error("two-host.sh check " + impairments + " failed:\n" + why);
+    // Hosts left by a test process that was killed (a ctest timeout) go first.
+    runCommand("for ns in $(ip netns list 2>/dev/null | grep -oE '^bth[0-9]+-(dyn|gfx)'); do p=${ns#bth}; "
+               "kill -0 ${p%-*} 2>/dev/null || ip netns del $ns; done");
     const auto [code, out] = runCommand(script() + " up " + name_ + " " + impairments + " 2>&1");
-    if (code != 0) throw std::runtime_error("two-host.sh up failed:\n" + out);
+    if (code != 0) {
+        runCommand(script() + " down " + name_);  // the destructor does not run after a throw
+        throw std::runtime_error("two-host.sh up failed:\n" + out);
+    }
     std::printf("%s", out.c_str());
 }
 
