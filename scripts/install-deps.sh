@@ -26,7 +26,7 @@ packages=(
   libspnav-dev
   # tests; the two-host tests' namespaces, veth pair, netem and datagram loss (scripts/two-host.sh)
   catch2 python3 python3-numpy iproute2 nftables
-  # tools/bop-netdelay and its iptables NFQUEUE rule: two-host.sh's delay where the kernel has no netem
+  # scripts/netdelay (bop-netdelay) and its iptables NFQUEUE rule: two-host.sh's delay where the kernel has no netem
   libnetfilter-queue-dev iptables
 )
 if [[ "${1:-}" == "--bench" ]]; then

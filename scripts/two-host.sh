@@ -10,7 +10,7 @@
 #   scripts/two-host.sh check [IMPAIRMENTS]      exit 0 when this machine can make them, else 77 and why
 # IMPAIRMENTS, each way (a round trip meets each twice):
 #   --delay MS    added latency                 --jitter MS  its spread, with --delay
-#                 (tc netem; on a kernel without it, build/tools/bop-netdelay holding the packets
+#                 (tc netem; on a kernel without it, bop-netdelay (scripts/netdelay/) holding the packets
 #                 an iptables NFQUEUE rule hands it)
 #   --loss PCT    UDP datagrams dropped at random on arrival (nftables); TCP is left whole, as its
 #                 losses would only show as delay
@@ -20,7 +20,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 readonly dynAddr=10.213.0.1 gfxAddr=10.213.0.2
-readonly netdelay=${BOP_BUILD_DIR:-build}/tools/bop-netdelay
+readonly netdelay=${BOP_BUILD_DIR:-build}/scripts/netdelay/bop-netdelay
 netem=1  # check() finds out
 
 usage() { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; }
