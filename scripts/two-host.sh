@@ -97,6 +97,7 @@ impair() {  # namespace, interface
       sleep 0.05
     done
     grep -q ready "$log" || die "bop-netdelay did not start: $(cat "$log")"
+    rm -f "$log"
     # xt's NFQUEUE (iptables): nftables' own queue statement needs nft_queue, which kernels
     # without netem tend to lack too. bypass: with nobody on the queue, packets pass at once.
     ip netns exec "$ns" iptables -A OUTPUT -o "$dev" -j NFQUEUE --queue-num 0 --queue-bypass
@@ -184,7 +185,7 @@ run() {
   for _ in $(seq 1 100); do kill -0 "$viewer" 2>/dev/null || break; sleep 0.1; done
   kill -TERM "$viewer" 2>/dev/null && echo "two-host: the viewer was still waiting for frames; stopped" >&2
   wait "$viewer" || echo "two-host: bop-viewer ended with an error (see $out/viewer.log)" >&2
-  kill -TERM "$server" 2>/dev/null || true
+  kill -INT "$server" 2>/dev/null || true  # as Ctrl-C: it writes its final state and checkpoint
   wait "$server" 2>/dev/null || true
   echo "== what the graphics host measured (logs in $out) =="
   grep -h -E '^(loop|probe round trip|largest force)' "$out/haptic.log" || true
