@@ -129,12 +129,24 @@ std::string ServerProcess::output() {
 }
 
 const std::string& builtTorus() {
-    static TempDir dir("built-torus");
+    namespace fs = std::filesystem;
     static const std::string xyz = [] {
+        const fs::path dir = fs::path(buildDir()) / "test-output" / "built-torus", file = dir / "final.xyz";
+        // Made again when the server, the scene or its mesh is newer than the bag made with them.
+        bool fresh = fs::exists(file);
+        for (const fs::path& input : {fs::path(buildDir()) / "dynamics_server" / "bop-server",
+                                      fs::path(sourceDir()) / "config" / "scenes" / "torus.toml",
+                                      fs::path(sourceDir()) / "config" / "models" / "torus.obj"})
+            fresh = fresh && fs::last_write_time(file) > fs::last_write_time(input);
+        if (fresh) return file.string();
+        const fs::path made = dir.string() + ".tmp-" + std::to_string(getpid());  // whole, or not there
+        fs::remove_all(made);
         const auto [code, out] = runCommand(buildDir() + "/dynamics_server/bop-server " + sourceDir() +
-                                            "/config/scenes/torus.toml --no-listen -o " + dir.file("build") + " 2>&1");
+                                            "/config/scenes/torus.toml --no-listen -o " + made.string() + " 2>&1");
         if (code != 0) throw std::runtime_error("the torus batch run failed:\n" + out);
-        return dir.file("build") + "/final.xyz";
+        fs::remove_all(dir);
+        fs::rename(made, dir);
+        return file.string();
     }();
     return xyz;
 }

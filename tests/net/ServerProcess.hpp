@@ -43,8 +43,9 @@ std::pair<int, std::string> runCommand(const std::string& command);
 std::string buildDir();
 std::string mpiexec();
 
-// The torus bag as its construction timeline builds it (4,000 steps, one rank): the final.xyz
-// of a batch run made once per test process.
+// The torus bag as its construction timeline builds it (4,000 steps, one rank): the final.xyz of
+// a batch run kept in build/test-output/built-torus/ for the test processes that follow, made
+// again when bop-server, the torus scene or its mesh is newer.
 const std::string& builtTorus();
 
 // build/test-output/GROUP/NAME, emptied: where a test leaves files to look at.

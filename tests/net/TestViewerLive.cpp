@@ -118,11 +118,7 @@ TEST_CASE("bop-viewer --headless writes the frames of a 2-rank server as picture
 TEST_CASE("a probe scripted in bop-viewer --headless indents the served torus bag and feels it push back", "[net][gui]") {
     test::TempDir dir("viewer-probe");
     // The torus as its construction timeline builds it (4,000 steps, one rank), then served.
-    const auto [built, buildOut] = test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + test::sourceDir() +
-                                                    "/config/scenes/torus.toml --no-listen -o " + dir.file("build") + " 2>&1");
-    INFO(buildOut);
-    REQUIRE(built == 0);
-    const std::string start = dir.file("build") + "/final.xyz";
+    const std::string start = test::builtTorus();
     const std::vector<Eigen::Vector3d> before = positionsOf(start, "torus-surface");
     REQUIRE(before.size() > 500);
     Eigen::Vector3d top = before.front();
