@@ -136,10 +136,7 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
         if (auto maps = shape::readGradientMaps(o.cache, shape::hashText(scene.shape->canonical))) {
             core::Model whole = model;
             whole.map = std::make_shared<GradientMap>(std::move(maps->at(std::size_t(t.keyframe.a))));  // the frame in force
-            const Fidelity f = measureFidelity(whole, all);
-            std::cout << std::setprecision(2) << "shape fidelity: " << 100 * f.surfaceInOwnVoxels << "% of surface particles in their surface voxels, "
-                      << 100 * f.volumeInOwnVoxels << "% of volume particles in their volume voxels, median normal angle "
-                      << f.medianNormalAngleDeg << " deg\n";
+            printFidelity(std::cout, measureFidelity(whole, all));
         }
     if (cardiac) cardiac->finish(o.outDir, std::cout);
     spdlog::info("final state: {}{}", finalFile, o.snapshotEvery > 0 ? ", trajectory: " + trajectory : "");

@@ -6,6 +6,8 @@
 #include "bop/common/Error.hpp"
 
 #include <algorithm>
+#include <ostream>
+#include <iomanip>
 #include <cmath>
 
 namespace bop::app {
@@ -92,6 +94,13 @@ std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::strin
     auto sim = std::make_unique<core::Simulation>(scene.model, std::move(particles), std::move(construction), firstStep);
     sim->probe() = scene.probe;
     return sim;
+}
+
+void printFidelity(std::ostream& out, const Fidelity& f) {
+    out << "shape fidelity: " << std::setprecision(3) << 100 * f.surfaceInOwnVoxels
+        << "% of surface particles in their surface voxels, " << 100 * f.volumeInOwnVoxels
+        << "% of volume particles in their volume voxels, median normal angle " << std::setprecision(2)
+        << f.medianNormalAngleDeg << " deg\n" << std::setprecision(6);
 }
 
 Fidelity measureFidelity(const core::Model& model, const core::Particles& p) {

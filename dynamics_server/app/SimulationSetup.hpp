@@ -9,6 +9,7 @@
 #include "shape/ShapeBuilder.hpp"
 
 #include <memory>
+#include <iosfwd>
 #include <string>
 
 namespace bop::app {
@@ -50,5 +51,7 @@ struct Fidelity {
     std::size_t surface = 0, volume = 0;
 };
 Fidelity measureFidelity(const core::Model& model, const core::Particles& p);
+// "shape fidelity: ..." as the batch runs' summaries print it, one line.
+void printFidelity(std::ostream& out, const Fidelity& f);
 
 }  // namespace bop::app

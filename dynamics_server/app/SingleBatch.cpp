@@ -117,10 +117,7 @@ int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions&
         if (bytes == 0) bytes = shape::gradientMapBytes(*model.map);
         std::cout << "gradient map: " << std::fixed << std::setprecision(3) << bytes / 1e6 << " MB (the whole map"
                   << (sim->model().frames.size() > 1 ? ", every keyframe" : "") << ", one process)\n" << std::defaultfloat;
-        const Fidelity f = measureFidelity(sim->model(), sim->particles());
-        std::cout << "shape fidelity: " << 100 * f.surfaceInOwnVoxels << "% of surface particles in their surface voxels, "
-                  << 100 * f.volumeInOwnVoxels << "% of volume particles in their volume voxels, median normal angle "
-                  << f.medianNormalAngleDeg << " deg\n";
+        printFidelity(std::cout, measureFidelity(sim->model(), sim->particles()));
     }
     if (cardiac) cardiac->finish(o.outDir, std::cout);
     spdlog::info("final state: {}{}", finalFile, o.snapshotEvery > 0 ? ", trajectory: " + trajectory : "");
