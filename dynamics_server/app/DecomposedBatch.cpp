@@ -2,6 +2,7 @@
 
 #include "BatchReport.hpp"
 #include "Checkpoint.hpp"
+#include "ExitCodes.hpp"
 #include "SingleBatch.hpp"
 #include "ExtendedXyz.hpp"
 #include "SimulationSetup.hpp"
@@ -64,7 +65,12 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     installBatchSignals();  // from here a signal ends the run with a checkpoint
     const auto t0 = std::chrono::steady_clock::now();
     for (long long s = 1; s <= o.steps; ++s) {
-        run.step();
+        try {
+            run.step();
+        } catch (const core::UnsoundState& e) {  // on every rank
+            const std::optional<core::SoundSnapshot> last = run.lastSound();  // collective
+            return root ? stopUnsound(e, last, model, checkpoint, o.outDir) : kExitUnsound;
+        }
         done = s;
         if (cardiac) recordCardiac(*cardiac, run, model);
         // Periods count absolute steps, so that a restarted run reports where the run did.

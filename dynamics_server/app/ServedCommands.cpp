@@ -1,5 +1,7 @@
 #include "ServedCommands.hpp"
 
+#include "server/InboundRanges.hpp"
+
 #include <filesystem>
 
 namespace bop::app {
@@ -16,9 +18,12 @@ protocol::CommandReply answer(const protocol::Command& c, protocol::ReplyStatus 
 
 }  // namespace
 
-protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::DecomposedRun& run, int speciesCount) {
+protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::DecomposedRun& run,
+                             const protocol::SceneInfo& scene) {
     using protocol::ReplyStatus;
     const long long next = run.stepNumber();
+    const int speciesCount = int(scene.species.size());
+    if (const auto why = protocol::refuseCommand(c, scene)) return answer(c, ReplyStatus::Rejected, next, *why);
     parallel::Command rc;
     try {
         if (const auto* seed = std::get_if<protocol::SeedParticle>(&c.body)) {

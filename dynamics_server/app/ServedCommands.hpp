@@ -27,8 +27,10 @@ struct Desk {
     std::vector<std::pair<double, double>> drags;  // per species: beta_v, beta_tau
 };
 
-// One client command (not Record): run commands submitted, or the desk changed.
-protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::DecomposedRun& run, int speciesCount);
+// One client command (not Record): run commands submitted, or the desk changed. Checked again
+// against the scene's ranges (server/InboundRanges.hpp): replayed commands come from a file.
+protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::DecomposedRun& run,
+                             const protocol::SceneInfo& scene);
 
 // Record start/stop. A client names at most a plain file name ending in .mcap: the recording
 // goes into the server's output folder `outDir`, never elsewhere, and never replaces a file.

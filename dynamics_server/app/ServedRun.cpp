@@ -1,6 +1,6 @@
 #include "ServedRun.hpp"
 
-#include "ServedCommands.hpp"
+#include "ServedLoop.hpp"
 
 #include "Checkpoint.hpp"
 #include "DecomposedBatch.hpp"
@@ -22,33 +22,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 volatile std::sig_atomic_t gStop = 0;
 void onSignal(int) { gStop = 1; }
-
-std::int64_t nowNs() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
-}
-
-protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t, const Desk& desk, long long step,
-                             double dt, double volume, double stepRate, bool paperEq15) {
-    protocol::StateFrame f;
-    const std::size_t n = a.species.size();
-    f.step = std::uint64_t(step);
-    f.simTime = double(step) * dt;
-    f.probePosition = desk.probe.position;
-    f.probeForce = t.probeReaction;
-    f.probeActive = desk.probe.active;
-    // In a bag: the blood's pressure (core/BloodPressure.hpp; the scene's formula); in a bulk box: the whole box's.
-    const double pressure = t.bloodVolume <= 0 ? (2 * t.kinetic + t.virial) / (3 * volume)
-                            : paperEq15     ? core::paperEq15Pressure(t.bloodMv2, t.virialVolume, t.bloodCount, t.bloodVolume)
-                                            : core::virialPressure(t.bloodMv2, t.virialVolume, t.bloodVolume);
-    f.stats = {t.kinetic, t.pairEnergy + t.probeEnergy, pressure, stepRate, std::uint64_t(n), desk.loop, t.cavityVolume,
-               t.keyframe.phase()};
-    f.frameParticleCount = std::uint32_t(n);
-    f.positions = std::move(a.positions);
-    f.normals = std::move(a.normals);
-    f.species = std::move(a.species);
-    f.ids = std::move(a.ids);
-    return f;
-}
 
 }  // namespace
 
@@ -108,9 +81,6 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
     std::signal(SIGTERM, onSignal);
 
     std::unique_ptr<protocol::ServerFront> front;
-    Desk desk;
-    desk.probe = scene.probe;
-    for (const auto& s : model.species) desk.drags.emplace_back(s.dragV, s.dragW);
     if (root) {
         info.particleCount = start.particles.size();
         std::error_code ec;  // the gradient-map cache, for haptic clients to download
@@ -127,110 +97,27 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
             while (!gStop && !front->waitForClient(std::chrono::milliseconds(200))) {}
         }
     }
-    // Replayed inputs (ServeOptions::replay), by step.
-    std::size_t nextCommand = 0, nextProbe = 0;
-    std::set<long long> frameSteps;
-    if (o.replay)
-        for (const auto& c : o.replay->chunks)
-            if (c.frame.chunkIndex == 0) frameSteps.insert(static_cast<long long>(c.frame.step));
-    const auto takeProbe = [&](const protocol::Probe& p) {
-        desk.probe.active = p.active;
-        desk.probe.position = p.position;
-        desk.probe.params = {p.k0, p.k1};
-        desk.probeSeq = p.seq;
-        desk.loop = p.loop;
-        desk.clientProbe = true;
-        desk.lastClientProbe = Clock::now();
-        front->probeApplied(p, std::uint64_t(run.stepNumber()));
-        parallel::Command c;
-        c.probe = desk.probe;
-        run.submit(c);
-    };
-    const auto replayInputs = [&]() -> std::array<double, 4> {
-        const long long now = run.stepNumber();
-        const auto& r = *o.replay;
-        for (; nextCommand < r.commands.size() && (long long)(r.commands[nextCommand].reply.step) <= now; ++nextCommand) {
-            const auto& rc = r.commands[nextCommand];
-            if ((long long)(rc.reply.step) < now || rc.reply.status != protocol::ReplyStatus::Ok) continue;
-            front->reply({"", rc.command}, apply(rc.command, desk, run, model.speciesCount()));
-        }
-        for (; nextProbe < r.probes.size() && (long long)(r.probes[nextProbe].step) <= now; ++nextProbe)
-            if ((long long)(r.probes[nextProbe].step) == now) takeProbe(r.probes[nextProbe].probe);
-        desk.paused = false;  // the recording's steps drive the run
-        const bool last = frameSteps.empty() || now >= *frameSteps.rbegin();
-        return {gStop || last ? 1.0 : 0.0, 1.0, frameSteps.count(now + 1) ? 1.0 : 0.0, desk.probe.active ? 1.0 : 0.0};
-    };
-    const double volume = model.box.size().prod();
-    long long done = 0;
-    auto rateClock = Clock::now();
-    long long rateSteps = 0;
-    double stepRate = 0;
-    for (;;) {
-        std::array<double, 4> ctl{0, 0, 0, 0};  // stop, step, publish, feedback
-        if (root && o.replay) {
-            ctl = replayInputs();
-        } else if (root) {
-            for (const auto& pc : front->takeCommands()) {
-                const auto* rec = std::get_if<protocol::Record>(&pc.command.body);
-                front->reply(pc, rec ? record(pc.command, *rec, *front, o.outDir, o.front.recordPath, run.stepNumber())
-                                     : apply(pc.command, desk, run, model.speciesCount()));
-            }
-            if (const auto p = front->takeProbe()) takeProbe(*p);
-            if (!front->anyHaptic()) desk.loop = {};  // no device loop probing now
-            // No probe from any client for a second: a dead client's probe lets go. Taken as a
-            // probe like any other, so that a recording holds it and a replay applies it.
-            if (desk.clientProbe && desk.probe.active && Clock::now() - desk.lastClientProbe > std::chrono::seconds(1)) {
-                protocol::Probe off;
-                off.seq = desk.probeSeq;
-                off.position = desk.probe.position;
-                off.active = false;
-                off.k0 = desk.probe.params.k0;
-                off.k1 = desk.probe.params.k1;
-                takeProbe(off);
-            }
-            const bool step = !desk.paused || desk.singleSteps > 0;
-            if (desk.paused && desk.singleSteps > 0) --desk.singleSteps;
-            // No gather while the front still holds a frame: it would only replace it.
-            const bool frame = !front->framePending() && front->frameDue(Clock::now());
-            ctl = {gStop || (o.steps > 0 && done >= o.steps) ? 1.0 : 0.0, step ? 1.0 : 0.0, frame ? 1.0 : 0.0,
-                   front->anyHaptic() || desk.probe.active ? 1.0 : 0.0};
-        }
-        ctl = run.agree(ctl);
-        if (ctl[0] != 0) break;
-        if (ctl[1] != 0) {
-            run.step();
-            ++done, ++rateSteps;
-            if (cardiac) recordCardiac(*cardiac, run, model);
-            if (o.checkpointEvery > 0 && run.stepNumber() % o.checkpointEvery == 0) {
-                const core::Particles all = run.gather();  // collective
-                if (root) writeCheckpoint(o.outDir + "/checkpoint.xyz", all, model, run.construction(), run.stepNumber());
-            }
-        } else {
-            std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        }
-        if (ctl[3] == 0 && ctl[2] == 0) continue;
-        const parallel::Totals t = run.totals();  // collective
-        if (root && ctl[3] != 0) front->offerFeedback({desk.probeSeq, std::uint64_t(run.stepNumber()), t.probeReaction, nowNs()});
-        if (ctl[2] == 0) continue;
-        parallel::FrameArrays arrays;
-        if (root) {  // the memory of a frame the front has sent
-            protocol::StateFrame spare = front->takeSpareFrame();
-            arrays = {std::move(spare.positions), std::move(spare.normals), std::move(spare.species), std::move(spare.ids)};
-        }
-        run.gatherFrame(arrays);  // collective
-        if (!root) continue;
-        const double elapsed = std::chrono::duration<double>(Clock::now() - rateClock).count();
-        if (elapsed > 0.5) stepRate = double(rateSteps) / elapsed, rateSteps = 0, rateClock = Clock::now();
-        if (o.replay)  // a replay is compared frame by frame: none may be replaced unsent
-            while (front->framePending()) std::this_thread::sleep_for(std::chrono::microseconds(200));
-        front->setParticleCount(arrays.species.size());
-        front->offerFrame(frameOf(std::move(arrays), t, desk, run.stepNumber(), model.integration.dt, volume, stepRate,
-                                  scene.pressure && scene.pressure->paperEq15));
+    ServedLoop loop(scene, run, front.get(), o, [] { return gStop != 0; }, cardiac ? &*cardiac : nullptr);
+    int code = 0;
+    std::string why;
+    try {
+        while (loop.pass()) {}
+        if (!loop.error().empty()) code = kExitStoppedByError, why = loop.error();
+    } catch (const core::UnsoundState& e) {  // every rank, at the same step
+        code = kExitUnsound, why = e.what();
+    } catch (const std::exception& e) {
+        if (run.size() > 1) throw;  // on this rank alone: the others cannot join a checkpoint (main aborts them all)
+        code = kExitStoppedByError, why = e.what();
     }
-    const core::Particles all = run.gather();
-    if (!root) return 0;
+    // Stopped by an unsound state: the last sound one is saved, and no final state (it holds NaN
+    // or a runaway); otherwise the state now.
+    const std::optional<core::SoundSnapshot> last = code == kExitUnsound ? run.lastSound() : std::nullopt;
+    const core::Particles all = code == kExitUnsound ? core::Particles{} : run.gather();
+    if (!root) return code;
     std::filesystem::create_directories(o.outDir);
-    writeCheckpoint(o.outDir + "/checkpoint.xyz", all, model, run.construction(), run.stepNumber());
+    const std::string checkpoint = o.outDir + "/checkpoint.xyz", finalFile = o.outDir + "/final.xyz";
+    if (code != kExitUnsound) writeCheckpoint(checkpoint, all, model, run.construction(), run.stepNumber());
+    else if (last) writeCheckpoint(checkpoint, last->particles, model, last->construction, last->step);
     front->finish();  // the recording, if any, is complete from here
     const protocol::FrontStats s = front->stats();
     front.reset();
@@ -239,18 +126,28 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
                                             : "recording stopped early (" + s.recordError + "); what was written is in " +
                                                   o.front.recordPath + ".partial")
                   << "\n";
-    std::filesystem::create_directories(o.outDir);
-    const std::string finalFile = o.outDir + "/final.xyz";
     std::filesystem::remove(finalFile);
-    const XyzFrameInfo fi = snapshotInfo(model, run.stepNumber());
-    appendExtendedXyz(finalFile, all, speciesNames(model), fi);
-    std::cout << "served " << done << " steps to " << s.clients << " clients: " << s.framesSent << " frames ("
+    if (code != kExitUnsound) appendExtendedXyz(finalFile, all, speciesNames(model), snapshotInfo(model, run.stepNumber()));
+    std::cout << "served " << loop.stepsDone() << " steps to " << s.sessionsOpened << " clients (" << s.sessionsExpired
+              << " sessions expired, " << s.clients << " open at the end): " << s.framesSent << " frames ("
               << s.bytesSent / 1e6 << " MB, " << s.framesDropped << " replaced before sending), " << s.commands
               << " commands, " << s.probes << " probes, " << s.malformed << " malformed messages refused ("
-              << s.oversized << " oversized), " << s.peersRefused << " peers refused (CURVE key not allowed)\n";
-    if (cardiac) cardiac->finish(o.outDir, std::cout);
-    spdlog::info("final state: {}; checkpoint: {}/checkpoint.xyz", finalFile, o.outDir);
-    return 0;
+              << s.oversized << " oversized), " << s.outOfRange << " messages with values out of range refused ("
+              << s.refusalsSent << " refusals sent), " << s.peersRefused << " peers refused (CURVE key not allowed), "
+              << s.internalErrors << " internal errors in the front"
+              << (s.internalErrors ? " (last: " + s.lastInternalError + ")" : std::string()) << "\n";
+    if (cardiac && code != kExitUnsound) cardiac->finish(o.outDir, std::cout);
+    if (code == kExitUnsound) {
+        spdlog::error("stopped: {}", why);
+        if (last) spdlog::error("the last sound state (step {}) is in {}; nothing after it was streamed or recorded",
+                                last->step, checkpoint);
+        else spdlog::error("the run's start was not sound: no checkpoint written");
+        return code;
+    }
+    if (code == kExitStoppedByError) spdlog::error("stopped by an error: {}; the state at step {} is in {}", why,
+                                                   run.stepNumber(), checkpoint);
+    spdlog::info("final state: {}; checkpoint: {}", finalFile, checkpoint);
+    return code;
 }
 
 }  // namespace bop::app

@@ -1,9 +1,7 @@
 #pragma once
 // bop-server with its network front (docs/protocol.md): the decomposed run at any rank count,
-// rank 0 serving viewers and haptic clients. Each pass of the loop, rank 0 turns the clients'
-// commands and newest probe into run commands, decides whether to step (pause, single step),
-// whether a frame is due and whether to stop, and broadcasts that to every rank; frames are
-// gathered to every rank only at publish ticks. No rank waits on a client.
+// rank 0 serving viewers and haptic clients; the loop itself is ServedLoop.hpp.
+#include "ExitCodes.hpp"
 #include "SimulationSetup.hpp"
 #include "recording/SessionReader.hpp"
 #include "server/ServerFront.hpp"
@@ -26,7 +24,9 @@ struct ServeOptions {
     long long checkpointEvery = 0;  // steps between checkpoints; one is always written when the run stops
 };
 
-// Collective: every rank calls it. Returns the exit code.
+// Collective: every rank calls it. Returns the exit code. However it stops, it writes
+// <out>/checkpoint.xyz: the state at the end, or after kExitUnsound the last sound state (and
+// no final.xyz).
 int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& options);
 
 // The handshake's description of a scene (species with colours, box, map grid when `map`, a

@@ -21,6 +21,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <filesystem>
@@ -65,6 +66,10 @@ int run(int argc, char** argv) {
     app.add_flag("--wait-for-client", waitForClient, "hold the first step until a client has said hello");
     app.add_flag("--read-only-viewers", readOnlyViewers, "viewers may watch but not command");
     app.add_option("--record", front.recordPath, "record the session (commands, probes, frames) as MCAP in this file");
+    double sessionTimeout = 30;
+    app.add_option("--session-timeout", sessionTimeout, "forget a client's session after this many seconds without a "
+                                                        "message from it (clients keep theirs alive; 0 = never)")
+        ->check(CLI::Range(0.0, 86400.0));
     std::string replayInputs, curveSecret;
     app.add_option("--curve-secret", curveSecret, "CURVE secret key file (bop-keys): encrypt every session; clients "
                                                   "need the matching public key");
@@ -76,6 +81,7 @@ int run(int argc, char** argv) {
                                                     "instead of clients' (bop-replay check runs this)");
     CLI11_PARSE(app, argc, argv);
     front.quantised = quantised;
+    front.sessionTimeout = std::chrono::milliseconds(std::llround(sessionTimeout * 1000));
     if (!curveSecret.empty()) front.curveSecretKey = protocol::readCurveKey(curveSecret);
     if (!curveClients.empty() && curveSecret.empty())
         throw Error("--curve-client", "needs --curve-secret: client keys are checked in CURVE handshakes");
@@ -125,7 +131,9 @@ int run(int argc, char** argv) {
 int main(int argc, char** argv) {
     bop::parallel::MpiSession mpi(argc, argv);
     const int code = bop::runTool("bop-server", [&] { return run(argc, argv); });
-    // An error on one rank of several: end them all rather than leave them waiting.
-    if (code != 0 && bop::parallel::MpiSession::worldSize() > 1) bop::parallel::MpiSession::abortAll(code);
+    // An error on one rank of several: end them all rather than leave them waiting. A run that
+    // stopped on its own (kExitUnsound, kExitStoppedByError) ended on every rank alike.
+    const bool together = code == bop::app::kExitUnsound || code == bop::app::kExitStoppedByError;
+    if (code != 0 && !together && bop::parallel::MpiSession::worldSize() > 1) bop::parallel::MpiSession::abortAll(code);
     return code;
 }

@@ -3,7 +3,9 @@
 #include "BatchReport.hpp"
 #include "CardiacRun.hpp"
 #include "Checkpoint.hpp"
+#include "ExitCodes.hpp"
 #include "ExtendedXyz.hpp"
+#include "core/SoundState.hpp"
 #include "shape/GradientMapCrop.hpp"
 
 #include <spdlog/spdlog.h>
@@ -39,6 +41,19 @@ void installBatchSignals() {
 }
 
 bool batchStopRequested() { return gStop != 0; }
+
+int stopUnsound(const core::UnsoundState& e, const std::optional<core::SoundSnapshot>& last, const core::Model& model,
+                const std::string& checkpoint, const std::string& outDir) {
+    fs::remove(outDir + "/final.xyz");  // no final state: it would hold NaN or a runaway
+    spdlog::error("stopped: {}", e.what());
+    if (!last) {
+        spdlog::error("the run's start was not sound: no checkpoint written");
+        return kExitUnsound;
+    }
+    writeCheckpoint(checkpoint, last->particles, model, last->construction, last->step);
+    spdlog::error("the last sound state (step {}) is in {}", last->step, checkpoint);
+    return kExitUnsound;
+}
 
 int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions& o, const shape::ProgressFn& progress) {
     const auto t00 = std::chrono::steady_clock::now();
@@ -81,8 +96,16 @@ int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions&
     bool stopped = false;
     if (o.steps == 0) takeCheckpoint(false);
     installBatchSignals();  // from here a signal ends the run with a checkpoint
+    std::optional<core::SoundSnapshot> sound;  // the last sound state (core/SoundState.hpp)
+    const auto keep = [&] { sound = core::SoundSnapshot{sim->particles(), sim->construction(), sim->stats().step}; };
+    if (core::sound(model, sim->particles(), sim->stats().forces.probeReaction)) keep();
     for (long long s = 1; s <= o.steps; ++s) {
-        sim->step();
+        try {
+            sim->step();
+        } catch (const core::UnsoundState& e) {
+            return stopUnsound(e, sound, model, checkpoint, o.outDir);
+        }
+        if (sim->stats().step % core::kSoundSnapshotEvery == 0) keep();
         done = s;
         if (cardiac) {
             const core::StepStats& st = sim->stats();

@@ -4,7 +4,11 @@
 // series when the scene asks for it, and the Table-1 style summary.
 #include "DecomposedBatch.hpp"
 
+#include "core/SoundState.hpp"
 #include "shape/ShapeBuilder.hpp"
+
+#include <optional>
+#include <string>
 
 namespace bop::app {
 
@@ -15,5 +19,10 @@ int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions&
 // Set by SIGINT/SIGTERM once installBatchSignals() ran: batch runs stop at the next step.
 void installBatchSignals();
 bool batchStopRequested();
+
+// A batch run whose step ended unsound: no final.xyz, the last sound state (if the run had one)
+// as the checkpoint, the reason said. Returns kExitUnsound (ExitCodes.hpp).
+int stopUnsound(const core::UnsoundState& e, const std::optional<core::SoundSnapshot>& last, const core::Model& model,
+                const std::string& checkpoint, const std::string& outDir);
 
 }  // namespace bop::app

@@ -81,7 +81,8 @@ ConstructionCounts Construction::update(const Model& model, Particles& p, long l
     for (const auto& e : eventsAt(step)) {
         if (e.action == ConstructionEvent::Action::Seed) {
             const double h = model.map ? kR0 / model.map->r0Voxels : 1.0;
-            seed(model, p, e.species, e.positionVoxels ? Eigen::Vector3d(*e.positionVoxels * h) : defaultSeedPosition(model, e.species), step);
+            const Eigen::Vector3d x = e.positionVoxels ? Eigen::Vector3d(*e.positionVoxels * h) : defaultSeedPosition(model, e.species);
+            seed(model, p, e.species, x, step, !crowded(p.pos, model.box, x, params_.deathR0 * kR0));
         } else {
             setBirth(e.species, e.action == ConstructionEvent::Action::BirthOn);
         }

@@ -173,4 +173,15 @@ std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Mo
     return best;
 }
 
+bool crowded(const std::vector<Eigen::Vector3d>& pos, const Box& box, const Eigen::Vector3d& x, double distance) {
+    const Eigen::Vector3d L = box.size();
+    for (const Eigen::Vector3d& y : pos) {
+        Eigen::Vector3d d = y - x;
+        for (int a = 0; a < 3; ++a)
+            if (box.periodic[std::size_t(a)]) d[a] -= L[a] * std::round(d[a] / L[a]);
+        if (d.squaredNorm() < distance * distance) return true;
+    }
+    return false;
+}
+
 }  // namespace bop::core

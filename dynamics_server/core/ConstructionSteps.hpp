@@ -57,6 +57,11 @@ std::vector<BirthCandidate> chooseBirths(const ConstructionParams& params, const
 // the candidate's voxel.
 void addBirth(const Model& model, Particles& p, int species, const BirthCandidate& c, long long step);
 
+// Whether some position in `pos` lies closer than `distance` to x (the periodic axes of `box`
+// wrap): a seed there would sit on a particle, where the pair forces have no bound, so it is not
+// placed (its id is still counted, as on the ranks that do not own it).
+bool crowded(const std::vector<Eigen::Vector3d>& pos, const Box& box, const Eigen::Vector3d& x, double distance);
+
 // The default seed of a species among the map voxels whose centre `mine` accepts: a surface
 // voxel chosen by the hash, or the deepest volume voxel. (key, position) of the best one, the
 // smaller key being better; nullopt if none.

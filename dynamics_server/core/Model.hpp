@@ -9,6 +9,7 @@
 #include "shape/GmField.hpp"
 
 #include <array>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
@@ -46,6 +47,16 @@ struct Box {
     Eigen::Vector3d hi = Eigen::Vector3d::Zero();
     std::array<bool, 3> periodic{false, false, false};
     Eigen::Vector3d size() const { return hi - lo; }
+    // x moved into [lo, hi) along the periodic axes; the other axes as they are.
+    Eigen::Vector3d wrap(Eigen::Vector3d x) const {
+        for (int a = 0; a < 3; ++a) {
+            if (!periodic[std::size_t(a)]) continue;
+            const double L = hi[a] - lo[a];
+            x[a] -= L * std::floor((x[a] - lo[a]) / L);
+            if (x[a] >= hi[a]) x[a] = lo[a];  // rounding can land on hi, which is lo's image
+        }
+        return x;
+    }
 };
 
 struct Integration {

@@ -127,6 +127,12 @@ ProbeForm::ProbeForm(const LjForm& lj, ProbeParams p) : lj_(lj), params_(p) {
     invK0Sq_ = 1.0 / (p.k0 * p.k0);
     k1OverK0_ = p.k1 / p.k0;
     k1K0_ = p.k1 * p.k0;
+    core_ = kProbeCoreR0 * p.k0 * kR0;
+    double fr = 0.0, e = 0.0;
+    lj_.eval(kProbeCoreR0 * kProbeCoreR0 * kR0 * kR0, fr, e);  // at s = r / k0 on the core's edge
+    coreForce_ = fr * kProbeCoreR0 * kR0 * p.k1;                // k1 f(s)
+    coreEnergy_ = e * k1K0_;
+    core2_ = core_ * core_;
 }
 
 }  // namespace bop::core

@@ -189,7 +189,12 @@ struct ProbeParams {
 };
 
 // Probe-particle interaction: force k1 f(r/k0) along the unit vector from the probe to the
-// particle, energy k1 k0 phi(r/k0), with the LjForm's cutoff treatment scaled by k0.
+// particle, energy k1 k0 phi(r/k0), with the LjForm's cutoff treatment scaled by k0. Closer than
+// kProbeCoreR0 k0 r0 the force stays that of kProbeCoreR0 k0 r0 (the energy grows linearly, so
+// F = -dE/dr still holds): an overlap no haptic contact reaches, where f(r) grows as r^-4 and a
+// probe dropped onto a particle would launch it at near-infinite speed. At r = 0 the force is 0.
+inline constexpr double kProbeCoreR0 = 0.5;  // multiples of k0 r0
+
 class ProbeForm {
 public:
     // Throws std::invalid_argument unless k0 > 0 and k1 is finite.
@@ -207,6 +212,12 @@ public:
             energy = 0.0;
             return false;
         }
+        if (r2 < core2_) {  // the core: the force of its edge, along r
+            const double r = std::sqrt(r2);
+            fOverR = r > 0.0 ? coreForce_ / r : 0.0;
+            energy = coreEnergy_ + coreForce_ * (core_ - r);
+            return true;
+        }
         double fr = 0.0;
         double e = 0.0;
         lj_.eval(r2 * invK0Sq_, fr, e);
@@ -223,6 +234,10 @@ private:
     double invK0Sq_ = 0.0;   // 1 / k0^2
     double k1OverK0_ = 0.0;  // k1 / k0
     double k1K0_ = 0.0;      // k1 k0
+    double core_ = 0.0;      // kProbeCoreR0 k0 r0, length
+    double core2_ = 0.0;     // length^2
+    double coreForce_ = 0.0; // the force at the core's edge, force
+    double coreEnergy_ = 0.0;  // the energy there, energy
 };
 
 }  // namespace bop::core

@@ -1,5 +1,7 @@
 #include "Simulation.hpp"
 
+#include "SoundState.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -78,6 +80,8 @@ void Simulation::step() {
     times_.integrate += since(t0);
     ++stats_.step;
     stats_.time += model_->integration.dt;
+    if (!sound(*model_, p_, stats_.forces.probeReaction))
+        throw UnsoundState(stats_.step, unsoundness(*model_, p_, stats_.forces.probeReaction));
 }
 
 }  // namespace bop::core

@@ -35,6 +35,7 @@ public:
     Simulation(std::shared_ptr<const Model> model, Particles particles, Construction construction,
                long long firstStep = 0);
 
+    // core::UnsoundState (SoundState.hpp) when the step ends in a state not fit to go on from.
     void step();
     void run(long long steps) { for (long long s = 0; s < steps; ++s) step(); }
 

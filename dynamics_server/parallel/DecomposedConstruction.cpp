@@ -75,7 +75,9 @@ void DecomposedSimulation::construct(std::vector<core::ConstructionEvent> events
         }
         const double h = mapSource_ ? core::kR0 / mapSource_->header.r0Voxels : 1.0;
         const Eigen::Vector3d x = e.positionVoxels ? Eigen::Vector3d(*e.positionVoxels * h) : defaultSeed(e.species);
-        construction_.seed(sub_, p_, e.species, x, step_, mine(x));  // every rank counts the seed
+        const double near = construction_.params().deathR0 * core::kR0;  // the halo reaches further
+        const bool free = !core::crowded(p_.pos, model_->box, x, near) && !core::crowded(halo_.pos, model_->box, x, near);
+        construction_.seed(sub_, p_, e.species, x, step_, mine(x) && free);  // every rank counts the seed
         changed = true;
     }
     if (construction_.checkDue(step_)) {

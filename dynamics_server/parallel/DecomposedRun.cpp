@@ -3,6 +3,8 @@
 #include "DecomposedSimulation.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 
 namespace bop::parallel {
 
@@ -14,9 +16,15 @@ struct DecomposedRun::Impl {
     long long energyEvery = 1;
     // This rank's counters of the simulations a reseat let go (the run's totals go on).
     double carriedMigrations = 0, carriedRebuilds = 0, carriedExchange = 0, carriedRebalances = 0;
+    std::optional<core::SoundSnapshot> sound;  // this rank's particles of the last sound state
     Impl(std::shared_ptr<const core::Model> m, const core::Particles& all, DecomposedOptions o)
         : comm(MPI_COMM_WORLD, m->box), model(std::move(m)), options(o),
-          simPtr(std::make_unique<DecomposedSimulation>(comm, model, all, std::move(o))) {}
+          simPtr(std::make_unique<DecomposedSimulation>(comm, model, all, std::move(o))) {
+        keepIfSound();
+    }
+    void keepIfSound() {  // collective
+        if (simPtr->soundEverywhere()) sound = core::SoundSnapshot{simPtr->particles(), simPtr->construction(), simPtr->stepCount()};
+    }
 };
 
 DecomposedRun::DecomposedRun(std::shared_ptr<const core::Model> model, const core::Particles& all,
@@ -24,7 +32,18 @@ DecomposedRun::DecomposedRun(std::shared_ptr<const core::Model> model, const cor
     : impl_(std::make_unique<Impl>(std::move(model), all, std::move(options))) {}
 DecomposedRun::~DecomposedRun() = default;
 
-void DecomposedRun::step() { impl_->simPtr->step(); }
+void DecomposedRun::step() {
+    impl_->simPtr->step();  // sound, or it threw
+    const long long n = impl_->simPtr->stepCount();
+    if (n % core::kSoundSnapshotEvery == 0)
+        impl_->sound = core::SoundSnapshot{impl_->simPtr->particles(), impl_->simPtr->construction(), n};
+}
+
+std::optional<core::SoundSnapshot> DecomposedRun::lastSound() const {
+    const auto& s = impl_->sound;
+    if (!impl_->comm.allTrue(s.has_value())) return std::nullopt;
+    return core::SoundSnapshot{impl_->simPtr->gather(s->particles), s->construction, s->step};
+}
 void DecomposedRun::refreshForces() { impl_->simPtr->refreshForces(); }
 void DecomposedRun::setEnergyEvery(long long n) {
     impl_->energyEvery = n;
@@ -46,6 +65,7 @@ void DecomposedRun::reseat(const core::Particles& all, const core::Construction&
     i.simPtr = std::make_unique<DecomposedSimulation>(i.comm, i.model, all, std::move(o));
     i.simPtr->probe() = probe;
     i.simPtr->setEnergyEvery(i.energyEvery);
+    i.keepIfSound();
 }
 void DecomposedRun::setProbe(const core::ProbeState& probe) { impl_->simPtr->probe() = probe; }
 Totals DecomposedRun::totals() const { return impl_->simPtr->totals(); }
@@ -62,17 +82,34 @@ std::array<double, 4> DecomposedRun::agree(const std::array<double, 4>& mine) {
     return out;
 }
 
+namespace {
+
+// A position as a frame carries it: in the periodic box, [lo, hi) in float too (between list
+// rebuilds the run keeps particles that crossed a periodic face on the far side).
+std::array<float, 3> framePosition(const core::Box& box, const Eigen::Vector3d& x) {
+    const Eigen::Vector3d w = box.wrap(x);
+    std::array<float, 3> f{float(w.x()), float(w.y()), float(w.z())};
+    for (std::size_t a = 0; a < 3; ++a)
+        if (box.periodic[a] && f[a] >= float(box.hi[int(a)])) f[a] = std::nextafter(float(box.hi[int(a)]), float(box.lo[int(a)]));
+    return f;
+}
+
+}  // namespace
+
 void DecomposedRun::gatherFrame(FrameArrays& f) const {
     const core::Particles& p = impl_->simPtr->particles();
+    const core::Box& box = impl_->model->box;
     if (size() == 1) {  // straight into the frame's arrays
         const std::size_t n = p.size();
         f.positions.resize(3 * n);
         f.normals.resize(3 * n);
-        for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::array<float, 3> x = framePosition(box, p.pos[i]);
             for (int a = 0; a < 3; ++a) {
-                f.positions[3 * i + std::size_t(a)] = float(p.pos[i][a]);
+                f.positions[3 * i + std::size_t(a)] = x[std::size_t(a)];
                 f.normals[3 * i + std::size_t(a)] = float(p.normal[i][a]);
             }
+        }
         f.species.assign(p.species.begin(), p.species.end());
         f.ids.assign(p.id.begin(), p.id.end());
         return;
@@ -84,7 +121,8 @@ void DecomposedRun::gatherFrame(FrameArrays& f) const {
     mine.reserve(p.size() * kFields);
     for (std::size_t i = 0; i < p.size(); ++i) {
         const std::uint64_t id = p.id[i];
-        mine.insert(mine.end(), {float(p.pos[i].x()), float(p.pos[i].y()), float(p.pos[i].z()), float(p.normal[i].x()),
+        const std::array<float, 3> x = framePosition(box, p.pos[i]);
+        mine.insert(mine.end(), {x[0], x[1], x[2], float(p.normal[i].x()),
                                  float(p.normal[i].y()), float(p.normal[i].z()), float(p.species[i]),
                                  float(id & 0xffff), float((id >> 16) & 0xffff), float((id >> 32) & 0xffff),
                                  float(id >> 48)});

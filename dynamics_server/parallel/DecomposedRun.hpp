@@ -8,11 +8,13 @@
 #include "core/ForceField.hpp"
 #include "core/Keyframes.hpp"
 #include "core/Particles.hpp"
+#include "core/SoundState.hpp"
 
 #include <Eigen/Core>
 
 #include <array>
 #include <memory>
+#include <optional>
 
 namespace bop::parallel {
 
@@ -50,6 +52,8 @@ public:
     DecomposedRun(std::shared_ptr<const core::Model> model, const core::Particles& all, DecomposedOptions options = {});
     ~DecomposedRun();
 
+    // core::UnsoundState (core/SoundState.hpp) on every rank when the step ends in an unsound
+    // state: lastSound() then holds the state to save.
     void step();
     void refreshForces();
     void setEnergyEvery(long long n);
@@ -64,6 +68,10 @@ public:
     const std::vector<core::MapVolume>& frameVolumes() const;  // Simulation::frameVolumes's twin
     RunCounters counters() const;
     core::Particles gather() const;  // every particle sorted by id
+    // The last sound state (the start's, and again every core::kSoundSnapshotEvery steps),
+    // gathered: every particle by id, the construction and the step. Collective. Nothing when
+    // the run never was sound (its start was not).
+    std::optional<core::SoundSnapshot> lastSound() const;
     const core::Construction& construction() const;
     // Goes on from `all` (every particle, as read from a checkpoint, the same on every rank) at
     // `step` with `construction`: a fresh decomposition, as a restart from that file makes, with

@@ -3,6 +3,7 @@
 #include "Packing.hpp"
 
 #include "core/BloodPressure.hpp"
+#include "core/SoundState.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -206,6 +207,11 @@ void DecomposedSimulation::step() {
     ++step_;
     forces(step_ % energyEvery_ == 0);
     kinetic_ = core::kick(sub_, drag_, p_);
+    const bool sound = core::sound(*model_, p_, stats_.probeReaction);
+    if (!comm_.allTrue(sound))  // every rank throws, at the same step
+        throw core::UnsoundState(step_, sound ? "on another rank"
+                                              : "rank " + std::to_string(comm_.rank()) + ": " +
+                                                    core::unsoundness(*model_, p_, stats_.probeReaction));
 }
 
 Totals DecomposedSimulation::totals() const {
@@ -240,13 +246,17 @@ Totals DecomposedSimulation::totals() const {
     return t;
 }
 
-core::Particles DecomposedSimulation::gather() const {
+core::Particles DecomposedSimulation::gather() const { return gather(p_); }
+
+bool DecomposedSimulation::soundEverywhere() const { return comm_.allTrue(core::sound(*model_, p_, stats_.probeReaction)); }
+
+core::Particles DecomposedSimulation::gather(const core::Particles& p) const {
     constexpr int kFields = kMigrateFields + 6;  // and force 3, torque 3
     std::vector<double> mine;
-    for (std::size_t i = 0; i < p_.size(); ++i) {
-        packParticle(p_, i, mine);
-        mine.insert(mine.end(), {p_.force[i].x(), p_.force[i].y(), p_.force[i].z(), p_.torque[i].x(), p_.torque[i].y(),
-                                 p_.torque[i].z()});
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        packParticle(p, i, mine);
+        mine.insert(mine.end(), {p.force[i].x(), p.force[i].y(), p.force[i].z(), p.torque[i].x(), p.torque[i].y(),
+                                 p.torque[i].z()});
     }
     const std::vector<double> all = comm_.allGatherV(mine);
     std::vector<std::size_t> order(all.size() / kFields);

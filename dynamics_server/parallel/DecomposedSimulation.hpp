@@ -48,6 +48,7 @@ public:
     DecomposedSimulation(const CartComm& comm, std::shared_ptr<const core::Model> model, const core::Particles& all,
                          DecomposedOptions options = {});
 
+    // core::UnsoundState on every rank when the step ends in an unsound state on any.
     void step();
     // On rank 0: queue a command; every rank applies it at the start of the next step (rank 0
     // broadcasts the queue then). std::logic_error on other ranks.
@@ -77,6 +78,8 @@ public:
     const std::vector<core::MapVolume>& frameVolumes() const { return frameVolumes_; }
     // Every particle, sorted by id, on every rank (for tests and snapshots).
     core::Particles gather() const;
+    core::Particles gather(const core::Particles& mine) const;  // the same of every rank's `mine`
+    bool soundEverywhere() const;  // core::sound() of every rank's particles (collective)
 
 private:
     struct Stage {

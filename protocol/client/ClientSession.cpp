@@ -91,6 +91,9 @@ MessageKind ClientSession::Impl::takeControl(const zmq::message_t& msg, CommandR
     } else if (kind == MessageKind::Feedback) {
         const auto f = decodeFeedback(data, size);
         if ((ok = f.ok())) feedback = f.value;  // one TCP stream: the last to arrive is the newest
+    } else if (kind == MessageKind::Refusal) {
+        auto r = decodeRefusal(data, size);
+        if ((ok = r.ok())) takeRefusal(std::move(r.value));
     } else if (kind == MessageKind::CommandReply) {
         auto r = decodeCommandReply(data, size);
         if ((ok = r.ok()) && reply) *reply = std::move(r.value);
@@ -101,6 +104,29 @@ MessageKind ClientSession::Impl::takeControl(const zmq::message_t& msg, CommandR
     }
     if (!ok) countMalformed();
     return ok ? kind : MessageKind::Unknown;
+}
+
+void ClientSession::Impl::takeRefusal(Refusal r) {
+    std::lock_guard lock(m);
+    ++stats.refusals;
+    stats.lastRefusal = r.kind + (r.seq ? " " + std::to_string(r.seq) : std::string()) + ": " + r.reason;
+    refusal = std::move(r);
+}
+
+void ClientSession::Impl::send(const Buffer& b, const char* what) {
+    if (!dealer->send(zmq::buffer(b), zmq::send_flags::dontwait))
+        throw Error(controlEndpoint, std::string("cannot queue ") + what + " (send queue full)");
+    lastSent = Clock::now();
+}
+
+void ClientSession::Impl::keepAlive() {
+    if (!(scene.sessionTimeoutS > 0) || hello.empty()) return;
+    const auto third = std::chrono::duration<double>(scene.sessionTimeoutS / 3.0);
+    if (Clock::now() - lastSent < third) return;
+    if (!dealer->send(zmq::buffer(hello), zmq::send_flags::dontwait)) return;  // full: the next poll tries again
+    lastSent = Clock::now();
+    std::lock_guard lock(m);
+    ++stats.keepAlives;
 }
 
 void ClientSession::Impl::connectSub() {
@@ -144,6 +170,7 @@ SceneInfo ClientSession::connect(const std::string& endpoint, milliseconds timeo
     d.dealer.reset();
     d.assembler.reset();  // a new session may number its frames from 1 again
     d.feedback.reset();
+    d.refusal.reset();
     d.probeSocket.reset();
     d.udpFrames.reset();
     d.controlEndpoint = endpoint;
@@ -167,11 +194,13 @@ SceneInfo ClientSession::connect(const std::string& endpoint, milliseconds timeo
             d.udpFrames.emplace(UdpSocket(udpLocal, d.opt.udpFramePort));
             hello.udpFramePort = d.opt.udpFramePort;
         }
-        const Buffer b = encodeHello(hello);  // EncodeError on a bad option (a name over 64 bytes, ...)
-        if (!d.dealer->send(zmq::buffer(b), zmq::send_flags::dontwait)) throw Error(endpoint, "cannot queue Hello");
+        d.hello = encodeHello(hello);  // EncodeError on a bad option (a name over 64 bytes, ...)
+        d.send(d.hello, "Hello");
         const bool got = d.pumpControl(Clock::now() + timeout, [&](const zmq::message_t& msg) {
-            return d.takeControl(msg, nullptr) == MessageKind::SceneInfo;
+            const MessageKind k = d.takeControl(msg, nullptr);
+            return k == MessageKind::SceneInfo || (k == MessageKind::Refusal && d.refusal->kind == "Hello");
         });
+        if (d.refusal && d.refusal->kind == "Hello") throw Error(endpoint, "the server refused our Hello: " + d.refusal->reason);
         if (!got)
             throw Error(endpoint, "no SceneInfo within " + inMs(timeout) +
                                       (d.opt.curveServerKey.empty()
@@ -207,12 +236,20 @@ bool ClientSession::sendProbe(const Probe& probe) {
     if (!impl_->dealer) throw std::logic_error("ClientSession::sendProbe before connect");
     const Buffer b = encodeProbe(probe);
     if (impl_->probeSocket) return impl_->probeSocket->sendTo(impl_->probeTo, b);
-    return impl_->dealer->send(zmq::buffer(b), zmq::send_flags::dontwait).has_value();
+    if (!impl_->dealer->send(zmq::buffer(b), zmq::send_flags::dontwait)) return false;
+    impl_->lastSent = Clock::now();
+    return true;
 }
 
 void ClientSession::Impl::takeUdpFeedback() {
     // Datagrams may arrive out of order: the one of the latest step wins.
     while (auto d = probeSocket->receive(0)) {
+        if (d->sender == probeTo && messageKind(d->bytes.data(), d->bytes.size()) == MessageKind::Refusal) {
+            auto r = decodeRefusal(d->bytes.data(), d->bytes.size());
+            if (r.ok()) takeRefusal(std::move(r.value));
+            else countMalformed();
+            continue;
+        }
         const auto f = decodeFeedback(d->bytes.data(), d->bytes.size());
         if (!f.ok() || !(d->sender == probeTo)) {
             countMalformed();
@@ -227,13 +264,14 @@ CommandReply ClientSession::sendCommand(const Command& command) { return sendCom
 CommandReply ClientSession::sendCommand(const Command& command, milliseconds timeout) {
     Impl& d = *impl_;
     if (!d.dealer) throw std::logic_error("ClientSession::sendCommand before connect");
-    const Buffer b = encodeCommand(command);
-    if (!d.dealer->send(zmq::buffer(b), zmq::send_flags::dontwait))
-        throw Error(d.controlEndpoint, "cannot queue command " + std::to_string(command.requestId) + " (send queue full)");
+    d.send(encodeCommand(command), ("command " + std::to_string(command.requestId)).c_str());
+    d.refusal.reset();
     std::optional<CommandReply> answer;
     d.pumpControl(Clock::now() + timeout, [&](const zmq::message_t& msg) {
         CommandReply r;
-        if (d.takeControl(msg, &r) != MessageKind::CommandReply) return false;
+        const MessageKind k = d.takeControl(msg, &r);
+        if (k == MessageKind::Refusal && d.refusal->kind == "Command") return true;  // its request id was unreadable
+        if (k != MessageKind::CommandReply) return false;
         if (r.requestId == command.requestId) {
             answer = std::move(r);
             return true;
@@ -242,6 +280,9 @@ CommandReply ClientSession::sendCommand(const Command& command, milliseconds tim
         ++d.stats.repliesDropped;  // the late answer to an earlier request that timed out
         return false;
     });
+    if (!answer && d.refusal && d.refusal->kind == "Command")
+        throw Error(d.controlEndpoint, "the server refused command " + std::to_string(command.requestId) + ": " +
+                                           d.refusal->reason);
     if (!answer)
         throw Error(d.controlEndpoint,
                     "no reply to command " + std::to_string(command.requestId) + " within " + inMs(timeout));
@@ -256,6 +297,7 @@ std::optional<Feedback> ClientSession::pollFeedback() {
         return false;  // read everything queued: the newest feedback wins
     });
     if (d.probeSocket) d.takeUdpFeedback();
+    d.keepAlive();
     return std::exchange(d.feedback, std::nullopt);
 }
 

@@ -67,6 +67,9 @@ struct ClientStats {
     std::uint64_t repliesDropped = 0;      // command replies with no waiting request (late or foreign)
     std::uint64_t udpDatagrams = 0;        // frame datagrams read (ClientOptions::udpFramePort)
     std::uint64_t udpFramesLost = 0;       // frames whose datagrams did not all come (given up)
+    std::uint64_t refusals = 0;            // Refusal messages from the server: messages of ours it refused
+    std::string lastRefusal;               // the newest one: "<kind> <seq>: <reason>"
+    std::uint64_t keepAlives = 0;          // Hellos sent again to keep the session (SceneInfo::sessionTimeoutS)
 };
 
 // The newest whole frame from the receiver thread: `count` grows by one per frame kept, so a
@@ -87,7 +90,8 @@ public:
     // connects the SUB socket to the announced frame endpoint with our tiers. Calling it again
     // starts a new session (the receiver thread is stopped first). bop::Error naming the endpoint
     // when it cannot connect or no SceneInfo comes within `timeout` (no server there, or, with
-    // CURVE, a server without the matching secret key: the handshake fails silently).
+    // CURVE, a server without the matching secret key: the handshake fails silently), or when the
+    // server refuses our Hello (its reason).
     SceneInfo connect(const std::string& endpoint, std::chrono::milliseconds timeout);
     SceneInfo connect(const std::string& endpoint);  // waits options.receiveTimeout
 
@@ -102,7 +106,8 @@ public:
     // invalid probe (k0 <= 0, a position not finite).
     bool sendProbe(const Probe& probe);
     // Sends the command and waits for the reply with its requestId; feedback and SceneInfo that
-    // arrive meanwhile are kept. bop::Error when no reply comes within `timeout`.
+    // arrive meanwhile are kept. bop::Error when no reply comes within `timeout`, or when the
+    // server refuses the command before it could read its request id (a Refusal, its reason).
     CommandReply sendCommand(const Command& command, std::chrono::milliseconds timeout);
     CommandReply sendCommand(const Command& command);
     // Downloads the server's gradient-map file (SceneInfo::mapBytes; the bytes of a .bopgm file,
@@ -112,6 +117,9 @@ public:
     std::vector<std::uint8_t> downloadMap(std::uint64_t maxBytes, std::chrono::milliseconds timeout,
                                           const std::function<void(std::uint64_t, std::uint64_t)>& progress = {});
     // The newest feedback since the last call, reading what the DEALER socket holds; never waits.
+    // It also keeps the session: when the server forgets silent sessions (SceneInfo::
+    // sessionTimeoutS) and nothing went over the DEALER socket for a third of that, Hello goes
+    // again (the answer, SceneInfo, replaces scene()). A client calls it at least that often.
     std::optional<Feedback> pollFeedback();
     // The same, waiting until feedback comes or `deadline` passes (to the microsecond, unlike a
     // ZeroMQ poll's milliseconds: a 1 kHz loop can wait for feedback up to its next tick).

@@ -3,6 +3,7 @@
 // commands, probes, feedback) and its frame side (ClientFrames.cpp: SUB, reassembly, the
 // receiver thread).
 #include "client/ClientSession.hpp"
+#include "codec/Codec.hpp"
 #include "codec/MessageKind.hpp"
 #include "transport/UdpStream.hpp"
 
@@ -24,6 +25,9 @@ struct ClientSession::Impl {
     SceneInfo scene;
     int tier = 0;
     std::optional<Feedback> feedback;  // newest not yet polled
+    std::optional<Refusal> refusal;    // newest not yet looked at by connect() or sendCommand()
+    Buffer hello;                      // this session's Hello, sent again to keep the session
+    Clock::time_point lastSent{};      // the last message over the DEALER socket
     std::optional<UdpSocket> probeSocket;  // ClientOptions::probeOverUdp
     Endpoint probeTo;                      // the server's UDP probe port
 
@@ -57,6 +61,9 @@ struct ClientSession::Impl {
     // clock again).
     static bool waitReadable(zmq::socket_t& s, Clock::time_point deadline, int fd = -1);
     void takeUdpFeedback();  // feedback datagrams queued on probeSocket
+    void takeRefusal(Refusal r);
+    void send(const Buffer& b, const char* what);  // over the DEALER, without waiting; bop::Error when it cannot queue
+    void keepAlive();        // Hello again when a third of the server's session timeout went by in silence
 
     // ---- frame side (ClientFrames.cpp) ----
     // Reads every frame message queued on the SUB socket without waiting; returns the newest

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -36,6 +37,23 @@ public:
     }
     bool finite(const Eigen::Vector3d& v, const char* field) {
         return v.allFinite() || fail(DecodeError::NotFinite, field, "not a finite vector");
+    }
+    // A finite number in [lo, hi]; the message names the range (the valid ranges: Ranges.hpp).
+    bool within(double v, double lo, double hi, const char* field) {
+        return finite(v, field) &&
+               require(v >= lo && v <= hi, DecodeError::OutOfRange, field,
+                       number(v) + " outside " + number(lo) + ".." + number(hi));
+    }
+    // Every component finite and of magnitude at most `bound`.
+    bool within(const Eigen::Vector3d& v, double bound, const char* field) {
+        return finite(v, field) &&
+               require(v.cwiseAbs().maxCoeff() <= bound, DecodeError::OutOfRange, field,
+                       "a component of magnitude " + number(v.cwiseAbs().maxCoeff()) + " (at most " + number(bound) + ")");
+    }
+    static std::string number(double v) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.6g", v);
+        return text;
     }
     bool finiteArray(const float* p, std::size_t n, const char* field) {
         // A float is infinite or NaN when its exponent bits are all set. Or-ing that test over

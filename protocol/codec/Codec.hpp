@@ -47,6 +47,9 @@ Decoded<MapRequest> decodeMapRequest(const std::uint8_t* buf, std::size_t len);
 Buffer encodeMapChunk(const MapChunk& m);
 Decoded<MapChunk> decodeMapChunk(const std::uint8_t* buf, std::size_t len);
 
+Buffer encodeRefusal(const Refusal& m);
+Decoded<Refusal> decodeRefusal(const std::uint8_t* buf, std::size_t len);
+
 Buffer encodeCommand(const Command& m);
 Decoded<Command> decodeCommand(const std::uint8_t* buf, std::size_t len);
 

@@ -118,7 +118,12 @@ Decoded<Command> decodeCommand(const std::uint8_t* buf, std::size_t len) {
     if (!vb.ok()) return detail::failed<Command>(vb.error(), vb.message());
     const wire::Command& w = *wire::GetCommand(vb.data());
     Decoded<CommandBody> body = readBody(w);
-    if (!body.ok()) return detail::failed<Command>(body.error, body.message);
+    if (!body.ok()) {  // the request id was read: the refusal can name the request
+        Decoded<Command> d = detail::failed<Command>(body.error, body.message);
+        d.read = true;
+        d.value.requestId = w.request_id();
+        return d;
+    }
     Command m{w.request_id(), std::move(body.value)};
     const Validation v = validate(m);
     return detail::accept(std::move(m), v);

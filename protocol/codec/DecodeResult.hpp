@@ -23,11 +23,18 @@ enum class DecodeError : std::uint8_t {
 
 const char* toString(DecodeError e);
 
+// A refusal for a value (outside its valid range, or not finite) rather than for the buffer.
+inline bool valueRefused(DecodeError e) { return e == DecodeError::NotFinite || e == DecodeError::OutOfRange; }
+
 template <class T>
 struct Decoded {
-    T value{};  // meaningful only when ok()
+    T value{};  // meaningful when ok() or read
     DecodeError error = DecodeError::None;
     std::string message;  // empty when ok()
+    // The buffer was whole and its fields were read, but a value broke a rule (validate()):
+    // `value` holds what was read, so that a receiver can name what it refuses (a command's
+    // request id, a probe's sequence). Never apply such a value.
+    bool read = false;
 
     bool ok() const { return error == DecodeError::None; }
     explicit operator bool() const { return ok(); }
@@ -42,6 +49,7 @@ inline constexpr std::size_t kMaxFeedbackBytes = 256;
 inline constexpr std::size_t kMaxCommandBytes = 4 * 1024;
 inline constexpr std::size_t kMaxReplyBytes = 4 * 1024;
 inline constexpr std::size_t kMaxMapRequestBytes = 256;
+inline constexpr std::size_t kMaxRefusalBytes = 2 * 1024;
 inline constexpr std::size_t kMaxMapPieceBytes = 1 << 20;                  // data of one MapChunk
 inline constexpr std::size_t kMaxMapChunkBytes = kMaxMapPieceBytes + 256;  // the whole MapChunk
 inline constexpr std::size_t kDefaultMaxFrameChunkBytes = 8u << 20;

@@ -91,6 +91,7 @@ Buffer encodeSceneInfo(const SceneInfo& m) {
     b.add_tunables(tunables);
     b.add_map_bytes(m.mapBytes);
     b.add_map_key(m.mapKey);
+    b.add_session_timeout_s(m.sessionTimeoutS);
     wire::FinishSceneInfoBuffer(fbb, b.Finish());
     return detail::toBuffer(fbb);
 }
@@ -133,6 +134,7 @@ Decoded<SceneInfo> decodeSceneInfo(const std::uint8_t* buf, std::size_t len) {
     m.probeReach = w.probe_reach();
     m.mapBytes = w.map_bytes();
     m.mapKey = w.map_key();
+    m.sessionTimeoutS = w.session_timeout_s();
     if (const wire::Tunables* t = w.tunables()) {
         // Copied byte-wise: the verifier checks a vector's length field, not that its doubles are
         // 8-byte aligned, and a hostile buffer may misalign them (little-endian, as on the wire).

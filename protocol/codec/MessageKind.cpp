@@ -17,7 +17,7 @@ struct KindEntry {
 };
 
 // Identifiers must match the file_identifier of each schema in protocol/schemas/.
-constexpr std::array<KindEntry, 9> kKinds{{
+constexpr std::array<KindEntry, 10> kKinds{{
     {MessageKind::Hello, "BHEL", "Hello"},
     {MessageKind::SceneInfo, "BSCN", "SceneInfo"},
     {MessageKind::StateFrame, "BFRM", "StateFrame"},
@@ -27,6 +27,7 @@ constexpr std::array<KindEntry, 9> kKinds{{
     {MessageKind::CommandReply, "BRPL", "CommandReply"},
     {MessageKind::MapRequest, "BMRQ", "MapRequest"},
     {MessageKind::MapChunk, "BMCK", "MapChunk"},
+    {MessageKind::Refusal, "BREF", "Refusal"},
 }};
 
 }  // namespace

@@ -18,6 +18,7 @@ enum class MessageKind : std::uint8_t {
     CommandReply,  // "BRPL"
     MapRequest,    // "BMRQ"
     MapChunk,      // "BMCK"
+    Refusal,       // "BREF"
 };
 
 // Unknown when buf is null, shorter than 8 bytes, or its identifier is none of the above.

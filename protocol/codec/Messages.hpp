@@ -73,6 +73,7 @@ struct SceneInfo {
     Tunables tunables;
     std::uint64_t mapBytes = 0;  // the gradient-map file a client may download (MapRequest); 0 = none
     std::uint64_t mapKey = 0;    // the key that file was made for (GradientMapFile.hpp)
+    float sessionTimeoutS = 0;   // a session silent this long is forgotten, s; 0 = never (older servers)
 };
 
 // ---- state frames ----
@@ -157,6 +158,16 @@ struct MapChunk {
     std::uint64_t offset = 0;        // where data starts in the file
     std::uint64_t total = 0;         // the file's size; 0 = the server has no map
     std::vector<std::uint8_t> data;  // at most kMaxMapPieceBytes, within [0, total)
+};
+
+// ---- refusals ----
+
+// One of the client's messages refused and not applied (schemas/refusal.fbs).
+struct Refusal {
+    std::string kind;          // the refused message's kind ("Probe", ...), at most kMaxNameBytes
+    std::uint64_t seq = 0;     // its sequence (Probe) or request id (Command); 0 when unreadable
+    std::string reason;        // "<Message>.<field>: <problem>", at most kMaxTextBytes
+    std::uint64_t refused = 0; // refusals of the session (UDP: of the address) so far
 };
 
 // ---- commands ----

@@ -3,6 +3,7 @@
 #include "codec/Validate.hpp"
 
 #include "codec/Checker.hpp"
+#include "codec/Ranges.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -33,20 +34,34 @@ bool checkName(Checker& c, const std::string& s, const char* field) {
 }
 
 void checkBody(Checker& c, const SeedParticle& b) {
-    c.species(b.species, 1, kMaxSpecies, "SeedParticle.species") && c.finite(b.position, "SeedParticle.position");
+    c.species(b.species, 1, kMaxSpecies, "SeedParticle.species") &&
+        c.within(b.position, ranges::kMaxCoordinate, "SeedParticle.position");
 }
 void checkBody(Checker& c, const SetBirth& b) {
     c.species(b.species, 1, kMaxSpecies, "SetBirth.species");
 }
+// The value's range by parameter name (schemas/command.fbs lists them); a name this version does
+// not know needs a finite value here and is answered Unsupported by the server.
+void checkValue(Checker& c, const SetParameter& b) {
+    using namespace ranges;
+    const std::string& n = b.name;
+    if (n == "lj" || n == "co_normal" || n == "co_planar") c.within(b.value, 0, kMaxWeight, "SetParameter.value");
+    else if (n == "drag_v" || n == "drag_w") c.within(b.value, 0, kMaxDrag, "SetParameter.value");
+    else if (n == "k0") c.within(b.value, kMinProbeK0, kMaxProbeK0, "SetParameter.value");
+    else if (n == "k1") c.within(b.value, kMinProbeK1, kMaxProbeK1, "SetParameter.value");
+    else c.finite(b.value, "SetParameter.value");
+}
 void checkBody(Checker& c, const SetParameter& b) {
     checkName(c, b.name, "SetParameter.name") && c.species(b.speciesA, 0, kMaxSpecies, "SetParameter.species_a") &&
-        c.species(b.speciesB, 0, kMaxSpecies, "SetParameter.species_b") && c.finite(b.value, "SetParameter.value");
+        c.species(b.speciesB, 0, kMaxSpecies, "SetParameter.species_b");
+    if (c.ok()) checkValue(c, b);
 }
 void checkBody(Checker& c, const RunControl& b) {
     c.require(std::uint8_t(b.action) <= std::uint8_t(RunAction::SingleStep), DecodeError::Unsupported,
               "RunControl.action", "unknown action " + std::to_string(int(b.action))) &&
-        c.require(b.action != RunAction::SingleStep || b.steps >= 1, DecodeError::OutOfRange, "RunControl.steps",
-                  "a single step needs steps >= 1");
+        c.require(b.action != RunAction::SingleStep || (b.steps >= 1 && b.steps <= ranges::kMaxSingleSteps),
+                  DecodeError::OutOfRange, "RunControl.steps",
+                  std::to_string(b.steps) + " outside 1.." + std::to_string(ranges::kMaxSingleSteps));
 }
 void checkBody(Checker&, const SwitchMapFrame&) {}  // any frame number; the server knows how many it has
 void checkBody(Checker& c, const Checkpoint& b) {
@@ -78,11 +93,15 @@ Validation validate(const Hello& m) {
 
 namespace {
 
-// Rates and errors finite and >= 0.
+// Rate and period error finite, >= 0 and within their ranges (Ranges.hpp).
 bool validLoop(Checker& c, const LoopStats& s, const char* field) {
-    return c.require(std::isfinite(s.rateHz) && s.rateHz >= 0 && std::isfinite(s.periodErrorP99Us) &&
-                         s.periodErrorP99Us >= 0,
-                     DecodeError::OutOfRange, field, "rate and period error must be finite and >= 0");
+    return c.require(std::isfinite(s.rateHz) && s.rateHz >= 0 && s.rateHz <= ranges::kMaxLoopRateHz &&
+                         std::isfinite(s.periodErrorP99Us) && s.periodErrorP99Us >= 0 &&
+                         s.periodErrorP99Us <= ranges::kMaxPeriodErrorUs,
+                     DecodeError::OutOfRange, field,
+                     "rate " + Checker::number(s.rateHz) + " Hz and period error " + Checker::number(s.periodErrorP99Us) +
+                         " us must lie in 0.." + Checker::number(ranges::kMaxLoopRateHz) + " and 0.." +
+                         Checker::number(ranges::kMaxPeriodErrorUs));
 }
 
 // Matrices empty or n x n, per-species arrays empty or n, every value finite, dampings >= 0, k0 > 0.
@@ -132,16 +151,18 @@ Validation validate(const SceneInfo& m) {
                   "outside 0.." + std::to_string(int(kMaxFrameRateHz)) + " Hz") &&
         c.finite(m.probeReach, "probe_reach") && validTunables(c, m.tunables, m.species.size()) &&
         c.require(m.probeReach >= 0, DecodeError::OutOfRange, "probe_reach", "negative") &&
+        c.within(m.sessionTimeoutS, 0, 1e6, "session_timeout_s") &&
         c.maxBytes(m.endpoints.frameEndpoint, kMaxEndpointBytes, "endpoints.frame_endpoint") &&
         c.maxBytes(m.units, kMaxTextBytes, "units");
     return c.result();
 }
 
 Validation validate(const Probe& m) {
+    using namespace ranges;
     Checker c("Probe");
-    c.finite(m.position, "position") && c.finite(m.k0, "k0") &&
-        c.require(m.k0 > 0, DecodeError::OutOfRange, "k0", "not > 0") && c.finite(m.k1, "k1") &&
-        validLoop(c, m.loop, "loop") && c.finite(m.renderedForce, "rendered_force");
+    c.within(m.position, kMaxCoordinate, "position") && c.within(m.k0, kMinProbeK0, kMaxProbeK0, "k0") &&
+        c.within(m.k1, kMinProbeK1, kMaxProbeK1, "k1") && validLoop(c, m.loop, "loop") &&
+        c.within(m.renderedForce, kMaxRenderedForce, "rendered_force");
     return c.result();
 }
 
@@ -159,6 +180,12 @@ Validation validate(const MapChunk& m) {
         c.require(m.offset <= m.total && m.data.size() <= m.total - m.offset, DecodeError::OutOfRange, "offset",
                   "the piece [" + std::to_string(m.offset) + ", +" + std::to_string(m.data.size()) +
                       ") is not within the file's " + std::to_string(m.total) + " bytes");
+    return c.result();
+}
+
+Validation validate(const Refusal& m) {
+    Checker c("Refusal");
+    c.maxBytes(m.kind, kMaxNameBytes, "kind") && c.maxBytes(m.reason, kMaxTextBytes, "reason");
     return c.result();
 }
 

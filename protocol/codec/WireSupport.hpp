@@ -53,11 +53,12 @@ Decoded<T> failed(DecodeError e, std::string message) {
     return d;
 }
 
-// The decoded value if it passes validate(), else the validation's reason.
+// The decoded value if it passes validate(), else the validation's reason with the value as read
+// (Decoded::read).
 template <class T>
 Decoded<T> accept(T value, const Validation& v) {
-    if (!v.ok()) return failed<T>(v.error, v.message);
-    Decoded<T> d;
+    Decoded<T> d = v.ok() ? Decoded<T>{} : failed<T>(v.error, v.message);
+    d.read = !v.ok();
     d.value = std::move(value);
     return d;
 }

@@ -27,9 +27,7 @@ Buffer ServerFront::Impl::mapPiece(const MapRequest& r, front::Client& client) {
     }
     c.total = std::uint64_t(in.tellg());
     c.offset = std::min(r.offset, c.total);
-    const auto now = Clock::now();
-    if (now - client.mapSecond > std::chrono::seconds(1)) client.mapSecond = now, client.mapPieces = 0;
-    if (++mapPiecesThisPass > kMapPiecesPerPass || ++client.mapPieces > kMapPiecesPerClientSecond)
+    if (++mapPiecesThisPass > kMapPiecesPerPass || !client.mapPieces.take(Clock::now(), kMapPiecesPerClientSecond))
         return encodeMapChunk(c);  // empty: ask again
     c.data.resize(std::size_t(std::min<std::uint64_t>(r.length, c.total - c.offset)));
     in.seekg(std::streamoff(c.offset));

@@ -1,6 +1,7 @@
 #include "server/FrontUdp.hpp"
 
 #include "codec/MessageKind.hpp"
+#include "server/InboundRanges.hpp"
 
 #include <cstdio>
 
@@ -19,21 +20,42 @@ Endpoint endpointOf(const std::string& text) {
 FrontUdp::FrontUdp(const std::string& bindAddress, int port)
     : socket_(bindAddress == "*" ? "0.0.0.0" : bindAddress, std::uint16_t(port)) {}
 
-FrontUdp::Inbound FrontUdp::poll(Clock::time_point now) {
+void FrontUdp::refuse(const Endpoint& sender, const Probe* p, DecodeError e, const std::string& why,
+                      Clock::time_point now, Inbound& in) {
+    if (valueRefused(e)) ++in.outOfRange;
+    else ++in.malformed;
+    if (e == DecodeError::TooLarge) ++in.oversized;
+    Refused& r = refused_[parts(sender)];
+    ++r.count;
+    if (now - r.lastSent < std::chrono::seconds(1)) return;
+    r.lastSent = now;
+    try {
+        socket_.sendTo(sender, encodeRefusal({"Probe", p ? p->seq : 0, why.substr(0, kMaxTextBytes), r.count}));
+        ++in.refusalsSent;
+    } catch (const std::exception&) {  // a refusal that cannot go is a lost datagram
+    }
+}
+
+FrontUdp::Inbound FrontUdp::poll(Clock::time_point now, const SceneInfo& scene) {
     Inbound in;
     for (int k = 0; k < 256; ++k) {  // a burst; the rest next time round
         auto d = socket_.receive(0);
         if (!d) break;
         const auto p = decodeProbe(d->bytes.data(), d->bytes.size());
         if (!p) {
-            ++in.malformed;
-            if (p.error == DecodeError::TooLarge) ++in.oversized;
+            refuse(d->sender, p.read ? &p.value : nullptr, p.error, p.message, now, in);
+            continue;
+        }
+        if (const auto why = refuseProbe(p.value, scene)) {
+            refuse(d->sender, &p.value, DecodeError::OutOfRange, *why, now, in);
             continue;
         }
         ++in.probes;
         probers_[parts(d->sender)] = now;
         if (!in.newest || p.value.seq > in.newest->seq) in.newest = p.value;
     }
+    for (auto it = refused_.begin(); it != refused_.end();)  // the table holds the last second's senders only
+        it = now - it->second.lastSent > std::chrono::seconds(1) ? refused_.erase(it) : std::next(it);
     return in;
 }
 

@@ -28,8 +28,13 @@ public:
     struct Inbound {
         std::optional<Probe> newest;  // the newest valid probe that came
         std::uint64_t probes = 0, malformed = 0, oversized = 0;
+        std::uint64_t outOfRange = 0;    // probes refused for a value (decoder or the scene's ranges)
+        std::uint64_t refusalsSent = 0;  // Refusal datagrams sent back
     };
-    Inbound poll(Clock::time_point now);                 // what is queued now, without waiting
+    // What is queued now, without waiting; probes are checked against the scene's ranges
+    // (InboundRanges.hpp) and a refused one is answered with a Refusal datagram, at most one a
+    // second to an address.
+    Inbound poll(Clock::time_point now, const SceneInfo& scene);
     void feedback(const Buffer& b, Clock::time_point now);  // to probe senders of the last second
     bool anyProbing(Clock::time_point now) const;
 
@@ -43,6 +48,13 @@ public:
 private:
     UdpSocket socket_;
     std::map<std::string, Clock::time_point> probers_;  // "address:port" -> last probe
+    struct Refused {
+        Clock::time_point lastSent{};
+        std::uint64_t count = 0;
+    };
+    std::map<std::string, Refused> refused_;  // "address:port" -> its refusals; forgotten after a quiet second
+    void refuse(const Endpoint& sender, const Probe* p, DecodeError e, const std::string& why, Clock::time_point now,
+                Inbound& in);
     std::uint64_t sendFailures_ = 0;  // datagrams that could not be sent (said on stderr, sparingly)
     struct FrameClient {
         std::unique_ptr<UdpSender> sender;

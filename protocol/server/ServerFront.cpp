@@ -21,13 +21,6 @@ using front::kPubHighWaterMark;
 using front::nowNs;
 using Clock = front::Clock;
 
-// Frames a client that wants `wantedHz` gets of a server publishing at `rateHz`: every 2^tier-th
-// (docs/protocol.md, "Frame rate tiers").
-int tierFor(float rateHz, float wantedHz) {
-    if (!(wantedHz > 0) || wantedHz >= rateHz) return 0;
-    return std::clamp(int(std::floor(std::log2(rateHz / wantedHz))), 0, 7);
-}
-
 }  // namespace
 
 int ServerFront::Impl::bind(zmq::socket_t& s, int port) {
@@ -63,80 +56,8 @@ SceneInfo ServerFront::Impl::sceneNow() {
     s.endpoints.frameEndpoint = "tcp://" + (opt.bindAddress == "*" ? std::string("127.0.0.1") : opt.bindAddress) + ":" +
                                 std::to_string(framePort);
     s.endpoints.udpProbePort = udp ? std::uint16_t(udp->port()) : 0;
+    s.sessionTimeoutS = float(std::chrono::duration<double>(opt.sessionTimeout).count());
     return s;
-}
-
-void ServerFront::Impl::refuse(const std::string& id, const Command& c, ReplyStatus status, const std::string& why) {
-    CommandReply r;
-    r.requestId = c.requestId;
-    r.status = status;
-    r.message = why;
-    sendTo(id, encodeCommandReply(r));
-}
-
-void ServerFront::Impl::handle(const std::string& id, zmq::message_t& msg) {
-    const auto* data = static_cast<const std::uint8_t*>(msg.data());
-    const std::size_t size = msg.size();
-    const auto bad = [&](DecodeError e) {
-        ++stats.malformed;
-        if (e == DecodeError::TooLarge) ++stats.oversized;
-    };
-    switch (messageKind(data, size)) {
-    case MessageKind::Hello: {
-        const auto h = decodeHello(data, size);
-        if (!h) return bad(h.error);
-        ++stats.hellos;
-        front::Client& c = clients[id];
-        c.wantedHz = h.value.frameRateHz;
-        c.mayCommand = !h.value.readOnly && (opt.viewersMayCommand || h.value.role != Role::Viewer);
-        float rate = opt.publishHz;
-        for (const auto& [_, other] : clients) rate = std::max(rate, std::min(other.wantedHz, opt.maxPublishHz));
-        rateHz = rate;
-        stats.clients = clients.size();
-        if (udp && h.value.udpFramePort) {
-            std::string address = "127.0.0.1";
-            try {
-                address = msg.gets("Peer-Address");
-            } catch (const zmq::error_t&) {  // not a TCP peer: loopback
-            }
-            udp->setFrameClient(id, address, h.value.udpFramePort, tierFor(rate, c.wantedHz));
-        }
-        sendTo(id, encodeSceneInfo(sceneNow()));
-        helloSeen.notify_all();
-        return;
-    }
-    case MessageKind::Command: {
-        const auto c = decodeCommand(data, size);
-        if (!c) return bad(c.error);
-        ++stats.commands;
-        const auto it = clients.find(id);
-        if (it == clients.end()) return refuse(id, c.value, ReplyStatus::Rejected, "hello first");
-        if (!it->second.mayCommand) return refuse(id, c.value, ReplyStatus::ReadOnly, "this session is read-only");
-        if (commands.size() >= kMaxQueuedCommands) return refuse(id, c.value, ReplyStatus::Rejected, "server busy");
-        commands.push_back({id, c.value});
-        return;
-    }
-    case MessageKind::MapRequest: {
-        const auto r = decodeMapRequest(data, size);
-        if (!r) return bad(r.error);
-        const auto it = clients.find(id);
-        if (it == clients.end()) return bad(DecodeError::None);  // a session first
-        sendTo(id, mapPiece(r.value, it->second));
-        return;
-    }
-    case MessageKind::Probe: {
-        const auto p = decodeProbe(data, size);
-        if (!p) return bad(p.error);
-        const auto it = clients.find(id);
-        if (it == clients.end()) return bad(DecodeError::None);  // probes need a session
-        ++stats.probes;
-        it->second.lastProbe = Clock::now();
-        if (!probe || p.value.seq > probe->seq) probe = p.value;
-        return;
-    }
-    default:
-        return bad(DecodeError::WrongIdentifier);
-    }
 }
 
 void ServerFront::Impl::publish(StateFrame f) {
@@ -198,62 +119,87 @@ void ServerFront::Impl::loop() {
     if (udp) items.push_back({nullptr, udp->fd(), ZMQ_POLLIN, 0});
     if (zap) items.push_back({zap->socket().handle(), 0, ZMQ_POLLIN, 0});
     while (!stop) {
-        zmq::poll(items, std::chrono::milliseconds(1));
-        if (zap) {
-            const std::uint64_t refused = zap->serve();
+        try {  // nothing thrown ends the thread: it is counted, said sparingly, and the loop goes on
+            pass(items);
+        } catch (const std::exception& e) {
             std::lock_guard lock(m);
-            stats.peersRefused += refused;
+            internalError(e.what());
         }
-        if (items[1].revents & ZMQ_POLLIN) {
-            std::uint64_t n;
-            [[maybe_unused]] const auto r = read(wakeFd, &n, sizeof n);  // clears the count
-        }
-        std::optional<Feedback> fb;
-        std::vector<std::pair<Buffer, Buffer>> inputs;
-        {
-            std::lock_guard lock(m);
-            mapPiecesThisPass = 0;
-            for (int k = 0; k < 256; ++k) {  // a burst, then the outbound side gets its turn
-                zmq::message_t id, body;
-                if (!router.recv(id, zmq::recv_flags::dontwait)) break;
-                bool parts = id.more() && router.recv(body, zmq::recv_flags::dontwait).has_value();
-                while (body.more()) {  // extra parts: not our protocol; drain them
-                    zmq::message_t extra;
-                    if (!router.recv(extra, zmq::recv_flags::dontwait)) break;
-                    parts = false;
-                    body = std::move(extra);
-                }
-                if (!parts) { ++stats.malformed; continue; }
-                handle(id.to_string(), body);
-            }
-            for (auto& [id, b] : replies) sendTo(id, b);
-            replies.clear();
-            fb.swap(feedback);
-            inputs.swap(toRecord);
-            if (udp) {
-                const FrontUdp::Inbound in = udp->poll(Clock::now());
-                stats.probes += in.probes;
-                stats.malformed += in.malformed;
-                stats.oversized += in.oversized;
-                if (in.newest && (!probe || in.newest->seq > probe->seq)) probe = in.newest;
-            }
-            if (fb) {
-                const Buffer b = encodeFeedback(*fb);
-                const auto recent = Clock::now() - std::chrono::seconds(1);
-                bool any = false;
-                for (const auto& [id, c] : clients)
-                    if (c.lastProbe > recent) sendTo(id, b), any = true;
-                if (udp) udp->feedback(b, Clock::now()), any = any || udp->anyProbing(Clock::now());
-                haptic = any;
-            }
-        }
-        for (const auto& input : inputs)
-            record([&] {
-                const auto& [in, applied] = input;
-                messageKind(in.data(), in.size()) == MessageKind::Command ? recorder->command(in, applied)
-                                                                          : recorder->probe(in, applied);
-            });
     }
+}
+
+void ServerFront::Impl::pass(std::vector<zmq::pollitem_t>& items) {
+    zmq::poll(items, std::chrono::milliseconds(1));
+    if (zap) {
+        const std::uint64_t refused = zap->serve();
+        std::lock_guard lock(m);
+        stats.peersRefused += refused;
+    }
+    if (items[1].revents & ZMQ_POLLIN) {
+        std::uint64_t n;
+        [[maybe_unused]] const auto r = read(wakeFd, &n, sizeof n);  // clears the count
+    }
+    std::optional<Feedback> fb;
+    std::vector<std::pair<Buffer, Buffer>> inputs;
+    std::vector<std::pair<std::string, Buffer>> out;
+    {
+        std::lock_guard lock(m);
+        mapPiecesThisPass = 0;
+        for (int k = 0; k < 256; ++k) {  // a burst, then the outbound side gets its turn
+            zmq::message_t id, body;
+            if (!router.recv(id, zmq::recv_flags::dontwait)) break;
+            bool parts = id.more() && router.recv(body, zmq::recv_flags::dontwait).has_value();
+            while (body.more()) {  // extra parts: not our protocol; drain them
+                zmq::message_t extra;
+                if (!router.recv(extra, zmq::recv_flags::dontwait)) break;
+                parts = false;
+                body = std::move(extra);
+            }
+            if (!parts) {
+                ++stats.malformed;
+                continue;
+            }
+            handle(id.to_string(), static_cast<const std::uint8_t*>(body.data()), body.size(), [&body] {
+                try {
+                    return std::string(body.gets("Peer-Address"));
+                } catch (const zmq::error_t&) {  // not a TCP peer: loopback
+                    return std::string("127.0.0.1");
+                }
+            });
+        }
+        const Clock::time_point now = Clock::now();
+        if (now >= nextExpiry) expire(now), nextExpiry = now + std::chrono::milliseconds(100);
+        out.swap(outbox);
+        for (auto& r : replies) out.push_back(std::move(r));
+        replies.clear();
+        fb.swap(feedback);
+        inputs.swap(toRecord);
+        if (udp) {
+            const FrontUdp::Inbound in = udp->poll(now, scene);
+            stats.probes += in.probes;
+            stats.malformed += in.malformed;
+            stats.oversized += in.oversized;
+            stats.outOfRange += in.outOfRange;
+            stats.refusalsSent += in.refusalsSent;
+            if (in.newest && (!probe || in.newest->seq > probe->seq)) probe = in.newest;
+        }
+        if (fb) {
+            const Buffer b = encodeFeedback(*fb);  // finite: offerFeedback() let no other in
+            const auto recent = now - std::chrono::seconds(1);
+            bool any = false;
+            for (const auto& [id, c] : clients)
+                if (c.lastProbe > recent) out.emplace_back(id, b), any = true;
+            if (udp) udp->feedback(b, now), any = any || udp->anyProbing(now);
+            haptic = any;
+        }
+    }
+    for (const auto& [id, b] : out) sendTo(id, b);
+    for (const auto& input : inputs)
+        record([&] {
+            const auto& [in, applied] = input;
+            messageKind(in.data(), in.size()) == MessageKind::Command ? recorder->command(in, applied)
+                                                                      : recorder->probe(in, applied);
+        });
 }
 
 void ServerFront::Impl::publisherLoop() {
@@ -272,10 +218,11 @@ void ServerFront::Impl::publisherLoop() {
         try {
             if (f) publish(std::move(*f));
             if (encoded) send(std::move(*encoded));
-        } catch (const std::exception& e) {  // a frame that cannot be encoded (NaN positions): not sent
+        } catch (const std::exception& e) {  // a frame that cannot be encoded: not sent, the thread goes on
             std::lock_guard lock(m);
             ++stats.framesDropped;
             stats.publishError = e.what();
+            internalError(std::string("publishing a frame: ") + e.what());
         }
     }
 }

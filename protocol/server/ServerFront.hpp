@@ -32,17 +32,26 @@ struct FrontOptions {
     std::string recordPath;                 // MCAP recording of the session (SessionRecorder.hpp); empty = none
     std::map<std::string, std::string> recordMeta;  // scene file, ranks, ...: stored in the recording
     std::string mapFile;  // the gradient-map file clients may download (MapRequest); empty = none
+    // A session the front has heard nothing from for this long is forgotten (clients keep theirs
+    // with a Hello every third of it; SceneInfo announces it), ms.
+    std::chrono::milliseconds sessionTimeout{30000};
 };
 
 struct FrontStats {
     std::uint64_t malformed = 0;      // inbound buffers refused by a decoder or of an unexpected kind
     std::uint64_t oversized = 0;      // of those, refused for their size
+    std::uint64_t outOfRange = 0;     // whole messages refused for a value outside its range (docs/protocol.md)
+    std::uint64_t refusalsSent = 0;   // Refusal messages and Rejected replies sent for the above
+    std::uint64_t internalErrors = 0; // exceptions caught in the front's threads (the front went on)
+    std::string lastInternalError;    // what the last one said
     std::uint64_t framesSent = 0;     // frames published (all chunks)
     std::uint64_t framesDropped = 0;  // frames replaced before the publisher could send them, or not encodable
     std::uint64_t bytesSent = 0;      // frame bytes handed to the PUB socket
     std::uint64_t commands = 0, probes = 0, hellos = 0;
     std::uint64_t peersRefused = 0;   // CURVE handshakes refused: the client's key is not on the list
-    std::size_t clients = 0;          // identities that said Hello
+    std::size_t clients = 0;          // sessions now: identities that said Hello and are not forgotten
+    std::uint64_t sessionsOpened = 0; // identities that said Hello, over the run
+    std::uint64_t sessionsExpired = 0;  // sessions forgotten after FrontOptions::sessionTimeout of silence
     std::string recordError;          // why recording stopped early, if it did
     std::string publishError;         // why the last frame that could not be encoded was not sent
 };
@@ -75,6 +84,9 @@ public:
     bool framePending() const;  // an offered frame is not sent yet (a replay waits: every frame counts)
     // The last frame sent, for its memory: gather the next frame into its arrays. Empty if none.
     StateFrame takeSpareFrame();
+    // Neither throws: a feedback that is not finite or a reply that cannot be encoded is dropped
+    // and counted as an internal error (FrontStats), so that the step loop never meets the
+    // front's trouble.
     void offerFeedback(const Feedback& feedback);
     void reply(const PendingCommand& command, const CommandReply& reply);  // also recorded
     void probeApplied(const Probe& probe, std::uint64_t step);               // recorded when recording
@@ -87,6 +99,10 @@ public:
     // Stops the thread and finishes the recording (bop::Error if the file cannot be finished).
     void finish();
     void setParticleCount(std::uint64_t n);  // for SceneInfo of later handshakes
+    // Hands the front one message as if peer `id` had sent it on the control socket: the same
+    // checks, sessions, counts and answers (sent to `id`, dropped when no such peer is connected),
+    // without a socket. For tests and the front fuzzer (tests/fuzz/FuzzFront.cpp).
+    void inject(const std::string& id, const std::uint8_t* data, std::size_t size);
     bool waitForClient(std::chrono::milliseconds timeout);  // until some client said Hello
     bool anyHaptic() const;  // some client sent a probe in the last second
     FrontStats stats() const;

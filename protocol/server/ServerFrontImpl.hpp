@@ -5,6 +5,7 @@
 
 #include "codec/BufferPool.hpp"
 #include "codec/Codec.hpp"
+#include "codec/MessageKind.hpp"
 #include "server/FrontUdp.hpp"
 #include "server/SessionRecorder.hpp"
 #include "server/ZapHandler.hpp"
@@ -12,6 +13,7 @@
 #include <zmq.hpp>
 
 #include <condition_variable>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -24,17 +26,35 @@ inline constexpr std::size_t kMaxInboundBytes = 64 * 1024;  // ZeroMQ drops larg
 inline constexpr std::size_t kMaxQueuedCommands = 1024;     // beyond: refused as the step loop is behind
 inline constexpr int kPubHighWaterMark = 64;                // messages queued per subscriber before PUB drops
 inline constexpr std::size_t kKeptChunkBuffers = 16;        // frame chunk buffers kept for reuse (BufferPool)
+inline constexpr std::size_t kMaxSessions = 4096;           // beyond: a Hello is refused ("server full")
+inline constexpr int kRefusalsPerSecond = 4;                // Refusal messages to one session a second
+inline constexpr int kAnonymousRefusalsPerSecond = 16;      // to identities without a session, all together
 
 inline std::int64_t nowNs() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
 }
 
+// At most `perSecond` events in any one second (a fixed window restarted by the first event after it).
+struct Budget {
+    Clock::time_point second{};
+    int used = 0;
+    bool take(Clock::time_point now, int perSecond) {
+        if (now - second > std::chrono::seconds(1)) second = now, used = 0;
+        return ++used <= perSecond;
+    }
+};
+
 struct Client {
     bool mayCommand = true;
     float wantedHz = 0;
+    std::string udpAddress;            // where its frame datagrams go (empty: none)
+    std::uint16_t udpPort = 0;
+    int udpTier = 0;
+    Clock::time_point lastHeard{};     // any message: a session silent for the timeout is forgotten
     Clock::time_point lastProbe{};
-    Clock::time_point mapSecond{};  // the gradient-map download's budget: pieces in this second
-    int mapPieces = 0;
+    Budget mapPieces;                  // the gradient-map download's budget (FrontMap.cpp)
+    Budget refusals;                   // Refusal messages sent to it
+    std::uint64_t refused = 0;         // its messages refused so far
 };
 
 }  // namespace front
@@ -81,9 +101,28 @@ struct ServerFront::Impl {
     void configure(zmq::socket_t& s);
     void sendTo(const std::string& id, const Buffer& b);
     SceneInfo sceneNow();
-    void refuse(const std::string& id, const Command& c, ReplyStatus status, const std::string& why);
-    // One inbound message from peer `id` (m held).
-    void handle(const std::string& id, zmq::message_t& msg);
+    // ---- inbound messages and sessions (FrontSessions.cpp), all with m held ----
+    // One inbound message from peer `id`; its answers go to `outbox`. `peerAddress` gives the
+    // peer's IP address (asked only for a Hello naming a UDP frame port). Never throws: trouble
+    // handling it is counted as an internal error.
+    void handle(const std::string& id, const std::uint8_t* data, std::size_t size,
+                const std::function<std::string()>& peerAddress);
+    void dispatch(const std::string& id, const std::uint8_t* data, std::size_t size,
+                  const std::function<std::string()>& peerAddress);
+    void hello(const std::string& id, const Decoded<Hello>& h, const std::function<std::string()>& peerAddress);
+    void command(const std::string& id, const Decoded<Command>& c);
+    // Refusals: counted by their error (None: refused by policy, counted in neither malformed nor
+    // outOfRange) and answered, a command by its reply, anything else by a Refusal within the
+    // peer's budget.
+    void count(DecodeError error);
+    void refuse(const std::string& id, const Command& c, ReplyStatus status, DecodeError error, const std::string& why);
+    void refuse(const std::string& id, MessageKind kind, std::uint64_t seq, DecodeError error, const std::string& why);
+    void expire(Clock::time_point now);  // forgets the sessions silent for opt.sessionTimeout
+    void updateRate();                   // the largest rate a session wants, within the bounds
+    void internalError(const std::string& what);  // counted, said on stderr sparingly
+    std::vector<std::pair<std::string, Buffer>> outbox;  // answers of handle(), sent by the loop
+    front::Budget anonymousRefusals;
+    Clock::time_point nextExpiry{};
     Buffer mapPiece(const MapRequest& r, front::Client& c);  // FrontMap.cpp
     int mapPiecesThisPass = 0;             // at most kMapPiecesPerPass per pass of the loop
     void publish(StateFrame f);
@@ -104,6 +143,7 @@ struct ServerFront::Impl {
         }
     }
     void loop();
+    void pass(std::vector<zmq::pollitem_t>& items);  // one pass of loop(): in, then out
     void publisherLoop();
     void wake();  // from the step loop, after an offer to the control thread
 };

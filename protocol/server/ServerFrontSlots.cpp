@@ -3,6 +3,7 @@
 
 #include "codec/MessageKind.hpp"
 
+#include <algorithm>
 #include <utility>
 
 namespace bop::protocol {
@@ -53,22 +54,44 @@ bool ServerFront::framePending() const {
 }
 
 void ServerFront::offerFeedback(const Feedback& feedback) {
+    const Validation v = validate(feedback);
     std::lock_guard lock(impl_->m);
+    if (!v.ok()) return impl_->internalError("feedback not sent: " + v.message);
     impl_->feedback = feedback;
     impl_->wake();
 }
 
 void ServerFront::reply(const PendingCommand& command, const CommandReply& reply) {
-    const Buffer b = encodeCommandReply(reply);
+    CommandReply r = reply;
+    r.message.resize(std::min(r.message.size(), kMaxTextBytes));
+    Buffer b, in;
+    try {
+        b = encodeCommandReply(r);
+        in = encodeCommand(command.command);  // for the recording, if one runs
+    } catch (const std::exception& e) {
+        std::lock_guard lock(impl_->m);
+        return impl_->internalError(std::string("reply not sent: ") + e.what());
+    }
     std::lock_guard lock(impl_->m);
     impl_->replies.emplace_back(command.client, b);
-    if (impl_->recorder) impl_->toRecord.emplace_back(encodeCommand(command.command), b);
+    if (impl_->recorder) impl_->toRecord.emplace_back(std::move(in), b);
+    impl_->wake();
+}
+
+void ServerFront::inject(const std::string& id, const std::uint8_t* data, std::size_t size) {
+    std::lock_guard lock(impl_->m);
+    impl_->handle(id, data, size, [] { return std::string("127.0.0.1"); });
     impl_->wake();
 }
 
 void ServerFront::probeApplied(const Probe& probe, std::uint64_t step) {
     std::lock_guard lock(impl_->m);
-    if (impl_->recorder) impl_->toRecord.emplace_back(encodeProbe(probe), encodeFeedback({probe.seq, step, {}, nowNs()}));
+    if (!impl_->recorder) return;
+    try {
+        impl_->toRecord.emplace_back(encodeProbe(probe), encodeFeedback({probe.seq, step, {}, nowNs()}));
+    } catch (const std::exception& e) {
+        impl_->internalError(std::string("probe not recorded: ") + e.what());
+    }
 }
 
 void ServerFront::startRecording(const std::string& path) {

@@ -75,6 +75,7 @@ SceneInfo sampleScene(int speciesCount) {
     s.probeReach = 2.77;
     s.mapBytes = 123456789;
     s.mapKey = 0xfeedface12345678ull;
+    s.sessionTimeoutS = 30;
     if (std::size_t(speciesCount) <= kMaxTunedSpecies) {
         const std::size_t n = std::size_t(speciesCount);
         for (std::size_t k = 0; k < n * n; ++k)
@@ -98,6 +99,8 @@ MapChunk sampleMapChunk() {
     for (int k = 0; k < 300; ++k) m.data.push_back(std::uint8_t(7 * k));
     return m;
 }
+
+Refusal sampleRefusal() { return {"Probe", 77, "Probe.k1: 1e+300 outside 0..50", 3}; }
 
 Feedback sampleFeedback() {
     return {41, 9001, {-0.125, 3.5, 1e-3}, 9'876'543'210};
@@ -157,7 +160,7 @@ bool same(const SceneInfo& a, const SceneInfo& b) {
            a.endpoints.frameEndpoint == b.endpoints.frameEndpoint &&
            a.endpoints.udpFramePort == b.endpoints.udpFramePort &&
            a.endpoints.udpProbePort == b.endpoints.udpProbePort && a.particleCount == b.particleCount &&
-           a.units == b.units && a.publishRateHz == b.publishRateHz && a.probeReach == b.probeReach && a.mapBytes == b.mapBytes && a.mapKey == b.mapKey &&
+           a.units == b.units && a.publishRateHz == b.publishRateHz && a.probeReach == b.probeReach && a.mapBytes == b.mapBytes && a.mapKey == b.mapKey && a.sessionTimeoutS == b.sessionTimeoutS &&
            a.tunables.lj == b.tunables.lj && a.tunables.coNormal == b.tunables.coNormal &&
            a.tunables.coPlanar == b.tunables.coPlanar && a.tunables.dragV == b.tunables.dragV &&
            a.tunables.dragW == b.tunables.dragW && a.tunables.k0 == b.tunables.k0 && a.tunables.k1 == b.tunables.k1;
@@ -177,6 +180,10 @@ bool same(const MapRequest& a, const MapRequest& b) { return a.offset == b.offse
 
 bool same(const MapChunk& a, const MapChunk& b) {
     return a.offset == b.offset && a.total == b.total && a.data == b.data;
+}
+
+bool same(const Refusal& a, const Refusal& b) {
+    return a.kind == b.kind && a.seq == b.seq && a.reason == b.reason && a.refused == b.refused;
 }
 
 bool same(const Feedback& a, const Feedback& b) {
@@ -214,7 +221,8 @@ std::vector<Sample> allSamples() {
                             {MessageKind::Feedback, encodeFeedback(sampleFeedback())},
                             {MessageKind::CommandReply, encodeCommandReply(sampleReply())},
                             {MessageKind::MapRequest, encodeMapRequest(sampleMapRequest())},
-                            {MessageKind::MapChunk, encodeMapChunk(sampleMapChunk())}};
+                            {MessageKind::MapChunk, encodeMapChunk(sampleMapChunk())},
+                            {MessageKind::Refusal, encodeRefusal(sampleRefusal())}};
     for (const Command& c : sampleCommands()) out.push_back({MessageKind::Command, encodeCommand(c)});
     out.push_back({MessageKind::StateFrame, encodeStateFrame(sampleFrame(5, FrameEncoding::Float32, true, true))});
     out.push_back({MessageKind::StateFrame, encodeStateFrame(sampleFrame(5, FrameEncoding::Quantised16, true, false))});
@@ -239,6 +247,8 @@ DecodeCheck decodeAs(MessageKind kind, const std::uint8_t* buf, std::size_t len)
             return roundAgain(decodeMapRequest(buf, len), &encodeMapRequest, &decodeMapRequest);
         case MessageKind::MapChunk:
             return roundAgain(decodeMapChunk(buf, len), &encodeMapChunk, &decodeMapChunk);
+        case MessageKind::Refusal:
+            return roundAgain(decodeRefusal(buf, len), &encodeRefusal, &decodeRefusal);
         case MessageKind::StateFrame: {
             FrameLimits limits;
             limits.speciesCount = 4;
@@ -275,6 +285,8 @@ bool decodesToSameAs(MessageKind kind, const std::uint8_t* buf, std::size_t len,
                 return encodeMapRequest(decodeMapRequest(p, n).value);
             case MessageKind::MapChunk:
                 return encodeMapChunk(decodeMapChunk(p, n).value);
+            case MessageKind::Refusal:
+                return encodeRefusal(decodeRefusal(p, n).value);
             case MessageKind::StateFrame:
                 return encodeStateFrame(decodeStateFrame(p, n).value);
             case MessageKind::Unknown:

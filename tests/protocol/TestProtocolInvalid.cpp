@@ -162,7 +162,7 @@ TEST_CASE("small messages breaking a rule are refused with a reason", "[protocol
     Buffer b = finish(fbb);
     Decoded<bop::protocol::Probe> p = decodeProbe(b.data(), b.size());
     CHECK(p.error == DecodeError::OutOfRange);
-    CHECK(p.message == "Probe.k0: not > 0");
+    CHECK(p.message == "Probe.k0: 0 outside 0.1..10");
     fbb.Clear();
     FinishProbeBuffer(fbb, CreateProbe(fbb, 1, 2, nullptr, true));  // no position
     b = finish(fbb);

@@ -1,0 +1,42 @@
+#pragma once
+// Whether a state is one a run may go on from, stream and save: every position, velocity,
+// angular velocity, force and torque finite, every particle within kRunawayLength of the box,
+// and the probe's reaction finite. Sane parameters never make an unsound state from a sound one;
+// when a numerical blow-up does, the run stops with a checkpoint of the last sound state (taken
+// every kSoundSnapshotEvery steps) rather than step on, stream or save NaN (docs/dynamics.md).
+#include "Construction.hpp"
+#include "Model.hpp"
+#include "Particles.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace bop::core {
+
+inline constexpr double kRunawayLength = 1e6;     // how far beyond the box a particle may be, length
+inline constexpr long long kSoundSnapshotEvery = 100;  // steps between copies of the last sound state
+
+// One pass over the particles, without a branch per particle.
+bool sound(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction);
+// What is wrong first ("particle 123 (species 2): velocity not finite"), empty when sound().
+std::string unsoundness(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction);
+
+// Thrown by a step that ends in an unsound state (by every rank of a decomposed run at once).
+class UnsoundState : public std::runtime_error {
+public:
+    UnsoundState(long long step, const std::string& what)
+        : std::runtime_error("the state after step " + std::to_string(step) + " is not sound: " + what), step_(step) {}
+    long long step() const { return step_; }
+
+private:
+    long long step_;
+};
+
+// A copy of a sound state: what a checkpoint of it needs.
+struct SoundSnapshot {
+    Particles particles;
+    Construction construction;
+    long long step = 0;
+};
+
+}  // namespace bop::core
