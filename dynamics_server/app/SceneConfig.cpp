@@ -1,5 +1,6 @@
 #include "SceneConfig.hpp"
 
+#include "codec/Ranges.hpp"
 #include "core/Construction.hpp"
 
 #include "bop/common/ConfigTable.hpp"
@@ -230,8 +231,15 @@ Scene loadScene(const std::string& path) {
         s.probe.active = t->boolean("active", false);
         if (t->has("position_voxels")) s.probePositionVoxels = t->vec3("position_voxels");
         s.probe.position = t->vec3("position", Eigen::Vector3d::Zero());
-        s.probe.params.k0 = positive(*t, "k0", t->number("k0", 1.0));
-        s.probe.params.k1 = t->number("k1", 1.0);
+        // The ranges a client's probe must keep (docs/protocol.md): a viewer's sliders start here.
+        const auto within = [&](const char* key, double lo, double hi) {
+            const double v = t->number(key, 1.0);
+            if (!(v >= lo && v <= hi))
+                t->fail(key, "expected a value in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + std::to_string(v));
+            return v;
+        };
+        s.probe.params.k0 = within("k0", protocol::ranges::kMinProbeK0, protocol::ranges::kMaxProbeK0);
+        s.probe.params.k1 = within("k1", protocol::ranges::kMinProbeK1, protocol::ranges::kMaxProbeK1);
         t->finish();
     }
     readKeyframes(root, s);

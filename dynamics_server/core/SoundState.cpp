@@ -25,22 +25,35 @@ bool sound(const Model& model, const Particles& p, const Eigen::Vector3d& probeR
     return inside && std::isfinite(sum);
 }
 
-std::string unsoundness(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction) {
+std::string Unsoundness::text() const {
+    static const char* const what[] = {"",
+                                       "position not finite",
+                                       "more than 1e6 length units beyond the box",
+                                       "velocity not finite",
+                                       "angular velocity not finite",
+                                       "force not finite",
+                                       "torque not finite",
+                                       "the probe's reaction force not finite",
+                                       "a sum of velocities, forces and torques beyond the double range"};
+    if (this->what == None) return {};
+    if (this->what >= ProbeReaction) return what[this->what];
+    return "particle " + std::to_string(id) + " (species " + std::to_string(species) + "): " + what[this->what];
+}
+
+Unsoundness findUnsound(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction) {
     if (sound(model, p, probeReaction)) return {};
     const Bounds b(model);
-    const auto particle = [&](std::size_t i, const char* what) {
-        return "particle " + std::to_string(p.id[i]) + " (species " + std::to_string(p.species[i]) + "): " + what;
-    };
     for (std::size_t i = 0; i < p.size(); ++i) {
-        if (!p.pos[i].allFinite()) return particle(i, "position not finite");
-        if (!b.inside(p.pos[i])) return particle(i, "more than 1e6 length units beyond the box");
-        if (!p.vel[i].allFinite()) return particle(i, "velocity not finite");
-        if (!p.omega[i].allFinite()) return particle(i, "angular velocity not finite");
-        if (!p.force[i].allFinite()) return particle(i, "force not finite");
-        if (!p.torque[i].allFinite()) return particle(i, "torque not finite");
+        const auto at = [&](Unsoundness::What w) { return Unsoundness{w, p.id[i], p.species[i]}; };
+        if (!p.pos[i].allFinite()) return at(Unsoundness::Position);
+        if (!b.inside(p.pos[i])) return at(Unsoundness::Runaway);
+        if (!p.vel[i].allFinite()) return at(Unsoundness::Velocity);
+        if (!p.omega[i].allFinite()) return at(Unsoundness::AngularVelocity);
+        if (!p.force[i].allFinite()) return at(Unsoundness::Force);
+        if (!p.torque[i].allFinite()) return at(Unsoundness::Torque);
     }
-    if (!probeReaction.allFinite()) return "the probe's reaction force not finite";
-    return "a sum of velocities, forces and torques beyond the double range";
+    if (!probeReaction.allFinite()) return {Unsoundness::ProbeReaction};
+    return {Unsoundness::Sum};
 }
 
 }  // namespace bop::core

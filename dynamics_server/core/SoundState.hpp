@@ -8,6 +8,7 @@
 #include "Model.hpp"
 #include "Particles.hpp"
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -18,8 +19,19 @@ inline constexpr long long kSoundSnapshotEvery = 100;  // steps between copies o
 
 // One pass over the particles, without a branch per particle.
 bool sound(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction);
-// What is wrong first ("particle 123 (species 2): velocity not finite"), empty when sound().
-std::string unsoundness(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction);
+// What is wrong with a state, the first thing found.
+struct Unsoundness {
+    enum What : int { None = 0, Position, Runaway, Velocity, AngularVelocity, Force, Torque, ProbeReaction, Sum };
+    What what = None;
+    std::uint64_t id = 0;  // the particle's id (Position .. Torque)
+    int species = 0;
+    // "particle 123 (species 2): velocity not finite"; empty for None.
+    std::string text() const;
+};
+Unsoundness findUnsound(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction);
+inline std::string unsoundness(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction) {
+    return findUnsound(model, p, probeReaction).text();
+}
 
 // Thrown by a step that ends in an unsound state (by every rank of a decomposed run at once).
 class UnsoundState : public std::runtime_error {

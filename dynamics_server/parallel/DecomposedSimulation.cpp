@@ -207,11 +207,21 @@ void DecomposedSimulation::step() {
     ++step_;
     forces(step_ % energyEvery_ == 0);
     kinetic_ = core::kick(sub_, drag_, p_);
-    const bool sound = core::sound(*model_, p_, stats_.probeReaction);
-    if (!comm_.allTrue(sound))  // every rank throws, at the same step
-        throw core::UnsoundState(step_, sound ? "on another rank"
-                                              : "rank " + std::to_string(comm_.rank()) + ": " +
-                                                    core::unsoundness(*model_, p_, stats_.probeReaction));
+    if (!comm_.allTrue(core::sound(*model_, p_, stats_.probeReaction))) throwUnsound();
+}
+
+void DecomposedSimulation::throwUnsound() const {
+    // What each rank found, so that every rank throws the same words: the first rank's finding.
+    const core::Unsoundness mine = core::findUnsound(*model_, p_, stats_.probeReaction);
+    const std::vector<double> all = comm_.allGather({double(mine.what), double(mine.id & 0xffffffffu),
+                                                     double(mine.id >> 32), double(mine.species)});
+    for (std::size_t r = 0; r < all.size(); r += 4) {
+        if (all[r] == 0) continue;
+        const core::Unsoundness u{core::Unsoundness::What(int(all[r])),
+                                  std::uint64_t(all[r + 1]) | std::uint64_t(all[r + 2]) << 32, int(all[r + 3])};
+        throw core::UnsoundState(step_, u.text() + " (rank " + std::to_string(r / 4) + ")");
+    }
+    throw core::UnsoundState(step_, "on a rank that could not say where");
 }
 
 Totals DecomposedSimulation::totals() const {

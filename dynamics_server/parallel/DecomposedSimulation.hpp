@@ -102,6 +102,7 @@ private:
     void updateHalo();
     void forces(bool energies);
     void apply(const Command& command);
+    [[noreturn]] void throwUnsound() const;  // collective: core::UnsoundState naming what a rank found
     static void setWeight(core::Model& m, const Command& c);  // std::invalid_argument if out of range
     Eigen::Vector3d sourcePos(std::uint32_t s) const { return s < p_.size() ? p_.pos[s] : halo_.pos[s - p_.size()]; }
 

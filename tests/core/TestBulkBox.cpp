@@ -32,3 +32,22 @@ TEST_CASE("a box of n whole fcc cells holds 4 n^3 particles at nearest distance 
         CHECK(nearest == Approx(core::kR0).epsilon(1e-12));
     }
 }
+
+TEST_CASE("a scene's probe keeps the ranges a client's probe must keep", "[core][scene][probe]") {
+    test::TempDir dir("probe-range");
+    const auto load = [&](const std::string& probe) {
+        const std::string path = test::writeText(dir.file("probe.toml"), "[box]\nsize_r0 = [6.0, 6.0, 6.0]\n"
+                                                 "[[species]]\nname = \"bulk\"\nkind = \"volume\"\n[probe]\n" + probe);
+        try {
+            const app::Scene s = app::loadScene(path);
+            return std::string("k1 ") + std::to_string(s.probe.params.k1);
+        } catch (const std::exception& e) {
+            return std::string(e.what()).find(path) != std::string::npos ? std::string(e.what()) : "no path";
+        }
+    };
+    CHECK(load("k0 = 10.0\nk1 = 50.0\n") == "k1 50.000000");
+    CHECK_THAT(load("k1 = 50.5\n"), Catch::Contains("probe.k1") && Catch::Contains("0.000000..50.000000"));
+    CHECK_THAT(load("k1 = -1.0\n"), Catch::Contains("probe.k1"));
+    CHECK_THAT(load("k0 = 0.05\n"), Catch::Contains("probe.k0"));
+    CHECK_THAT(load("k0 = nan\n"), Catch::Contains("probe.k0"));
+}
