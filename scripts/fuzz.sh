@@ -1,15 +1,20 @@
 #!/usr/bin/env bash
-# Fuzzes the decoders of untrusted input (tests/fuzz) with libFuzzer + AddressSanitizer +
+# Fuzzes what reads untrusted input (tests/fuzz) with libFuzzer + AddressSanitizer +
 # UndefinedBehaviorSanitizer: installs what is missing, configures build-fuzz with Clang and
 # BOP_FUZZ=ON, builds only the fuzz targets and the seed generator, writes the seeds, then runs
-# each target for a bounded time and prints its executions per second. Exits non-zero if any
-# target crashed (sanitizer report, broken round trip, timeout, out of memory or leak); the
-# reproducer is build-fuzz/fuzz/artifacts/<target>-crash-<sha1> (also leak-, timeout-, oom-).
-#   scripts/fuzz.sh                      every target
-#   scripts/fuzz.sh frame mcap           only these (hello scene frame probe feedback command reply maprequest
-#                                        mapchunk mcap)
+# each target for a bounded time (or number of runs) and prints its executions per second. Exits
+# non-zero if any target crashed (sanitizer report, broken contract, timeout, out of memory or
+# leak); the reproducer is build-fuzz/fuzz/artifacts/<target>-crash-<sha1> (also leak-, timeout-, oom-).
+#   scripts/fuzz.sh                      every decoder (hello scene frame probe feedback command reply
+#                                        maprequest mapchunk refusal mcap); what scripts/test.sh runs
+#   scripts/fuzz.sh front mcap           only these; front: message sequences through the server's front
+#                                        and served loop (FuzzFront.cpp; builds the server's libraries)
+#   scripts/fuzz.sh --campaign [T...]    every target (decoders and front), each for BOP_FUZZ_RUNS
+#                                        executions (default 10,000,000; hours); a log per target in
+#                                        build-fuzz/fuzz/logs and the figures at the end
 # Environment:
-#   BOP_FUZZ_SECONDS   seconds per target (default 30)
+#   BOP_FUZZ_SECONDS   seconds per target (default 30; not with --campaign)
+#   BOP_FUZZ_RUNS      executions per target with --campaign (default 10000000)
 #   BOP_FUZZ_TIMEOUT   seconds one input may take before it counts as a hang (default 10)
 #   BOP_JOBS           build jobs (default 2)
 #   BOP_FUZZ_CXX       the Clang C++ compiler (default clang++)
@@ -21,9 +26,18 @@ jobs=${BOP_JOBS:-2}
 seconds=${BOP_FUZZ_SECONDS:-30}
 timeout=${BOP_FUZZ_TIMEOUT:-10}
 cxx=${BOP_FUZZ_CXX:-clang++}
-all_targets=(hello scene frame probe feedback command reply maprequest mapchunk mcap)
+campaign=0
+if [[ "${1:-}" == "--campaign" ]]; then
+  campaign=1
+  shift
+fi
+runs=${BOP_FUZZ_RUNS:-10000000}
+decoders=(hello scene frame probe feedback command reply maprequest mapchunk refusal mcap)
+all_targets=("${decoders[@]}" front)
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=("${all_targets[@]}")
+if [[ ${#targets[@]} -eq 0 ]]; then
+  if [[ $campaign -eq 1 ]]; then targets=("${all_targets[@]}"); else targets=("${decoders[@]}"); fi
+fi
 for t in "${targets[@]}"; do
   [[ " ${all_targets[*]} " == *" $t "* ]] || { echo "fuzz: unknown target '$t' (${all_targets[*]})" >&2; exit 2; }
 done
@@ -66,10 +80,19 @@ for t in "${targets[@]}"; do
   log="$work/logs/$t.log"
   # Artifacts of earlier runs stay; only the ones this run writes count.
   before=$(find "$work/artifacts" -maxdepth 1 -name "$t-*" -type f | sort)
-  echo "== fuzz $t (${seconds} s, -max_len=$max_len) =="
+  budget=(-max_total_time="$seconds")
+  [[ $campaign -eq 1 ]] && budget=(-runs="$runs")
+  extra=()
+  leaks=$ASAN_OPTIONS
+  # The front runs MPI and ZeroMQ threads that keep their allocations to the end: no leak checks.
+  [[ $t == front ]] && extra=(-detect_leaks=0) && leaks=detect_leaks=0
+  echo "== fuzz $t (${budget[*]}, -max_len=$max_len) =="
   rc=0
-  "$bin/bop_fuzz_$t" -max_len="$max_len" -rss_limit_mb=2048 -timeout="$timeout" -max_total_time="$seconds" \
+  start=$(date +%s)
+  ASAN_OPTIONS=$leaks OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
+    "$bin/bop_fuzz_$t" -max_len="$max_len" -rss_limit_mb=2048 -timeout="$timeout" "${budget[@]}" "${extra[@]}" \
     -print_final_stats=1 -artifact_prefix="$work/artifacts/$t-" "$work/corpus/$t" "$work/seeds/$t" >"$log" 2>&1 || rc=$?
+  took=$(( $(date +%s) - start ))
   after=$(find "$work/artifacts" -maxdepth 1 -name "$t-*" -type f | sort)
   new_artifacts=$(comm -13 <(echo "$before") <(echo "$after") | sed '/^$/d' || true)
   execs=$(final_stat number_of_executed_units "$log")
@@ -84,12 +107,12 @@ for t in "${targets[@]}"; do
     tail -n 40 "$log"
     for a in $new_artifacts; do echo "fuzz: reproducer $a ($(wc -c <"$a") bytes)"; done
   else
-    summary+=("$(printf '%-9s ok  %8s exec/s  %10s execs  corpus %s' "$t" "${rate:-?}" "${execs:-?}" "$corpus")")
+    summary+=("$(printf '%-10s ok  %8s exec/s  %10s execs  %6s s  corpus %s' "$t" "${rate:-?}" "${execs:-?}" "$took" "$corpus")")
     echo "fuzz: $t ok: ${rate:-?} exec/s, ${execs:-?} executions, corpus $corpus inputs"
   fi
 done
 
-echo "== summary (${seconds} s per target) =="
+if [[ $campaign -eq 1 ]]; then echo "== summary ($runs executions per target) =="; else echo "== summary (${seconds} s per target) =="; fi
 printf '%s\n' "${summary[@]}"
 if [[ ${#failed[@]} -gt 0 ]]; then
   echo "fuzz: crashes in: ${failed[*]} (reproducers in $work/artifacts)" >&2

@@ -44,9 +44,10 @@ protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t,
 }  // namespace
 
 ServedLoop::ServedLoop(const Scene& scene, parallel::DecomposedRun& run, protocol::ServerFront* front,
-                       const ServeOptions& o, std::function<bool()> stopRequested, CardiacRun* cardiac)
+                       const ServeOptions& o, std::function<bool()> stopRequested, CardiacRun* cardiac,
+                       std::chrono::microseconds idle)
     : scene_(scene), model_(*scene.model), run_(run), front_(front), o_(o), stopRequested_(std::move(stopRequested)),
-      cardiac_(cardiac), info_(sceneInfoOf(scene, nullptr)), volume_(model_.box.size().prod()),
+      cardiac_(cardiac), idle_(idle), info_(sceneInfoOf(scene, nullptr)), volume_(model_.box.size().prod()),
       rateClock_(Clock::now()) {
     desk_.probe = scene.probe;
     for (const auto& s : model_.species) desk_.drags.emplace_back(s.dragV, s.dragW);
@@ -147,7 +148,7 @@ bool ServedLoop::pass() {
                 }
         }
     } else {
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        std::this_thread::sleep_for(idle_);
     }
     if (ctl[3] == 0 && ctl[2] == 0) return true;
     const parallel::Totals t = run_.totals();  // collective

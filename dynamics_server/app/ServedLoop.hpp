@@ -19,9 +19,11 @@ namespace bop::app {
 
 class ServedLoop {
 public:
-    // front: rank 0's (null on the other ranks); stopRequested: rank 0's signal flag, read each pass.
+    // front: rank 0's (null on the other ranks); stopRequested: rank 0's signal flag, read each pass;
+    // idle: how long a pass without a step (paused) sleeps.
     ServedLoop(const Scene& scene, parallel::DecomposedRun& run, protocol::ServerFront* front, const ServeOptions& o,
-               std::function<bool()> stopRequested, CardiacRun* cardiac = nullptr);
+               std::function<bool()> stopRequested, CardiacRun* cardiac = nullptr,
+               std::chrono::microseconds idle = std::chrono::milliseconds(1));
 
     // One pass; false when the run is to stop (a signal, --steps, the replay's end, or an error on
     // rank 0: error()). core::UnsoundState from a step that ends unsound (on every rank).
@@ -49,6 +51,7 @@ private:
     const ServeOptions& o_;
     std::function<bool()> stopRequested_;
     CardiacRun* cardiac_;
+    std::chrono::microseconds idle_;
     protocol::SceneInfo info_;  // the scene's ranges, for replayed inputs (server/InboundRanges.hpp)
     Desk desk_;
     std::string error_;

@@ -19,7 +19,8 @@ using Clock = front::Clock;
 // (docs/protocol.md, "Frame rate tiers").
 int tierFor(float rateHz, float wantedHz) {
     if (!(wantedHz > 0) || wantedHz >= rateHz) return 0;
-    return std::clamp(int(std::floor(std::log2(rateHz / wantedHz))), 0, 7);
+    // In double: a tiny wanted rate (1e-40 Hz) overflows a float ratio (a fuzz finding).
+    return int(std::clamp(std::floor(std::log2(double(rateHz) / double(wantedHz))), 0.0, 7.0));
 }
 
 }  // namespace

@@ -194,12 +194,16 @@ void ServerFront::Impl::pass(std::vector<zmq::pollitem_t>& items) {
         }
     }
     for (const auto& [id, b] : out) sendTo(id, b);
-    for (const auto& input : inputs)
-        record([&] {
-            const auto& [in, applied] = input;
-            messageKind(in.data(), in.size()) == MessageKind::Command ? recorder->command(in, applied)
-                                                                      : recorder->probe(in, applied);
-        });
+    std::lock_guard recording(recordMutex);
+    for (const auto& input : inputs) recordInputLocked(input);
+}
+
+void ServerFront::Impl::recordInputLocked(const std::pair<Buffer, Buffer>& input) {
+    recordLocked([&] {
+        const Buffer& in = input.first;
+        messageKind(in.data(), in.size()) == MessageKind::Command ? recorder->command(in, input.second)
+                                                                  : recorder->probe(in, input.second);
+    });
 }
 
 void ServerFront::Impl::publisherLoop() {

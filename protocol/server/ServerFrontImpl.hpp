@@ -132,6 +132,7 @@ struct ServerFront::Impl {
         std::lock_guard recording(recordMutex);
         recordLocked(f);
     }
+    void recordInputLocked(const std::pair<Buffer, Buffer>& input);  // (command, reply) or (probe, applied); recordMutex held
     template <class F> void recordLocked(F f) {  // recordMutex held
         if (!recorder) return;
         try {

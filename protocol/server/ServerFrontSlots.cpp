@@ -116,11 +116,7 @@ std::string ServerFront::stopRecording() {
             std::lock_guard lock(impl_->m);
             answered.swap(impl_->toRecord);
         }
-        for (const auto& [in, applied] : answered)
-            impl_->recordLocked([&] {
-                messageKind(in.data(), in.size()) == MessageKind::Command ? impl_->recorder->command(in, applied)
-                                                                          : impl_->recorder->probe(in, applied);
-            });
+        for (const auto& input : answered) impl_->recordInputLocked(input);
         std::lock_guard lock(impl_->m);
         r = std::move(impl_->recorder);
     }

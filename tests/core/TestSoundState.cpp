@@ -152,7 +152,7 @@ TEST_CASE("a seed on a particle is not placed, elsewhere it is, and the seed cou
     CHECK(c.seedCount() == 3);
 }
 
-TEST_CASE("positions wrap into [lo, hi) along periodic axes only", "[core][box]") {
+TEST_CASE("positions wrap into the box, from lo up to but not including hi, along periodic axes only", "[core][box]") {
     Box b;
     b.lo = {-1, 0, 2};
     b.hi = {3, 5, 4};

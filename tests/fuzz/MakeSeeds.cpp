@@ -1,7 +1,8 @@
 // Writes seed corpora for the fuzz targets (FuzzDecoders.cpp): a few valid buffers per target,
 // made with the protocol's own encoders and McapWriter, so no binary seeds live in git.
 //   bop_fuzz_seeds OUTDIR   ->  OUTDIR/<target>/<name>.bin (targets: hello scene frame probe
-//                               feedback command reply maprequest mapchunk mcap); existing files are overwritten.
+//                               feedback command reply maprequest mapchunk refusal mcap front);
+//                               existing files are overwritten.
 // Exits non-zero if a sample cannot be encoded or written.
 #include "ProtocolSamples.hpp"
 #include "codec/Codec.hpp"
@@ -69,6 +70,8 @@ void haptics() {
     put("maprequest", "one", encodeMapRequest({0, 1}));
     put("mapchunk", "sample", encodeMapChunk(sampleMapChunk()));
     put("mapchunk", "nomap", encodeMapChunk(MapChunk{}));
+    put("refusal", "sample", encodeRefusal(sampleRefusal()));
+    put("refusal", "empty", encodeRefusal(Refusal{}));
 }
 
 void commands() {
@@ -149,6 +152,70 @@ void mcap() {
 
 }  // namespace
 
+// Sequences for the front target (FuzzFront.cpp): [op][length][message] records and passes.
+class Sequence {
+public:
+    Sequence& from(int peer, const Buffer& m) {
+        bytes_.push_back(std::uint8_t(4 * peer));  // op % 4 == 0: a message
+        bytes_.push_back(std::uint8_t(m.size() & 0xff));
+        bytes_.push_back(std::uint8_t(m.size() >> 8));
+        bytes_.insert(bytes_.end(), m.begin(), m.end());
+        return *this;
+    }
+    Sequence& passes(int n) {  // 1..8
+        bytes_.push_back(std::uint8_t(2 + 4 * (n - 1)));
+        return *this;
+    }
+    const std::vector<std::uint8_t>& bytes() const { return bytes_; }
+
+private:
+    std::vector<std::uint8_t> bytes_;
+};
+
+Command command(std::uint64_t id, CommandBody body) { return {id, std::move(body)}; }
+
+void front() {
+    const Buffer hello = encodeHello({});
+    Probe p;
+    p.active = true;
+    p.position = {10, 10, 10};  // the ball's centre, about
+    p.k1 = 5;
+    Sequence poke;
+    Command resume{1, RunControl{RunAction::Resume, 1}};  // each input starts paused (FuzzFront.cpp)
+    poke.from(0, hello).from(0, encodeCommand(resume)).passes(1);
+    for (int k = 1; k <= 8; ++k) {
+        p.seq = std::uint64_t(k);
+        p.position.x() += 0.5;
+        poke.from(0, encodeProbe(p)).passes(2);
+    }
+    put("front", "poke", poke.bytes());
+    Sequence tune;
+    tune.from(1, hello)
+        .from(1, encodeCommand(command(1, SetParameter{"lj", 1, 2, 2.5})))
+        .from(1, encodeCommand(command(2, SetParameter{"co_planar", 1, 1, 0.1})))
+        .from(1, encodeCommand(command(3, SetParameter{"drag_v", 2, 0, 0.2})))
+        .from(1, encodeCommand(command(4, SetParameter{"k0", 0, 0, 2})))
+        .passes(4)
+        .from(1, encodeCommand(command(5, RunControl{RunAction::Pause, 1})))
+        .from(1, encodeCommand(command(6, RunControl{RunAction::SingleStep, 3})))
+        .passes(8)
+        .from(1, encodeCommand(command(7, RunControl{RunAction::Resume, 1})))
+        .passes(2);
+    put("front", "tune", tune.bytes());
+    Sequence build;
+    build.from(2, hello)
+        .from(2, encodeCommand(command(9, RunControl{RunAction::Resume, 1})))
+        .from(2, encodeCommand(command(1, SeedParticle{2, {10, 10, 10}})))
+        .from(2, encodeCommand(command(2, SetBirth{2, true})))
+        .from(2, encodeCommand(command(3, Record{true, "fuzz.mcap"})))
+        .passes(8)
+        .from(3, hello)
+        .from(3, encodeMapRequest({0, 4096}))
+        .from(3, encodeMapRequest({4096, 4096}))
+        .passes(1);
+    put("front", "build", build.bytes());
+}
+
 int main(int argc, char** argv) {
     if (argc != 2) {
         std::fprintf(stderr, "usage: %s OUTDIR\n", argv[0]);
@@ -161,6 +228,7 @@ int main(int argc, char** argv) {
         commands();
         frames();
         mcap();
+        front();
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bop_fuzz_seeds: %s\n", e.what());
         return 1;

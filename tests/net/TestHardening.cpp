@@ -233,3 +233,46 @@ TEST_CASE("frames of a periodic box carry positions inside it, float and quantis
         srv.stop(SIGINT);
     }
 }
+
+TEST_CASE("clients that come, misbehave and go leave the server's memory flat while a viewer and a haptic client keep working", "[net][hardening][churn]") {
+    test::TempDir dir("hardening-churn");
+    ServerProcess srv(server(1, test::sourceDir() + "/config/scenes/torus.toml",
+                             {"--restart", test::builtTorus(), "--session-timeout", "1", "-o", dir.file("run")}));
+    // The haptic client pokes the bag through the whole churn; the watcher in bop-churn is the viewer.
+    ServerProcess haptic({test::buildDir() + "/haptic_client/bop-haptic", srv.endpoint(), "--device", "sim:poke",
+                          "--seconds", "12", "--out", dir.file("haptic")},
+                         30s, "bop-haptic: connected");
+    const auto [code, churn] = test::runCommand(test::buildDir() + "/protocol/bop-churn " + srv.endpoint() +
+                                                " --clients 300 --concurrency 6 --burst 20 --baseline 2 --settle 3 "
+                                                "--server-pid " + std::to_string(srv.pid()) + " 2>&1");
+    INFO(churn);
+    REQUIRE(code == 0);
+    const auto figure = [&](const std::string& key) {
+        std::smatch m;
+        REQUIRE(std::regex_search(churn, m, std::regex(key + "=([0-9.]+)")));
+        return std::stod(m[1]);
+    };
+    CHECK(figure("clients") == 300);
+    CHECK(figure("no_scene") == 0);  // every client's Hello answered, however it behaved
+    CHECK(figure("refusals_received") >= 300);
+    CHECK(figure("frames_during") > 10);  // the viewer kept taking frames...
+    CHECK(figure("longest_frame_gap_s") < 1.0);  // ...without a pause
+    // Loose: this machine's rate drifts by 10-20%; a server that waited on clients would stall.
+    CHECK(figure("steps_per_s_during") >= 0.5 * figure("steps_per_s_before"));
+    CHECK(figure("rss_after_mb") <= figure("rss_before_mb") + 4.0);
+    CHECK(haptic.stop(SIGINT, 20s) == 0);
+    const std::string felt = haptic.output();
+    INFO(felt);
+    std::smatch m;
+    REQUIRE(std::regex_search(felt, m, std::regex("([0-9]+) feedback messages")));
+    CHECK(std::stoll(m[1]) > 1000);  // feedback all along
+    REQUIRE(std::regex_search(felt, m, std::regex("ticks at ([0-9.]+) Hz")));
+    CHECK(std::stod(m[1]) > 900);
+    CHECK(srv.stop(SIGINT) == 0);
+    const std::string out = srv.output();
+    INFO(out);
+    CHECK(printed(out, "sessions expired") >= 300);
+    CHECK(printed(out, "messages with values out of range refused") > 300);
+    CHECK(printed(out, "malformed messages refused") > 300);
+    CHECK(printed(out, "internal errors in the front") == 0);
+}
