@@ -18,6 +18,7 @@
 #   BOP_FUZZ_TIMEOUT   seconds one input may take before it counts as a hang (default 10)
 #   BOP_JOBS           build jobs (default 2)
 #   BOP_FUZZ_CXX       the Clang C++ compiler (default clang++)
+#   BOP_FUZZ_BUILD     the build folder (default build-fuzz; a campaign may run in its own)
 # The corpus grows across runs in build-fuzz/fuzz/corpus/<target>. To replay one reproducer:
 #   build-fuzz/tests/fuzz/bop_fuzz_<target> build-fuzz/fuzz/artifacts/<target>-crash-...
 set -euo pipefail
@@ -26,6 +27,7 @@ jobs=${BOP_JOBS:-2}
 seconds=${BOP_FUZZ_SECONDS:-30}
 timeout=${BOP_FUZZ_TIMEOUT:-10}
 cxx=${BOP_FUZZ_CXX:-clang++}
+dir=${BOP_FUZZ_BUILD:-build-fuzz}
 campaign=0
 if [[ "${1:-}" == "--campaign" ]]; then
   campaign=1
@@ -45,15 +47,15 @@ done
 scripts/install-deps.sh --fuzz
 command -v "$cxx" >/dev/null || { echo "fuzz: $cxx not found (scripts/install-deps.sh --fuzz installs clang)" >&2; exit 1; }
 
-echo "== configure build-fuzz ($cxx, BOP_FUZZ=ON) =="
-cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER="$cxx" -DBOP_FUZZ=ON >/dev/null
+echo "== configure $dir ($cxx, BOP_FUZZ=ON) =="
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER="$cxx" -DBOP_FUZZ=ON >/dev/null
 build_targets=(bop_fuzz_seeds)
 for t in "${targets[@]}"; do build_targets+=("bop_fuzz_$t"); done
 echo "== build ${build_targets[*]} =="
-cmake --build build-fuzz -j "$jobs" --target "${build_targets[@]}"
+cmake --build "$dir" -j "$jobs" --target "${build_targets[@]}"
 
-work=build-fuzz/fuzz
-bin=build-fuzz/tests/fuzz
+work=$dir/fuzz
+bin=$dir/tests/fuzz
 rm -rf "$work/seeds" "$work/logs"
 mkdir -p "$work/corpus" "$work/artifacts" "$work/logs"
 echo "== seeds =="

@@ -1,2 +1,4 @@
-#define CATCH_CONFIG_MAIN
-#include <catch2/catch.hpp>
+// The main of the test executables without MPI.
+#include "CatchRunner.hpp"
+
+int main(int argc, char** argv) { return bop::test::runCatch(argc, argv); }
