@@ -7,6 +7,7 @@
 #include "bop/common/Error.hpp"
 #include "bop/common/ParseVector.hpp"
 #include "bop/common/ToolMain.hpp"
+#include "codec/Ranges.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -56,8 +57,10 @@ int main(int argc, char** argv) {
                                                               "(default: the box's centre)");
         app.add_option("--max-stiffness", o.limits.maxStiffnessNPerMm, "the stiffest spring the device renders stably, "
                                                                       "N/mm")->check(CLI::PositiveNumber);
-        app.add_option("--k0", o.k0, "probe range scale (paper eq. 9; default: the server's)")->check(CLI::PositiveNumber);
-        app.add_option("--k1", o.k1, "probe strength (paper eq. 9; default: the server's)")->check(CLI::PositiveNumber);
+        app.add_option("--k0", o.k0, "probe range scale (paper eq. 9; default: the server's)")
+            ->check(CLI::Range(protocol::ranges::kMinProbeK0, protocol::ranges::kMaxProbeK0));
+        app.add_option("--k1", o.k1, "probe strength (paper eq. 9; default: the server's)")
+            ->check(CLI::Range(protocol::ranges::kMinProbeK1, protocol::ranges::kMaxProbeK1));
         app.add_flag("--udp", o.udp, "probes and feedback as datagrams (the server's UDP port)");
         app.add_option("--reconnect-after", o.reconnectAfterS, "no feedback for this long, s: connect to the server "
                                                               "again, every second until it answers (0: never)")

@@ -5,6 +5,7 @@
 #include "bop/common/Error.hpp"
 #include "bop/common/ParseVector.hpp"
 #include "bop/common/ToolMain.hpp"
+#include "codec/Ranges.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -43,9 +44,9 @@ int main(int argc, char** argv) {
             ->check(CLI::PositiveNumber);
         double probeK0 = 0, probeK1 = 0;
         app.add_option("--probe-k0", probeK0, "headless: the probe's range scale k0 (paper eq. 9; default: the server's)")
-            ->check(CLI::PositiveNumber);
+            ->check(CLI::Range(protocol::ranges::kMinProbeK0, protocol::ranges::kMaxProbeK0));
         app.add_option("--probe-k1", probeK1, "headless: the probe's strength k1 (paper eq. 9; default: the server's)")
-            ->check(CLI::PositiveNumber);
+            ->check(CLI::Range(protocol::ranges::kMinProbeK1, protocol::ranges::kMaxProbeK1));
         int udpPort = 0;
         app.add_option("--udp-port", udpPort, "frames as datagrams to this local UDP port (the server's datagram mode: "
                                               "a frame with a datagram lost is dropped and counted; 0: frames over TCP)")
