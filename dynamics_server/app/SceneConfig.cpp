@@ -82,6 +82,12 @@ void readDynamics(const ConfigTable& root, core::Model& m, std::uint64_t& seed) 
     m.integration.inertia = positive(*t, "inertia", t->number("inertia", m.integration.inertia));
     m.integration.skinR0 = t->number("neighbour_skin_r0", m.integration.skinR0);
     if (!(m.integration.skinR0 >= 0 && m.integration.skinR0 <= 2)) t->fail("neighbour_skin_r0", "expected a skin from 0 to 2 r0");
+    m.integration.maxStepR0 = t->number("max_step_r0", m.integration.maxStepR0);
+    if (!(m.integration.maxStepR0 >= 0 && m.integration.maxStepR0 <= 10))
+        t->fail("max_step_r0", "expected 0 (no limit) or the most a particle moves in a step, up to 10 r0");
+    m.integration.maxTurn = t->number("max_turn_rad", m.integration.maxTurn);
+    if (!(m.integration.maxTurn >= 0 && m.integration.maxTurn <= 3.15))
+        t->fail("max_turn_rad", "expected 0 (no limit) or the most a particle turns in a step, up to pi radians");
     const std::string mode = t->choice("lj_cutoff", {"switched", "paper", "energy_shifted", "shifted_force"}, "switched");
     m.ljParams.mode = mode == "switched" ? core::LjCutoff::Switched
                       : mode == "paper" ? core::LjCutoff::Truncated

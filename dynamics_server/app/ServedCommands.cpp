@@ -43,8 +43,7 @@ protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::D
                 rc.species = p->speciesA;
                 rc.other = p->speciesB;
                 rc.value = p->value;
-            } else if (n == "k0" || n == "k1") {
-                if (!(p->value > 0)) return answer(c, ReplyStatus::Rejected, next, n + " must be > 0");
+            } else if (n == "k0" || n == "k1") {  // within their ranges: the decoder checked
                 (n == "k0" ? desk.probe.params.k0 : desk.probe.params.k1) = p->value;
                 rc.kind = parallel::Command::Kind::Probe;
                 rc.probe = desk.probe;

@@ -139,7 +139,7 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
     if (cardiac && code != kExitUnsound) cardiac->finish(o.outDir, std::cout);
     if (code == kExitUnsound) {
         spdlog::error("stopped: {}", why);
-        if (last) spdlog::error("the last sound state (step {}) is in {}; nothing after it was streamed or recorded",
+        if (last) spdlog::error("the last sound state (step {}) is in {}; nothing unsound was streamed or recorded",
                                 last->step, checkpoint);
         else spdlog::error("the run's start was not sound: no checkpoint written");
         return code;

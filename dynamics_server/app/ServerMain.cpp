@@ -81,6 +81,8 @@ int run(int argc, char** argv) {
                                                     "instead of clients' (bop-replay check runs this)");
     CLI11_PARSE(app, argc, argv);
     front.quantised = quantised;
+    if (!std::isfinite(sessionTimeout) || (sessionTimeout != 0 && sessionTimeout < 0.5))
+        throw Error("--session-timeout", "expected 0 (never) or 0.5 to 86400 seconds");
     front.sessionTimeout = std::chrono::milliseconds(std::llround(sessionTimeout * 1000));
     if (!curveSecret.empty()) front.curveSecretKey = protocol::readCurveKey(curveSecret);
     if (!curveClients.empty() && curveSecret.empty())

@@ -1,6 +1,7 @@
 #include "SimulationSetup.hpp"
 
 #include "ExtendedXyz.hpp"
+#include "core/SoundState.hpp"
 #include "shape/GradientMapFile.hpp"
 #include "shape/GradientMapFileView.hpp"
 #include "bop/common/Error.hpp"
@@ -37,6 +38,9 @@ core::Particles initialParticles(const Scene& scene, const std::string& restart,
     construction = core::Construction(scene.construction, scene.timeline, scene.model->speciesCount());
     if (!restart.empty()) {
         XyzFrame f = readExtendedXyz(restart, speciesNames(*scene.model));
+        // A state a run can start from: finite, near the box, not flung (core/SoundState.hpp).
+        if (const core::Unsoundness u = core::findUnsound(*scene.model, f.particles, Eigen::Vector3d::Zero()); u.what)
+            throw Error(restart, "not a state a run can start from: " + u.text());
         firstStep = f.info.step;
         if (!f.info.births.empty()) {
             try {

@@ -35,10 +35,10 @@ void CellList::build(const Box& box, double minCell, const std::vector<Eigen::Ve
 int CellList::cellOf(const Eigen::Vector3d& p) const {
     int ijk[3];
     for (int a = 0; a < 3; ++a) {
-        const double u = (p[a] - lo_[a]) / width_[a];
-        int c = std::isfinite(u) ? int(std::floor(u)) : 0;
-        if (periodic_[a]) c = ((c % n_[a]) + n_[a]) % n_[a];
-        ijk[a] = std::clamp(c, 0, n_[a] - 1);
+        double u = std::floor((p[a] - lo_[a]) / width_[a]);
+        if (!std::isfinite(u)) u = 0;
+        if (periodic_[a]) u -= n_[a] * std::floor(u / n_[a]);  // in double: far positions stay defined
+        ijk[a] = int(std::clamp(u, 0.0, double(n_[a] - 1)));
     }
     return index(ijk[0], ijk[1], ijk[2]);
 }

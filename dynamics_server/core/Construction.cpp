@@ -78,11 +78,14 @@ std::uint64_t Construction::seed(const Model& model, Particles& p, int species, 
 }
 
 ConstructionCounts Construction::update(const Model& model, Particles& p, long long step) {
+    std::vector<Eigen::Vector3d> seeded;  // this step's seeds, placed or not (as every rank of a decomposed run knows them)
     for (const auto& e : eventsAt(step)) {
         if (e.action == ConstructionEvent::Action::Seed) {
             const double h = model.map ? kR0 / model.map->r0Voxels : 1.0;
             const Eigen::Vector3d x = e.positionVoxels ? Eigen::Vector3d(*e.positionVoxels * h) : defaultSeedPosition(model, e.species);
-            seed(model, p, e.species, x, step, !crowded(p.pos, model.box, x, params_.deathR0 * kR0));
+            const double near = params_.deathR0 * kR0;
+            seed(model, p, e.species, x, step, !crowded(p.pos, model.box, x, near) && !crowded(seeded, model.box, x, near));
+            seeded.push_back(x);
         } else {
             setBirth(e.species, e.action == ConstructionEvent::Action::BirthOn);
         }

@@ -59,7 +59,8 @@ void addBirth(const Model& model, Particles& p, int species, const BirthCandidat
 
 // Whether some position in `pos` lies closer than `distance` to x (the periodic axes of `box`
 // wrap): a seed there would sit on a particle, where the pair forces have no bound, so it is not
-// placed (its id is still counted, as on the ranks that do not own it).
+// placed (its id is still counted, as on the ranks that do not own it). So is a seed near an
+// earlier seed of the same step, placed or not: every rank of a decomposed run decides alike.
 bool crowded(const std::vector<Eigen::Vector3d>& pos, const Box& box, const Eigen::Vector3d& x, double distance);
 
 // The default seed of a species among the map voxels whose centre `mine` accepts: a surface

@@ -12,10 +12,18 @@ Eigen::Quaterniond rotation(const Eigen::Vector3d& theta) {
     return Eigen::Quaterniond(std::cos(0.5 * angle), s * theta.x(), s * theta.y(), s * theta.z());
 }
 
+// v scaled down to the speed limit (max2 = 0: none). A branch no sound step takes.
+inline void limit(Eigen::Vector3d& v, double max2) {
+    const double v2 = v.squaredNorm();
+    if (max2 > 0 && v2 > max2) v *= std::sqrt(max2 / v2);
+}
+
 }  // namespace
 
 DragFactors::DragFactors(const Model& m) : v(m.species.size(), 1.0), w(m.species.size(), 1.0) {
     const double dt = m.integration.dt;
+    maxSpeed2 = std::pow(m.integration.maxStepR0 * kR0 / dt, 2);
+    maxSpin2 = std::pow(m.integration.maxTurn / dt, 2);
     for (std::size_t s = 1; s < m.species.size(); ++s) {
         v[s] = std::exp(-m.species[s].dragV * dt / 2.0);
         w[s] = std::exp(-m.species[s].dragW * dt / (2.0 * m.integration.inertia));
@@ -29,6 +37,7 @@ void kickDrift(const Model& model, const DragFactors& decay, Particles& p, bool 
     for (std::size_t i = 0; i < p.size(); ++i) {
         const int s = p.species[i];
         p.vel[i] = decay.v[std::size_t(s)] * p.vel[i] + half * p.force[i];
+        limit(p.vel[i], decay.maxSpeed2);
         p.pos[i] += dt * p.vel[i];
         if (anyPeriodic)
             for (int a = 0; a < 3; ++a)
@@ -36,6 +45,7 @@ void kickDrift(const Model& model, const DragFactors& decay, Particles& p, bool 
                     p.pos[i][a] -= L[a] * std::floor((p.pos[i][a] - lo[a]) / L[a]);
         if (!model.isSurface(s)) continue;
         p.omega[i] = decay.w[std::size_t(s)] * p.omega[i] + half * invI * p.torque[i];
+        limit(p.omega[i], decay.maxSpin2);
         p.q[i] = (rotation(dt * p.omega[i]) * p.q[i]).normalized();
         p.normal[i] = p.q[i] * Eigen::Vector3d::UnitZ();
     }
@@ -47,9 +57,11 @@ double kick(const Model& model, const DragFactors& decay, Particles& p) {
     for (std::size_t i = 0; i < p.size(); ++i) {
         const int s = p.species[i];
         p.vel[i] = decay.v[std::size_t(s)] * (p.vel[i] + half * p.force[i]);
+        limit(p.vel[i], decay.maxSpeed2);
         twiceKinetic += p.vel[i].squaredNorm();
         if (!model.isSurface(s)) continue;
         p.omega[i] = decay.w[std::size_t(s)] * (p.omega[i] + half * invI * p.torque[i]);
+        limit(p.omega[i], decay.maxSpin2);
         twiceKinetic += model.integration.inertia * p.omega[i].squaredNorm();
     }
     return 0.5 * twiceKinetic;

@@ -4,16 +4,19 @@
 //   O: v *= exp(-beta_v dt / 2m), omega *= exp(-beta_tau dt / 2I)   (exact half step of the drag)
 //   B: v += dt/2 F/m, omega += dt/2 tau/I
 //   A: p += dt v;  q = exp(dt omega / 2) q (rotation by |omega| dt about omega), normal = q e_z
+// After each B, |v| dt and |omega| dt are held within Integration::maxStepR0 r0 and maxTurn.
 // Mass 1; surface particles rotate with inertia I, volume particles do not rotate.
 #include "Model.hpp"
 #include "Particles.hpp"
 
 namespace bop::core {
 
-// Per species: exp(-beta_v dt / 2) and exp(-beta_tau dt / (2 I)), the drag's exact half step.
-// Built once per model, outside the step loop.
+// Per species: exp(-beta_v dt / 2) and exp(-beta_tau dt / (2 I)), the drag's exact half step;
+// and the speed limits of Integration::maxStepR0 and maxTurn. Built once per model, outside the
+// step loop.
 struct DragFactors {
     std::vector<double> v, w;
+    double maxSpeed2 = 0, maxSpin2 = 0;  // (length / time)^2 and (radians / time)^2; 0: no limit
     explicit DragFactors(const Model& m);
 };
 

@@ -63,6 +63,12 @@ struct Integration {
     double dt = 0.02;       // time step, simulation time units (physics.md §3.4: 0.02-0.03)
     double inertia = 0.3;   // moment of inertia of a surface particle, mass * length^2
     double skinR0 = 0.3;    // neighbour-list skin beyond the largest cutoff, multiples of r0
+    // The most a particle moves in one step, multiples of r0 (0: no limit); its velocity is
+    // scaled down to it after each half kick, as LAMMPS's fix nve/limit does. No sound run comes
+    // near it (thermal motion moves about 0.01 r0 a step); it keeps a blow-up (a probe driven
+    // hard into the bag, particles shot into each other) from flinging particles away.
+    double maxStepR0 = 0.2;
+    double maxTurn = 0.5;   // the most a surface particle turns in one step, radians (0: no limit)
 };
 
 struct Model {

@@ -7,9 +7,12 @@ namespace {
 
 struct Bounds {
     Eigen::Array3d lo, hi;
+    double maxSpeed2;  // (length / time)^2
     explicit Bounds(const Model& m)
-        : lo(m.box.lo.array() - kRunawayLength), hi(m.box.hi.array() + kRunawayLength) {}
+        : lo(m.box.lo.array() - kRunawayLength), hi(m.box.hi.array() + kRunawayLength),
+          maxSpeed2(std::pow(kRunawayLength / m.integration.dt, 2)) {}
     bool inside(const Eigen::Vector3d& x) const { return (x.array() >= lo).all() && (x.array() <= hi).all(); }  // false for NaN
+    bool slow(const Eigen::Vector3d& v) const { return v.squaredNorm() <= maxSpeed2; }
 };
 
 }  // namespace
@@ -19,7 +22,7 @@ bool sound(const Model& model, const Particles& p, const Eigen::Vector3d& probeR
     bool inside = true;
     double sum = probeReaction.sum();  // any NaN or infinity makes the sum so
     for (std::size_t i = 0; i < p.size(); ++i) {
-        inside &= b.inside(p.pos[i]);
+        inside &= b.inside(p.pos[i]) & b.slow(p.vel[i]);
         sum += p.vel[i].sum() + p.omega[i].sum() + p.force[i].sum() + p.torque[i].sum();
     }
     return inside && std::isfinite(sum);
@@ -30,6 +33,7 @@ std::string Unsoundness::text() const {
                                        "position not finite",
                                        "more than 1e6 length units beyond the box",
                                        "velocity not finite",
+                                       "faster than 1e6 length units a step",
                                        "angular velocity not finite",
                                        "force not finite",
                                        "torque not finite",
@@ -48,6 +52,7 @@ Unsoundness findUnsound(const Model& model, const Particles& p, const Eigen::Vec
         if (!p.pos[i].allFinite()) return at(Unsoundness::Position);
         if (!b.inside(p.pos[i])) return at(Unsoundness::Runaway);
         if (!p.vel[i].allFinite()) return at(Unsoundness::Velocity);
+        if (!b.slow(p.vel[i])) return at(Unsoundness::Speed);
         if (!p.omega[i].allFinite()) return at(Unsoundness::AngularVelocity);
         if (!p.force[i].allFinite()) return at(Unsoundness::Force);
         if (!p.torque[i].allFinite()) return at(Unsoundness::Torque);

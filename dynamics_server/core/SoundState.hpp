@@ -1,7 +1,8 @@
 #pragma once
 // Whether a state is one a run may go on from, stream and save: every position, velocity,
-// angular velocity, force and torque finite, every particle within kRunawayLength of the box,
-// and the probe's reaction finite. Sane parameters never make an unsound state from a sound one;
+// angular velocity, force and torque finite, every particle within kRunawayLength of the box and
+// slower than kRunawayLength a step (so that the next step's positions stay defined), and the
+// probe's reaction finite. Sane parameters never make an unsound state from a sound one;
 // when a numerical blow-up does, the run stops with a checkpoint of the last sound state (taken
 // every kSoundSnapshotEvery steps) rather than step on, stream or save NaN (docs/dynamics.md).
 #include "Construction.hpp"
@@ -21,7 +22,7 @@ inline constexpr long long kSoundSnapshotEvery = 100;  // steps between copies o
 bool sound(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction);
 // What is wrong with a state, the first thing found.
 struct Unsoundness {
-    enum What : int { None = 0, Position, Runaway, Velocity, AngularVelocity, Force, Torque, ProbeReaction, Sum };
+    enum What : int { None = 0, Position, Runaway, Velocity, Speed, AngularVelocity, Force, Torque, ProbeReaction, Sum };
     What what = None;
     std::uint64_t id = 0;  // the particle's id (Position .. Torque)
     int species = 0;

@@ -68,6 +68,7 @@ Eigen::Vector3d DecomposedSimulation::defaultSeed(int species) const {
 void DecomposedSimulation::construct(std::vector<core::ConstructionEvent> events) {
     core::ConstructionCounts built;  // over all ranks
     bool changed = false;
+    std::vector<Eigen::Vector3d> seeded;  // this step's seeds, placed or not: every rank knows them
     for (const auto& e : events) {
         if (e.action != core::ConstructionEvent::Action::Seed) {
             construction_.setBirth(e.species, e.action == core::ConstructionEvent::Action::BirthOn);
@@ -76,8 +77,10 @@ void DecomposedSimulation::construct(std::vector<core::ConstructionEvent> events
         const double h = mapSource_ ? core::kR0 / mapSource_->header.r0Voxels : 1.0;
         const Eigen::Vector3d x = e.positionVoxels ? Eigen::Vector3d(*e.positionVoxels * h) : defaultSeed(e.species);
         const double near = construction_.params().deathR0 * core::kR0;  // the halo reaches further
-        const bool free = !core::crowded(p_.pos, model_->box, x, near) && !core::crowded(halo_.pos, model_->box, x, near);
+        const bool free = !core::crowded(p_.pos, model_->box, x, near) && !core::crowded(halo_.pos, model_->box, x, near) &&
+                          !core::crowded(seeded, model_->box, x, near);
         construction_.seed(sub_, p_, e.species, x, step_, mine(x) && free);  // every rank counts the seed
+        seeded.push_back(x);
         changed = true;
     }
     if (construction_.checkDue(step_)) {

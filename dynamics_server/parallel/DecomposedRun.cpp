@@ -24,6 +24,7 @@ struct DecomposedRun::Impl {
     }
     void keepIfSound() {  // collective
         if (simPtr->soundEverywhere()) sound = core::SoundSnapshot{simPtr->particles(), simPtr->construction(), simPtr->stepCount()};
+        else sound.reset();  // not an older state of another start
     }
 };
 

@@ -97,7 +97,7 @@ void ServerFront::Impl::hello(const std::string& id, const Decoded<Hello>& h,
     }
     ++stats.hellos;
     front::Client& c = it->second;
-    c.lastHeard = Clock::now();
+    c.lastHeard = Clock::now();  // a new session's
     c.wantedHz = h.value.frameRateHz;
     c.mayCommand = !h.value.readOnly && (opt.viewersMayCommand || h.value.role != Role::Viewer);
     updateRate();
@@ -106,7 +106,15 @@ void ServerFront::Impl::hello(const std::string& id, const Decoded<Hello>& h,
         const std::uint16_t port = h.value.udpFramePort;
         const std::string address = port ? peerAddress() : std::string();
         const int tier = tierFor(rateHz, c.wantedHz);
-        if (address != c.udpAddress || port != c.udpPort || tier != c.udpTier) udp->setFrameClient(id, address, port, tier);
+        if (address != c.udpAddress || port != c.udpPort) {
+            if (!udp->setFrameClient(id, address, port, tier))
+                return refuse(id, MessageKind::Hello, 0, DecodeError::None,
+                              "Hello.udp_frame_port: the server sends frames as datagrams to " +
+                                  std::to_string(FrontUdp::kMaxFrameClients) +
+                                  " clients at most; connect without a UDP frame port");
+        } else if (tier != c.udpTier) {
+            udp->setFrameTier(id, tier);
+        }
         c.udpAddress = address;
         c.udpPort = port;
         c.udpTier = tier;
@@ -125,7 +133,6 @@ void ServerFront::Impl::command(const std::string& id, const Decoded<Command>& c
     ++stats.commands;
     const auto it = clients.find(id);
     if (it == clients.end()) return refuse(id, c.value, ReplyStatus::Rejected, E::None, "hello first");
-    it->second.lastHeard = Clock::now();
     if (!it->second.mayCommand) return refuse(id, c.value, ReplyStatus::ReadOnly, E::None, "this session is read-only");
     if (const auto why = refuseCommand(c.value, scene)) return refuse(id, c.value, ReplyStatus::Rejected, E::OutOfRange, *why);
     if (commands.size() >= front::kMaxQueuedCommands) return refuse(id, c.value, ReplyStatus::Rejected, E::None, "server busy");
@@ -134,6 +141,8 @@ void ServerFront::Impl::command(const std::string& id, const Decoded<Command>& c
 
 void ServerFront::Impl::dispatch(const std::string& id, const std::uint8_t* data, std::size_t size,
                                  const std::function<std::string()>& peerAddress) {
+    // Any message keeps its sender's session, refused ones too: the client is there.
+    if (const auto it = clients.find(id); it != clients.end()) it->second.lastHeard = Clock::now();
     const MessageKind kind = messageKind(data, size);
     switch (kind) {
     case MessageKind::Hello:
@@ -145,7 +154,6 @@ void ServerFront::Impl::dispatch(const std::string& id, const std::uint8_t* data
         if (!r) return refuse(id, kind, 0, r.error, r.message);
         const auto it = clients.find(id);
         if (it == clients.end()) return refuse(id, kind, 0, DecodeError::None, "MapRequest: hello first");
-        it->second.lastHeard = Clock::now();
         if (const auto why = refuseMapRequest(r.value, scene)) return refuse(id, kind, 0, DecodeError::OutOfRange, *why);
         outbox.emplace_back(id, mapPiece(r.value, it->second));
         return;
@@ -155,7 +163,6 @@ void ServerFront::Impl::dispatch(const std::string& id, const std::uint8_t* data
         if (!p) return refuse(id, kind, p.read ? p.value.seq : 0, p.error, p.message);
         const auto it = clients.find(id);
         if (it == clients.end()) return refuse(id, kind, p.value.seq, DecodeError::None, "Probe: hello first");
-        it->second.lastHeard = Clock::now();
         if (const auto why = refuseProbe(p.value, scene)) return refuse(id, kind, p.value.seq, DecodeError::OutOfRange, *why);
         ++stats.probes;
         it->second.lastProbe = it->second.lastHeard;
@@ -163,7 +170,6 @@ void ServerFront::Impl::dispatch(const std::string& id, const std::uint8_t* data
         return;
     }
     default:
-        if (const auto it = clients.find(id); it != clients.end()) it->second.lastHeard = Clock::now();
         return refuse(id, kind, 0, DecodeError::WrongIdentifier,
                       std::string(toString(kind)) + ": not a message a client sends to the server");
     }

@@ -21,16 +21,27 @@ FrontUdp::FrontUdp(const std::string& bindAddress, int port)
     : socket_(bindAddress == "*" ? "0.0.0.0" : bindAddress, std::uint16_t(port)) {}
 
 void FrontUdp::refuse(const Endpoint& sender, const Probe* p, DecodeError e, const std::string& why,
-                      Clock::time_point now, Inbound& in) {
+                      Clock::time_point now, Inbound& in, std::size_t datagramBytes) {
     if (valueRefused(e)) ++in.outOfRange;
     else ++in.malformed;
     if (e == DecodeError::TooLarge) ++in.oversized;
-    Refused& r = refused_[parts(sender)];
+    if (!p) return;  // unreadable: perhaps not even from the address it names
+    Refused& r = refused_[sender.address];
     ++r.count;
     if (now - r.lastSent < std::chrono::seconds(1)) return;
+    if (now - refusalSecond_ > std::chrono::seconds(1)) refusalSecond_ = now, refusalsThisSecond_ = 0;
+    if (++refusalsThisSecond_ > kRefusalsPerSecond) return;
     r.lastSent = now;
+    Refusal answer{"Probe", p->seq, why.substr(0, kMaxTextBytes), r.count};
+    Buffer b = encodeRefusal(answer);
+    if (b.size() > datagramBytes) {  // never more bytes back than came: no amplification
+        const std::size_t cut = std::min(answer.reason.size(), b.size() - datagramBytes);
+        answer.reason.resize(answer.reason.size() - cut);
+        b = encodeRefusal(answer);
+        if (b.size() > datagramBytes) return;
+    }
     try {
-        socket_.sendTo(sender, encodeRefusal({"Probe", p ? p->seq : 0, why.substr(0, kMaxTextBytes), r.count}));
+        socket_.sendTo(sender, b);
         ++in.refusalsSent;
     } catch (const std::exception&) {  // a refusal that cannot go is a lost datagram
     }
@@ -43,11 +54,11 @@ FrontUdp::Inbound FrontUdp::poll(Clock::time_point now, const SceneInfo& scene) 
         if (!d) break;
         const auto p = decodeProbe(d->bytes.data(), d->bytes.size());
         if (!p) {
-            refuse(d->sender, p.read ? &p.value : nullptr, p.error, p.message, now, in);
+            refuse(d->sender, p.read ? &p.value : nullptr, p.error, p.message, now, in, d->bytes.size());
             continue;
         }
         if (const auto why = refuseProbe(p.value, scene)) {
-            refuse(d->sender, &p.value, DecodeError::OutOfRange, *why, now, in);
+            refuse(d->sender, &p.value, DecodeError::OutOfRange, *why, now, in, d->bytes.size());
             continue;
         }
         ++in.probes;
@@ -84,23 +95,33 @@ bool FrontUdp::anyProbing(Clock::time_point now) const {
     return false;
 }
 
-void FrontUdp::setFrameClient(const std::string& id, const std::string& address, std::uint16_t port, int tier) {
+bool FrontUdp::setFrameClient(const std::string& id, const std::string& address, std::uint16_t port, int tier) {
     std::lock_guard lock(frameMutex_);
     if (port == 0) {
         frameClients_.erase(id);
-        return;
+        return true;
     }
+    if (!frameClients_.count(id) && frameClients_.size() >= kMaxFrameClients) return false;
     FrameClient c;
     c.sender = std::make_unique<UdpSender>(UdpSocket(socket_.local().address, 0), Endpoint{address, port});
     c.tier = tier;
     frameClients_[id] = std::move(c);
+    return true;
+}
+
+void FrontUdp::setFrameTier(const std::string& id, int tier) {
+    std::lock_guard lock(frameMutex_);
+    if (const auto it = frameClients_.find(id); it != frameClients_.end()) it->second.tier = tier;
 }
 
 void FrontUdp::frame(const Buffer& whole, std::uint64_t frameNumber) {
     std::lock_guard lock(frameMutex_);
     for (auto it = frameClients_.begin(); it != frameClients_.end();) {
         try {
-            if (frameNumber % (std::uint64_t(1) << it->second.tier) == 0) it->second.sender->send(kFrameStream, whole);
+            // Numbered by the frame: a client's new sender (a new address) goes on upwards, and
+            // its receiver never takes the next frames for stale ones.
+            if (frameNumber % (std::uint64_t(1) << it->second.tier) == 0)
+                it->second.sender->send(kFrameStream, std::uint32_t(frameNumber), whole);
             ++it;
         } catch (const std::exception& e) {  // that client's trouble, not the server's: it gets no more
             std::fprintf(stderr, "bop-server: frame datagrams to %s stopped: %s\n",

@@ -32,14 +32,18 @@ public:
         std::uint64_t refusalsSent = 0;  // Refusal datagrams sent back
     };
     // What is queued now, without waiting; probes are checked against the scene's ranges
-    // (InboundRanges.hpp) and a refused one is answered with a Refusal datagram, at most one a
-    // second to an address.
+    // (InboundRanges.hpp) and a refused one that could be read is answered with a Refusal
+    // datagram no larger than it, at most one a second to an address (garbage is only counted:
+    // a datagram's sender may be forged).
     Inbound poll(Clock::time_point now, const SceneInfo& scene);
     void feedback(const Buffer& b, Clock::time_point now);  // to probe senders of the last second
     bool anyProbing(Clock::time_point now) const;
 
-    // A client (by identity) that wants frames at `address:port`, every 2^tier-th frame.
-    void setFrameClient(const std::string& id, const std::string& address, std::uint16_t port, int tier);
+    // A client (by identity) that wants frames at `address:port`, every 2^tier-th frame (port 0:
+    // no more frames). False when kMaxFrameClients other clients already get them.
+    static constexpr std::size_t kMaxFrameClients = 64;
+    bool setFrameClient(const std::string& id, const std::string& address, std::uint16_t port, int tier);
+    void setFrameTier(const std::string& id, int tier);  // the same client, another rate
     // The whole frame (one buffer), the frame's number (from 1) decides which clients get it.
     void frame(const Buffer& whole, std::uint64_t frameNumber);
     bool wantsFrame(std::uint64_t frameNumber) const;  // some client gets frame `frameNumber`
@@ -52,9 +56,14 @@ private:
         Clock::time_point lastSent{};
         std::uint64_t count = 0;
     };
-    std::map<std::string, Refused> refused_;  // "address:port" -> its refusals; forgotten after a quiet second
+    // By IP address (any port): a sender that forges its address gets one Refusal a second per
+    // address, and all of them together at most kRefusalsPerSecond; forgotten after a quiet second.
+    static constexpr int kRefusalsPerSecond = 16;
+    std::map<std::string, Refused> refused_;
+    Clock::time_point refusalSecond_{};
+    int refusalsThisSecond_ = 0;
     void refuse(const Endpoint& sender, const Probe* p, DecodeError e, const std::string& why, Clock::time_point now,
-                Inbound& in);
+                Inbound& in, std::size_t datagramBytes);
     std::uint64_t sendFailures_ = 0;  // datagrams that could not be sent (said on stderr, sparingly)
     struct FrameClient {
         std::unique_ptr<UdpSender> sender;

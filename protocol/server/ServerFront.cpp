@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <thread>
 
 #include <sys/eventfd.h>
 #include <unistd.h>
@@ -122,14 +123,22 @@ void ServerFront::Impl::loop() {
         try {  // nothing thrown ends the thread: it is counted, said sparingly, and the loop goes on
             pass(items);
         } catch (const std::exception& e) {
-            std::lock_guard lock(m);
-            internalError(e.what());
+            {
+                std::lock_guard lock(m);
+                internalError(e.what());
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));  // a fault that repeats does not spin
         }
     }
 }
 
 void ServerFront::Impl::pass(std::vector<zmq::pollitem_t>& items) {
-    zmq::poll(items, std::chrono::milliseconds(1));
+    try {
+        zmq::poll(items, std::chrono::milliseconds(1));
+    } catch (const zmq::error_t& e) {
+        if (e.num() == EINTR) return;  // a signal: nothing wrong
+        throw;
+    }
     if (zap) {
         const std::uint64_t refused = zap->serve();
         std::lock_guard lock(m);
@@ -141,6 +150,16 @@ void ServerFront::Impl::pass(std::vector<zmq::pollitem_t>& items) {
     }
     std::optional<Feedback> fb;
     std::vector<std::pair<Buffer, Buffer>> inputs;
+    // The inputs taken for the recording are recorded however the rest of the pass goes: a
+    // recording without an applied command would not replay.
+    struct RecordOnExit {
+        Impl& d;
+        std::vector<std::pair<Buffer, Buffer>>& inputs;
+        ~RecordOnExit() {
+            std::lock_guard recording(d.recordMutex);
+            for (const auto& input : inputs) d.recordInputLocked(input);
+        }
+    } recordOnExit{*this, inputs};
     std::vector<std::pair<std::string, Buffer>> out;
     {
         std::lock_guard lock(m);
@@ -194,8 +213,6 @@ void ServerFront::Impl::pass(std::vector<zmq::pollitem_t>& items) {
         }
     }
     for (const auto& [id, b] : out) sendTo(id, b);
-    std::lock_guard recording(recordMutex);
-    for (const auto& input : inputs) recordInputLocked(input);
 }
 
 void ServerFront::Impl::recordInputLocked(const std::pair<Buffer, Buffer>& input) {

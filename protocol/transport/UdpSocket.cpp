@@ -49,7 +49,7 @@ int socketIntOption(int fd, int option) {
 std::string Endpoint::text() const { return address + ":" + std::to_string(port); }
 
 UdpSocket::UdpSocket(const std::string& address, std::uint16_t port, int bufferBytes)
-    : local_{address, port}, buffer_(kReceiveBufferBytes) {
+    : local_{address, port} {
     const sockaddr_in a = toSockaddr(local_);
     fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     if (fd_ < 0) {
@@ -140,6 +140,7 @@ std::optional<Datagram> UdpSocket::receive(int timeoutMs) {
         sockaddr_in from{};
         socklen_t len = sizeof from;
         // MSG_DONTWAIT: the socket stays blocking for sends; receives never block here.
+        if (buffer_.empty()) buffer_.resize(kReceiveBufferBytes);  // a socket that only sends never needs it
         const ssize_t n = ::recvfrom(fd_, buffer_.data(), buffer_.size(), MSG_DONTWAIT,
                                      reinterpret_cast<sockaddr*>(&from), &len);
         if (n >= 0)

@@ -58,7 +58,7 @@ private:
 
     int fd_ = -1;
     Endpoint local_;
-    std::vector<std::uint8_t> buffer_;  // 64 KiB: any UDP datagram over IPv4 fits
+    std::vector<std::uint8_t> buffer_;  // 64 KiB from the first receive: any UDP datagram over IPv4 fits
 };
 
 }  // namespace bop::protocol

@@ -44,20 +44,23 @@ Simulation simulation(const std::shared_ptr<Model>& m, Particles p) {
 
 }  // namespace
 
-TEST_CASE("a step that ends with a non-finite value throws UnsoundState naming the particle", "[core][sound]") {
-    const auto m = smallModel();
+TEST_CASE("a step that ends with a non-finite value throws UnsoundState naming the particle and what", "[core][sound]") {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     struct Spoil {
-        const char* what;
+        const char* what;  // what the state after the step says
+        bool limit;        // with the step limit (Integration::maxStepR0)
         void (*apply)(Particles&, double);
     };
     const Spoil spoils[] = {
-        {"velocity not finite", [](Particles& p, double x) { p.vel[1].y() = x; }},
-        {"position not finite", [](Particles& p, double x) { p.pos[1].z() = x; }},
-        {"more than 1e6 length units beyond the box", [](Particles& p, double) { p.pos[1].x() = -2e6; }},
-        {"velocity not finite", [](Particles& p, double) { p.vel[1].x() = 1e308 * 10; }},
+        {"position not finite", true, [](Particles& p, double x) { p.vel[1].y() = x; }},  // the drift spreads it
+        {"position not finite", true, [](Particles& p, double x) { p.pos[1].z() = x; }},
+        {"more than 1e6 length units beyond the box", true, [](Particles& p, double) { p.pos[1].x() = -2e6; }},
+        {"more than 1e6 length units beyond the box", false, [](Particles& p, double) { p.vel[1].x() = 1e300; }},
+        {"position not finite", false, [](Particles& p, double) { p.vel[1].x() = 1e308 * 10; }},
     };
     for (const Spoil& s : spoils) {
+        const auto m = smallModel();
+        if (!s.limit) m->integration.maxStepR0 = 0;
         Simulation sim = simulation(m, three());
         sim.run(5);
         REQUIRE(sound(*m, sim.particles(), Eigen::Vector3d::Zero()));
@@ -68,15 +71,38 @@ TEST_CASE("a step that ends with a non-finite value throws UnsoundState naming t
             FAIL("no UnsoundState");
         } catch (const UnsoundState& e) {
             CHECK(e.step() == 6);
-            CHECK(std::string(e.what()).find("particle 2 (species 1)") != std::string::npos);
+            CHECK_THAT(e.what(), Catch::Contains("particle 2 (species 1): ") && Catch::Contains(s.what));
         }
         CHECK_FALSE(sound(*m, sim.particles(), Eigen::Vector3d::Zero()));
-        CHECK(unsoundness(*m, sim.particles(), Eigen::Vector3d::Zero()).find("particle") != std::string::npos);
     }
     // The probe's reaction counts too.
+    const auto m = smallModel();
     const Simulation ok = simulation(m, three());
     CHECK(unsoundness(*m, ok.particles(), Eigen::Vector3d(0, nan, 0)) == "the probe's reaction force not finite");
     CHECK(unsoundness(*m, ok.particles(), Eigen::Vector3d::Zero()).empty());
+    // A start (a restart file's state) checked before any drift: too fast to step.
+    Particles fast = three();
+    fast.vel[2].z() = -2e6 / m->integration.dt;
+    CHECK(unsoundness(*m, fast, Eigen::Vector3d::Zero()) == "particle 3 (species 1): faster than 1e6 length units a step");
+}
+
+TEST_CASE("the step limit holds a particle shot at 1e300 to 0.2 r0 a step, and changes nothing below it", "[core][sound]") {
+    const auto m = smallModel();
+    Simulation sim = simulation(m, three());
+    sim.particles().vel[1].x() = 1e300;
+    const Eigen::Vector3d before = sim.particles().pos[1];
+    sim.step();
+    CHECK(sound(*m, sim.particles(), Eigen::Vector3d::Zero()));
+    CHECK((sim.particles().pos[1] - before).norm() <= m->integration.maxStepR0 * kR0 * (1 + 1e-12));
+    // A run that never meets the limit is the same bit for bit with and without it.
+    const auto free = smallModel();
+    free->integration.maxStepR0 = 0;
+    free->integration.maxTurn = 0;
+    Simulation a = simulation(m, three()), b = simulation(free, three());
+    a.particles().vel[0] = b.particles().vel[0] = Eigen::Vector3d(0.3, -0.2, 0.1);
+    a.run(50);
+    b.run(50);
+    for (std::size_t i = 0; i < 3; ++i) CHECK(a.particles().pos[i] == b.particles().pos[i]);
 }
 
 TEST_CASE("two particles on one point: the forces blow up and the step says so", "[core][sound]") {

@@ -140,6 +140,7 @@ TEST_CASE("the served torus keeps stepping through every out-of-range message an
             CHECK(finiteFrame(*g));
         }
     CHECK(frames > 5);
+    INFO(srv.output());
     REQUIRE(srv.running());
     CHECK(srv.stop(SIGINT) == 0);
     const std::string out = srv.output();

@@ -66,6 +66,7 @@ Buffer mapRequestMessage(std::uint64_t offset, std::uint32_t length) {
 std::vector<Case> outOfRange(const SceneInfo& scene) {
     using namespace ranges;
     const Eigen::Vector3d c = 0.5 * (scene.boxLo + scene.boxHi), reach = probeReachBox(scene).max();
+    const int beyond = int(scene.species.size()) + 1;  // a species number the scene does not have
     const double above = 1 + 1e-6;
     std::vector<Case> v = {
         {"probe k0 just below", probeMessage(c, kMinProbeK0 * (1 - 1e-6)), "Probe.k0"},
@@ -95,16 +96,16 @@ std::vector<Case> outOfRange(const SceneInfo& scene) {
         {"seed position NaN", seedMessage(1, {kNaN, c.y(), c.z()}), "SeedParticle.position"},
         {"seed position huge", seedMessage(1, {c.x(), 1e300, c.z()}), "SeedParticle.position"},
         {"seed species 0", seedMessage(0, c), "SeedParticle.species"},
-        {"seed species beyond the scene's", seedMessage(3, c), "SeedParticle.species"},
-        {"birth species beyond the scene's", birthMessage(3), "SetBirth.species"},
+        {"seed species beyond the scene's", seedMessage(beyond, c), "SeedParticle.species"},
+        {"birth species beyond the scene's", birthMessage(beyond), "SetBirth.species"},
         {"single steps 0", singleStepMessage(0), "RunControl.steps"},
         {"single steps just above", singleStepMessage(kMaxSingleSteps + 1), "RunControl.steps"},
         {"map request of 0 bytes", mapRequestMessage(0, 0), "MapRequest.length"},
         {"map request just above 1 MiB", mapRequestMessage(0, std::uint32_t(kMaxMapPieceBytes + 1)), "MapRequest.length"},
         {"map request beyond the file", mapRequestMessage(scene.mapBytes + 1, 10), "MapRequest.offset"},
         {"weight of species 0", parameterMessage("lj", 1, 0, 1), "SetParameter.species_a"},
-        {"weight of species beyond the scene's", parameterMessage("co_planar", 1, 1, 3), "SetParameter.species_b"},
-        {"drag of species beyond the scene's", parameterMessage("drag_w", 1, 3, 0), "SetParameter.species_a"},
+        {"weight of species beyond the scene's", parameterMessage("co_planar", 1, 1, beyond), "SetParameter.species_b"},
+        {"drag of species beyond the scene's", parameterMessage("drag_w", 1, beyond, 0), "SetParameter.species_a"},
     };
     const std::pair<const char*, std::pair<double, double>> bounded[] = {
         {"lj", {0, kMaxWeight}},         {"co_normal", {0, kMaxWeight}}, {"co_planar", {0, kMaxWeight}},
