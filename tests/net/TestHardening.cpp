@@ -67,10 +67,13 @@ std::string refusalOf(const std::string& endpoint, const Buffer& message) {
     return {};
 }
 
-// The small bulk box as a scene file, not periodic: a particle that leaves flies on.
-std::string openBox(const test::TempDir& dir) {
-    return test::writeText(dir.file("open-box.toml"), "[box]\nsize_r0 = [6.0, 6.0, 6.0]\nspacing_r0 = 1.0\n"
-                                                      "periodic = false\n[[species]]\nname = \"bulk\"\nkind = \"volume\"\n");
+// The small bulk box as a scene file, not periodic: a particle that leaves flies on. Without the
+// step limit (max_step_r0 = 0) nothing holds a particle thrown hard.
+std::string openBox(const test::TempDir& dir, bool limit = false) {
+    return test::writeText(dir.file(limit ? "limited-box.toml" : "open-box.toml"),
+                           std::string("[box]\nsize_r0 = [6.0, 6.0, 6.0]\nspacing_r0 = 1.0\nperiodic = false\n"
+                                       "[[species]]\nname = \"bulk\"\nkind = \"volume\"\n[dynamics]\nmax_step_r0 = ") +
+                               (limit ? "0.2\n" : "0.0\n"));
 }
 
 // The open box's start with particle 1 thrown at 1.1e6 length units per time: the drag slows it,
@@ -189,6 +192,12 @@ TEST_CASE("a run whose physics goes unsound stops with exit 3 and the last sound
         }
     CHECK(frames > 0);
     const int code = srv.stop(SIGINT);
+    // With the step limit (the default) the same throw is held to 0.2 r0 a step: the run stays sound.
+    const std::string limited = openBox(dir, true);
+    const auto held = test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + limited +
+                                       " --no-listen --steps 400 --restart " + start + " -o " + dir.file("limited") + " 2>&1");
+    INFO(held.second);
+    CHECK(held.first == 0);
     const std::string log = srv.output();
     INFO(log);
     CHECK(log.find("is not sound") != std::string::npos);
