@@ -92,7 +92,7 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
                 std::cout << "  construction so far: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths\n";
         }
         // Rank 0's signal decides for every rank (mpirun passes SIGTERM to them all, not at once).
-        stopped = run.agree({batchStopRequested() ? 1.0 : 0.0, 0, 0, 0})[0] != 0;
+        stopped = run.agree({batchStopRequested() ? 1 : 0}).stop != 0;
         const long long step = run.stepNumber();
         const bool last = stopped || s == o.steps;
         if ((o.checkpointEvery > 0 && step % o.checkpointEvery == 0) || last) {

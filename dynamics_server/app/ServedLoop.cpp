@@ -129,13 +129,12 @@ bool ServedLoop::pass() {
             d = {Failed, false, false, false};
         }
     }
-    const std::array<double, 4> ctl =
-        run_.agree({double(d.stop), d.step ? 1.0 : 0.0, d.publish ? 1.0 : 0.0, d.feedback ? 1.0 : 0.0});
-    if (const Stop stop = Stop(int(ctl[0])); stop != Go) {
-        if (stop == Failed && error_.empty()) error_ = "rank 0 stopped the run";
+    const Decision ctl = run_.agree(d);
+    if (ctl.stop != Go) {
+        if (ctl.stop == Failed && error_.empty()) error_ = "rank 0 stopped the run";
         return false;
     }
-    if (ctl[1] != 0) {
+    if (ctl.step) {
         run_.step();  // core::UnsoundState leaves here, on every rank
         ++done_, ++rateSteps_;
         if (cardiac_) recordCardiac(*cardiac_, run_, model_);
@@ -150,11 +149,11 @@ bool ServedLoop::pass() {
     } else {
         std::this_thread::sleep_for(idle_);
     }
-    if (ctl[3] == 0 && ctl[2] == 0) return true;
+    if (!ctl.feedback && !ctl.publish) return true;
     const parallel::Totals t = run_.totals();  // collective
-    if (front_ && ctl[3] != 0)
+    if (front_ && ctl.feedback)
         front_->offerFeedback({desk_.probeSeq, std::uint64_t(run_.stepNumber()), t.probeReaction, nowNs()});
-    if (ctl[2] != 0) publish(t);
+    if (ctl.publish) publish(t);
     return true;
 }
 

@@ -34,11 +34,8 @@ public:
     Desk& desk() { return desk_; }
 
 private:
-    enum Stop : int { Go = 0, Stopped = 1, Failed = 2 };
-    struct Decision {
-        Stop stop = Go;
-        bool step = false, publish = false, feedback = false;
-    };
+    enum Stop : int { Go = 0, Stopped = 1, Failed = 2 };  // Decision::stop
+    using Decision = parallel::DecomposedRun::Decision;
     Decision decide();        // rank 0
     Decision replayInputs();  // rank 0, replaying
     void takeProbe(const protocol::Probe& p);

@@ -77,49 +77,4 @@ std::uint64_t Construction::seed(const Model& model, Particles& p, int species, 
     return gid;
 }
 
-ConstructionCounts Construction::update(const Model& model, Particles& p, long long step) {
-    std::vector<Eigen::Vector3d> seeded;  // this step's seeds, placed or not (as every rank of a decomposed run knows them)
-    for (const auto& e : eventsAt(step)) {
-        if (e.action == ConstructionEvent::Action::Seed) {
-            const double h = model.map ? kR0 / model.map->r0Voxels : 1.0;
-            const Eigen::Vector3d x = e.positionVoxels ? Eigen::Vector3d(*e.positionVoxels * h) : defaultSeedPosition(model, e.species);
-            const double near = params_.deathR0 * kR0;
-            seed(model, p, e.species, x, step, !crowded(p.pos, model.box, x, near) && !crowded(seeded, model.box, x, near));
-            seeded.push_back(x);
-        } else {
-            setBirth(e.species, e.action == ConstructionEvent::Action::BirthOn);
-        }
-    }
-    ConstructionCounts c;
-    if (!checkDue(step)) return c;
-    c.deaths = deaths(model, p, step);
-    if (model.map)
-        for (int s = 1; s < int(birth_.size()); ++s)
-            if (birth_[std::size_t(s)]) c.births += births(model, p, s, step);
-    addToTotals(c);
-    return c;
-}
-
-std::size_t Construction::deaths(const Model& model, Particles& p, long long step) {
-    const std::vector<DeathMark> marks = markDeaths(params_, {model, model.box, p, p.size()}, step);
-    if (marks.empty()) return 0;
-    std::vector<std::size_t> count(model.species.size(), 0);
-    for (auto s : p.species) ++count[s];
-    const std::vector<std::uint64_t> ids = chooseDeaths(params_, marks, count, birth_);
-    std::vector<char> die(p.size(), 0);
-    for (std::size_t i = 0; i < p.size(); ++i) die[i] = std::binary_search(ids.begin(), ids.end(), p.id[i]);
-    p.removeIf(die);
-    return ids.size();
-}
-
-std::size_t Construction::births(const Model& model, Particles& p, int species, long long step) {
-    std::size_t have = 0;
-    for (auto s : p.species) have += s == species;
-    if (have == 0) return 0;  // births grow from a seed
-    const auto winners =
-        chooseBirths(params_, model.box, birthCandidates(params_, {model, model.box, p, p.size()}, species, step, everywhere), have);
-    for (const auto& w : winners) addBirth(model, p, species, w, step);
-    return winners.size();
-}
-
 }  // namespace bop::core

@@ -1,7 +1,10 @@
 #pragma once
 // Building a bag by birth and death (paper §3.6, physics.md §7): the user seeds one particle
 // per species; where a species' voxels lack particles next to existing ones, particles are born;
-// where two particles are too close, one dies. Rate-limited, surfaces first, then volumes.
+// where two particles are too close, one dies. Rate-limited, surfaces first, then volumes. This
+// class holds the timeline, the switches and the counts; a step (Simulation.cpp construct())
+// does the checks with the pieces of ConstructionSteps.hpp, every ten steps while a birth is on:
+// deaths, then births of every species whose birth is on (only those species lose particles).
 // Deterministic for a given seed: every choice is ordered by a counter-based hash of
 // (seed, step, species, voxel or id), never by iteration order.
 #include "Model.hpp"
@@ -57,20 +60,11 @@ public:
     std::vector<ConstructionEvent> eventsAt(long long step) const;  // the timeline's, in order
     int speciesCount() const { return int(birth_.size()) - 1; }
 
-    // At the start of a step: the timeline's events for this step, then (every everySteps
-    // steps, while some species' birth is on) deaths followed by births of every species whose
-    // birth is on. Only those species lose particles; with every birth off the bag is left
-    // alone: no check runs.
-    ConstructionCounts update(const Model& model, Particles& p, long long step);
-
     const ConstructionParams& params() const { return params_; }
     ConstructionCounts totals() const { return totals_; }
     void addToTotals(const ConstructionCounts& c) { totals_.births += c.births; totals_.deaths += c.deaths; }
 
 private:
-    std::size_t deaths(const Model& model, Particles& p, long long step);
-    std::size_t births(const Model& model, Particles& p, int species, long long step);
-
     ConstructionParams params_;
     std::vector<ConstructionEvent> timeline_;
     std::vector<char> birth_;

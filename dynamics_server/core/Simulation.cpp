@@ -1,87 +1,260 @@
 #include "Simulation.hpp"
 
-#include "SoundState.hpp"
+#include "ParticleRecords.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
 
 namespace bop::core {
 namespace {
+
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+void setWeight(Model& m, const Command& c) {  // std::invalid_argument if out of range
+    if (c.other < 1 || c.other > m.speciesCount())
+        throw std::invalid_argument("weight command: no species " + std::to_string(c.other));
+    if (c.species < 1 || c.species > m.speciesCount())
+        throw std::invalid_argument("weight command: no species " + std::to_string(c.species));
+    if (!std::isfinite(c.value) || c.value < 0) throw std::invalid_argument("weight command: weights must be 0 or more");
+    WeightMatrix& w = c.table == Command::Table::Lj ? m.lj : c.table == Command::Table::CoNormal ? m.coNormal : m.coPlanar;
+    w(c.species, c.other) = c.value;
+}
+
 }  // namespace
+
+double haloReach(const Model& model, const SimulationOptions& o) {
+    const double front = o.construction ? o.construction->params().frontR0 : ConstructionParams{}.frontR0;
+    return std::max(ForceField(model).listRange(), model.map || o.map ? front * kR0 : 0.0);
+}
 
 Simulation::Simulation(std::shared_ptr<const Model> model, Particles particles, Construction construction,
                        long long firstStep)
-    : model_(std::move(model)), p_(std::move(particles)), construction_(std::move(construction)), drag_(*model_),
-      forces_(*model_) {
+    : ownExchange_(std::make_unique<Exchange>()), ex_(ownExchange_.get()), model_(std::move(model)), sub_(*model_),
+      field_(*model_), drag_(*model_), p_(std::move(particles)), construction_(std::move(construction)) {
     stats_.step = firstStep;
     stats_.time = double(firstStep) * model_->integration.dt;
-    const Eigen::Vector3d all = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-    if (model_->frames.size() > 1)
-        for (const auto& f : model_->frames) frameVolumes_.push_back(countMapVolume(*f, -all, all));
-    else if (model_->map)
-        frameVolumes_.push_back(countMapVolume(*model_->map, -all, all));
+    range_ = field_.listRange();
+    placeMaps();
+    field_ = ForceField(sub_);
     applyKeyframe(stats_.time);
+    forcesStale_ = true;  // the first step computes them, with its own keyframe
 }
 
-void Simulation::applyKeyframe(double time) {
-    const std::shared_ptr<const Model> keep = model_;  // alive while a switch replaces model_
-    const Model& m = *keep;
-    if (m.map) {
-        const KeyframeAt at = m.keyframes.animated() && m.frames.size() > 1 ? m.keyframes.at(time) : KeyframeAt{};
-        if (m.frames.size() > 1) {
-            if (m.frames[std::size_t(at.a)] != m.map) {
-                auto next = std::make_shared<Model>(m);  // weights and species stay; the map moves on
-                next->map = m.frames[std::size_t(at.a)];
-                model_ = std::move(next);  // the forces of this step's new positions are the new map's
-            }
-            forces_.setMapBlend(model_->frames[std::size_t(at.b)].get(), at.w);
-        }
-        stats_.keyframe = at;
-        const double h3 = std::pow(kR0 / m.map->r0Voxels, 3);
-        std::vector<double> blood, cavity;
-        for (const MapVolume& v : frameVolumes_) blood.push_back(v.volumeVoxels), cavity.push_back(v.bagVoxels);
-        const KeyframeAt pick = frameVolumes_.size() > 1 ? at : KeyframeAt{};
-        stats_.bloodVolume = blendFrames(blood, pick) * h3;
-        stats_.cavityVolume = blendFrames(cavity, pick) * h3;
+Simulation::Simulation(std::shared_ptr<const Model> model, const Particles& all, SimulationOptions options,
+                       Exchange& exchange)
+    : ex_(&exchange), model_(std::move(model)), sub_(*model_), field_(*model_), drag_(*model_),
+      construction_(options.construction ? *options.construction : Construction({}, {}, model_->speciesCount())),
+      mapSource_(std::move(options.map)) {
+    stats_.step = options.firstStep;
+    stats_.time = double(options.firstStep) * model_->integration.dt;
+    range_ = field_.listRange();
+    sub_.box = ex_->region(model_->box);
+    placeMaps();
+    field_ = ForceField(sub_);  // with the map window: the pair terms' curvature weights need to know of a map
+    applyKeyframe(stats_.time);
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        if (!ex_->owns(all.pos[i])) continue;
+        const std::size_t k = p_.add(all.pos[i], all.species[i], all.id[i], all.q[i]);
+        p_.q[k] = all.q[i];
+        p_.normal[k] = all.normal[i];
+        p_.vel[k] = all.vel[i];
+        p_.omega[k] = all.omega[i];
     }
+    rebalance();
+    forces(true);
+    stats_.kinetic = kineticEnergy(sub_, p_);
 }
+
+Simulation::~Simulation() = default;
+Simulation::Simulation(Simulation&&) noexcept = default;
 
 void Simulation::setModel(std::shared_ptr<const Model> m) {
+    const Box region = sub_.box;
+    const std::shared_ptr<const GradientMap> map = sub_.map;
+    const std::vector<std::shared_ptr<const GradientMap>> frames = sub_.frames;
     model_ = std::move(m);
-    drag_ = DragFactors(*model_);
-    forces_ = ForceField(*model_);
-    forcesValid_ = false;
+    sub_ = *model_;
+    sub_.box = region;
+    sub_.map = map;
+    sub_.frames = frames;
+    drag_ = DragFactors(sub_);
+    field_ = ForceField(sub_);
+    forcesStale_ = true;
 }
 
-void Simulation::refreshForces() {
-    forces_.compute(*model_, probe_, p_, stats_.forces, &times_.forces);
-    forcesValid_ = true;
+void Simulation::submit(const Command& command) {
+    if (ex_->rank() != 0) throw std::logic_error("commands are submitted on rank 0");
+    if (command.kind == Command::Kind::Weight) {  // refused here, before any process sees it
+        Model trial = sub_;
+        setWeight(trial, command);
+        if (ForceField(trial).listRange() != range_)
+            throw std::invalid_argument("weight command: it would change the interaction range (oriented terms on or "
+                                        "off); give the scene a nonzero weight of that kind to start with");
+    }
+    commands_.push_back(command);
+}
+
+void Simulation::apply(const Command& c) {
+    if (c.kind == Command::Kind::Probe) {
+        probe_ = c.probe;
+        return;
+    }
+    if (c.species < 1 || c.species > sub_.speciesCount())
+        throw std::invalid_argument("command: no species " + std::to_string(c.species));
+    if (c.kind == Command::Kind::Birth) {
+        construction_.setBirth(c.species, c.on);
+        return;
+    }
+    if (c.kind == Command::Kind::Weight) {
+        setWeight(sub_, c);
+        field_ = ForceField(sub_);  // its pair kernel keeps the weights; the new one builds its list afresh
+        forcesStale_ = true;
+        return;
+    }
+    if (!(c.dragV >= 0 && c.dragW >= 0)) throw std::invalid_argument("drag command: drags must be 0 or more");
+    sub_.species[std::size_t(c.species)].dragV = c.dragV;
+    sub_.species[std::size_t(c.species)].dragW = c.dragW;
+    drag_ = DragFactors(sub_);
+}
+
+void Simulation::forces(bool energies) {
+    field_.compute(sub_, probe_, p_, stats_.forces, &times_.forces, energies, ex_->hasGhosts() ? &halo_ : nullptr);
+    forcesStale_ = false;
+}
+
+void Simulation::refreshForces() { forces(true); }
+
+void Simulation::rebalance() {
+    if (ex_->rebalance(p_)) {
+        sub_.box = ex_->region(model_->box);
+        placeMaps();
+    }
+    ex_->buildHalo(p_, range_, halo_);
+    field_.requestRebuild();
 }
 
 void Simulation::step() {
     auto t0 = Clock::now();
+    // Rank 0's commands, the same on every process; seeds join the timeline's events, so that
+    // construction places them as a single process does.
+    ex_->broadcast(commands_);
+    std::vector<ConstructionEvent> events = construction_.eventsAt(stats_.step);
+    for (const Command& c : commands_) {
+        if (c.kind != Command::Kind::Seed) {
+            apply(c);
+            continue;
+        }
+        if (c.species < 1 || c.species > sub_.speciesCount())
+            throw std::invalid_argument("seed command: no species " + std::to_string(c.species));
+        ConstructionEvent e;
+        e.step = stats_.step;
+        e.species = c.species;
+        e.positionVoxels = c.position / (sub_.map ? kR0 / sub_.map->r0Voxels : 1.0);
+        events.push_back(e);
+    }
+    commands_.clear();
     applyKeyframe(double(stats_.step + 1) * model_->integration.dt);  // the time of this step's forces
-    const std::size_t before = p_.size();
-    stats_.built = construction_.update(*model_, p_, stats_.step);
-    if (p_.size() != before || stats_.built.deaths) forcesValid_ = false;
+    construct(std::move(events));
     times_.construction += since(t0);
-    if (!forcesValid_) refreshForces();
+    if (forcesStale_) forces(true);  // the step starts from forces of today's weights and particles
 
     t0 = Clock::now();
-    kickDrift(*model_, drag_, p_);
+    kickDrift(sub_, drag_, p_, ex_->wrapsEveryDrift());
     times_.integrate += since(t0);
-    forces_.compute(*model_, probe_, p_, stats_.forces, &times_.forces, (stats_.step + 1) % energyEvery_ == 0);
+    const bool holds = field_.listHolds(sub_, p_);
     t0 = Clock::now();
-    stats_.kinetic = kick(*model_, drag_, p_);
-    stats_.blood = bloodSums(*model_, p_);
-    times_.integrate += since(t0);
+    if (!ex_->allTrue(holds)) {
+        ex_->migrate(p_);
+        if (ex_->imbalance(p_.size()) > 1.1) {
+            rebalance();
+        } else {
+            ex_->buildHalo(p_, range_, halo_);
+            field_.requestRebuild();
+        }
+        ++rebuilds_;
+    } else {
+        ex_->updateHalo(p_, halo_);
+    }
+    exchangeSeconds_ += since(t0);
     ++stats_.step;
     stats_.time += model_->integration.dt;
-    if (!sound(*model_, p_, stats_.forces.probeReaction))
-        throw UnsoundState(stats_.step, unsoundness(*model_, p_, stats_.forces.probeReaction));
+    forces(stats_.step % energyEvery_ == 0);
+    t0 = Clock::now();
+    stats_.kinetic = kick(sub_, drag_, p_);
+    stats_.blood = bloodSums(sub_, p_);
+    times_.integrate += since(t0);
+    if (!ex_->allTrue(sound(*model_, p_, stats_.forces.probeReaction))) throwUnsound();
+}
+
+bool Simulation::soundEverywhere() const { return ex_->allTrue(sound(*model_, p_, stats_.forces.probeReaction)); }
+
+void Simulation::throwUnsound() const {
+    // What each process found, so that every one throws the same words: the first finding.
+    const Unsoundness mine = findUnsound(*model_, p_, stats_.forces.probeReaction);
+    const std::vector<double> all = ex_->allGather(
+        {double(mine.what), double(mine.id & 0xffffffffu), double(mine.id >> 32), double(mine.species)});
+    for (std::size_t r = 0; r < all.size(); r += 4) {
+        if (all[r] == 0) continue;
+        const Unsoundness u{Unsoundness::What(int(all[r])), std::uint64_t(all[r + 1]) | std::uint64_t(all[r + 2]) << 32,
+                            int(all[r + 3])};
+        throw UnsoundState(stats_.step, u.text() + (ex_->size() > 1 ? " (rank " + std::to_string(r / 4) + ")" : ""));
+    }
+    throw UnsoundState(stats_.step, "on a process that could not say where");
+}
+
+Totals Simulation::totals() const {
+    const ForceStats& f = stats_.forces;
+    const BloodSums blood = bloodSums(sub_, p_);
+    const std::vector<double> mine{double(p_.size()), stats_.kinetic, f.pairEnergy, f.probeEnergy, f.virial,
+                                   f.virialVolume, f.probeReaction.x(), f.probeReaction.y(), f.probeReaction.z(),
+                                   blood.mv2, blood.count, f.wallVirial};
+    const std::vector<double> all = ex_->allGather(mine);
+    std::vector<double> sum(mine.size(), 0.0);
+    for (std::size_t r = 0; r < all.size() / mine.size(); ++r)  // rank order: the same sum everywhere
+        for (std::size_t k = 0; k < mine.size(); ++k) sum[k] += all[r * mine.size() + k];
+    Totals t;
+    t.particles = sum[0];
+    t.kinetic = sum[1];
+    t.pairEnergy = sum[2];
+    t.probeEnergy = sum[3];
+    t.virial = sum[4];
+    t.virialVolume = sum[5];
+    t.probeReaction = Eigen::Vector3d(sum[6], sum[7], sum[8]);
+    t.bloodMv2 = sum[9];
+    t.bloodCount = sum[10];
+    t.wallVirial = sum[11];
+    t.keyframe = stats_.keyframe;
+    t.bloodVolume = stats_.bloodVolume;
+    t.cavityVolume = stats_.cavityVolume;
+    return t;
+}
+
+Particles Simulation::gather(const Particles& p) const {
+    std::vector<double> mine;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        packParticle(p, i, mine);
+        mine.insert(mine.end(), {p.force[i].x(), p.force[i].y(), p.force[i].z(), p.torque[i].x(), p.torque[i].y(),
+                                 p.torque[i].z()});
+    }
+    const std::vector<double> all = ex_->allGatherV(mine);
+    constexpr std::size_t n = kParticleWithForcesRecord;
+    std::vector<std::size_t> order(all.size() / n);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return idOf(all[a * n + 14]) < idOf(all[b * n + 14]); });
+    Particles out;
+    for (std::size_t k : order) {
+        const double* v = &all[k * n];
+        unpackParticle(v, out);
+        out.force.back() = Eigen::Vector3d(v[15], v[16], v[17]);
+        out.torque.back() = Eigen::Vector3d(v[18], v[19], v[20]);
+    }
+    return out;
 }
 
 }  // namespace bop::core

@@ -1,22 +1,33 @@
 #pragma once
-// One process's simulation: the model (read-only during a step), the particles, the probe and
-// the construction timeline, advanced by step(). Free of MPI, sockets and files.
+// The one step of every run (docs/architecture.md): the model (read-only during a step), this
+// process's particles and the ghosts of others', the probe, the construction timeline and the
+// commands queued for the next step, advanced by step(). One process runs it with the base
+// Exchange (nothing to exchange); each rank of a decomposed run with parallel::MpiExchange, which
+// brings the halo plan, migration, balancing and reductions. Keyframes, volumes, commands and
+// construction exist once, here. Free of MPI, sockets and files.
 #include "BloodPressure.hpp"
+#include "Command.hpp"
 #include "Construction.hpp"
+#include "Exchange.hpp"
 #include "ForceField.hpp"
 #include "Integrator.hpp"
+#include "SoundState.hpp"
 
+#include "shape/GradientMapCrop.hpp"
+
+#include <functional>
 #include <memory>
+#include <optional>
 
 namespace bop::core {
 
 struct StepStats {
     long long step = 0;          // steps completed
     double time = 0;             // simulation time
-    double kinetic = 0;          // kinetic energy (translation + rotation)
+    double kinetic = 0;          // kinetic energy (translation + rotation) of this process's particles
     ForceStats forces;           // energies, virial and probe reaction of the last force evaluation
-    ConstructionCounts built;    // births and deaths at the start of the last step
-    BloodSums blood;             // kinetic sum and count of the volume particles after the step
+    ConstructionCounts built;    // births and deaths of the last step (every process's)
+    BloodSums blood;             // kinetic sum and count of this process's volume particles after the step
     KeyframeAt keyframe;         // the gradient-map frame(s) of the last force evaluation
     double bloodVolume = 0;      // volume voxels of the map(s) in force, length^3 (eq. 15's V)
     double cavityVolume = 0;     // every voxel of the bags in the map(s) in force, length^3
@@ -30,19 +41,68 @@ struct StepTimes {
     double total() const { return forces.neighbours + forces.pairs + forces.gradientMap + forces.probe + integrate + construction; }
 };
 
+// Sums over every process, the same on each (totals()).
+struct Totals {
+    double particles = 0, kinetic = 0, pairEnergy = 0, probeEnergy = 0, virial = 0, virialVolume = 0;
+    double bloodMv2 = 0, bloodCount = 0, wallVirial = 0;  // BloodPressure.hpp, ForceStats::wallVirial
+    KeyframeAt keyframe;                  // the map frame(s) of the last forces
+    double bloodVolume = 0, cavityVolume = 0;  // volume voxels and bag voxels in force, length^3
+    Eigen::Vector3d probeReaction = Eigen::Vector3d::Zero();
+    double total() const { return kinetic + pairEnergy + probeEnergy; }
+};
+
+// Where a process gets its window of the gradient map: the whole map's grid and r0 (arrays empty)
+// and any window of any of its keyframes (bop-server reads them from the cache file). Without one,
+// the windows are cut from the model's maps.
+struct MapSource {
+    GradientMap header;
+    std::function<GradientMap(int frame, const shape::VoxelWindow&)> crop;
+    int frames = 1;  // keyframes (the model's schedule says when each is in force)
+};
+
+struct SimulationOptions {
+    std::optional<Construction> construction;  // timeline and parameters; none: no timeline
+    long long firstStep = 0;                   // step number of the initial state
+    std::optional<MapSource> map;              // none: windows of model->map
+};
+
+// The widest reach of ghosts a run needs: the pair terms' list range, or the birth front of
+// construction (a decomposition's smallest region), length.
+double haloReach(const Model& model, const SimulationOptions& options);
+
 class Simulation {
 public:
+    // One process: every particle, the scene's construction (timeline and parameters).
     Simulation(std::shared_ptr<const Model> model, Particles particles, Construction construction,
                long long firstStep = 0);
+    // A process of a run over `exchange` (outliving this): the model of the whole scene, `all` the
+    // particles of the whole scene (the same on every process; each keeps those it owns).
+    // Computes the first forces. Collective.
+    Simulation(std::shared_ptr<const Model> model, const Particles& all, SimulationOptions options, Exchange& exchange);
+    ~Simulation();
+    Simulation(Simulation&&) noexcept;
 
-    // core::UnsoundState (SoundState.hpp) when the step ends in a state not fit to go on from.
+    // Commands, construction, kick and drift, exchange, forces, kick. UnsoundState (every process
+    // alike) when the step ends in a state not fit to go on from (SoundState.hpp). Collective.
     void step();
     void run(long long steps) { for (long long s = 0; s < steps; ++s) step(); }
+    // On rank 0: a command every process applies at the start of the next step
+    // (std::invalid_argument if it is refused, std::logic_error on other ranks).
+    void submit(const Command& command);
+    // Forces again for the current state, with energies. Collective.
+    void refreshForces();
+    // Compute the LJ pair energy only every n steps (1 = every step, the default); the stats of
+    // other steps leave it out. Batch runs set their report period here.
+    void setEnergyEvery(long long n) { energyEvery_ = n > 0 ? n : 1; }
 
-    const Model& model() const { return *model_; }
-    void setModel(std::shared_ptr<const Model> m);  // between steps
+    // The model over this process's region, with its window of the map in force.
+    const Model& model() const { return sub_; }
+    // Between steps, on one process: weights, drags and parameters of another model of the same
+    // scene (the same box and maps).
+    void setModel(std::shared_ptr<const Model> m);
     const Particles& particles() const { return p_; }
-    Particles& particles() { return p_; }  // between steps (commands, tests)
+    Particles& particles() { return p_; }  // between steps (tests)
+    const Halo& halo() const { return halo_; }
     ProbeState& probe() { return probe_; }
     Construction& construction() { return construction_; }
     const Construction& construction() const { return construction_; }
@@ -50,34 +110,54 @@ public:
     const StepTimes& times() const { return times_; }
     void resetTimes() { times_ = StepTimes{}; }
     void setTimes(const StepTimes& t) { times_ = t; }  // carried over when a run continues from a checkpoint
-    const ForceField& forceField() const { return forces_; }
-
-    // Voxel counts of each keyframe's map (one entry for a static shape, none without a map).
+    const ForceField& forceField() const { return field_; }
+    long long stepCount() const { return stats_.step; }
+    std::size_t rebuilds() const { return rebuilds_; }  // neighbour lists and halos built again
+    double exchangeSeconds() const { return exchangeSeconds_; }  // in halo, migration and the rebuild vote
+    std::size_t mapBytes() const;  // this process's window of the gradient map (of every keyframe)
+    // Voxel counts of each keyframe's whole map (one entry for a static shape, none without a map).
     const std::vector<MapVolume>& frameVolumes() const { return frameVolumes_; }
 
-    // Recomputes forces for the current state (after commands changed particles or the model).
-    void refreshForces();
-
-    // Compute the LJ pair energy only every n steps (1 = every step, the default); the stats of
-    // other steps leave it out. Batch runs set their report period here.
-    void setEnergyEvery(long long n) { energyEvery_ = n > 0 ? n : 1; }
+    // ---- collective ----
+    Totals totals() const;
+    bool soundEverywhere() const;  // sound() of every process's particles
+    // Every process's `mine` (default: its particles), sorted by id, on every process, forces
+    // and torques included.
+    Particles gather() const { return gather(p_); }
+    Particles gather(const Particles& mine) const;
 
 private:
-    // The map(s) in force at `time`: the model's map follows the keyframes (construction reads
-    // it), the force field blends towards the next frame.
+    void apply(const Command& c);  // every process, at the start of a step
+    void construct(std::vector<ConstructionEvent> events);  // SimulationConstruction.cpp
+    Eigen::Vector3d defaultSeed(int species) const;        // collective
+    void placeMaps();   // this region's windows of the map(s); SimulationMaps.cpp
     void applyKeyframe(double time);
+    void rebalance();   // new region, its windows, ghosts and list
+    void forces(bool energies);
+    [[noreturn]] void throwUnsound() const;  // collective: UnsoundState naming what a process found
 
-    std::shared_ptr<const Model> model_;
-    std::vector<MapVolume> frameVolumes_;
-    Particles p_;
-    Construction construction_;
-    ProbeState probe_;
+    std::unique_ptr<Exchange> ownExchange_;  // one process's
+    Exchange* ex_;
+    std::shared_ptr<const Model> model_;  // the whole scene
+    Model sub_;                           // the same over this process's region, its map window in force
+    ForceField field_;
     DragFactors drag_;
-    ForceField forces_;
+    Particles p_;
+    Halo halo_;
+    ProbeState probe_;
+    Construction construction_;
     StepStats stats_;
     StepTimes times_;
-    bool forcesValid_ = false;
+    double range_ = 0;       // neighbour-list range, length
     long long energyEvery_ = 1;
+    bool forcesStale_ = false;            // a command or setModel changed the weights since the last forces
+    std::vector<Command> commands_;       // queued on rank 0
+    std::size_t rebuilds_ = 0;
+    double exchangeSeconds_ = 0;
+    std::optional<MapSource> mapSource_;
+    shape::VoxelWindow window_;
+    std::vector<std::shared_ptr<const GradientMap>> frames_;  // this window of every keyframe
+    std::vector<MapVolume> frameVolumes_;                     // whole-map counts per keyframe
 };
 
 }  // namespace bop::core

@@ -3,6 +3,9 @@
 #include "DecomposedSimulation.hpp"
 
 #include <algorithm>
+#include <iterator>
+#include <stdexcept>
+#include <string>
 #include <array>
 #include <cmath>
 
@@ -75,12 +78,11 @@ core::Particles DecomposedRun::gather() const { return impl_->simPtr->gather(); 
 void DecomposedRun::submit(const Command& command) { impl_->simPtr->submit(command); }
 long long DecomposedRun::stepNumber() const { return impl_->simPtr->stepCount(); }
 
-std::array<double, 4> DecomposedRun::agree(const std::array<double, 4>& mine) {
-    std::vector<double> v(mine.begin(), mine.end());
+DecomposedRun::Decision DecomposedRun::agree(const Decision& mine) {
+    std::vector<double> v{double(mine.stop), mine.step ? 1.0 : 0.0, mine.publish ? 1.0 : 0.0, mine.feedback ? 1.0 : 0.0};
     impl_->comm.broadcast(v);
-    std::array<double, 4> out{};
-    std::copy_n(v.begin(), std::min<std::size_t>(4, v.size()), out.begin());
-    return out;
+    if (v.size() != 4) throw std::runtime_error("run loop: rank 0's decision came with " + std::to_string(v.size()) + " values");
+    return {int(v[0]), v[1] != 0, v[2] != 0, v[3] != 0};
 }
 
 namespace {
@@ -150,19 +152,31 @@ Coords DecomposedRun::dims() const { return impl_->comm.dims(); }
 RunCounters DecomposedRun::counters() const {
     const auto& s = *impl_->simPtr;
     const Impl& i = *impl_;
-    const std::vector<double> all = impl_->comm.allGather(
-        {double(s.haloBytesPerStep()), double(s.migrations()) + i.carriedMigrations, double(s.rebuilds()) + i.carriedRebuilds,
-         double(s.particles().size()), s.exchangeSeconds() + i.carriedExchange, double(s.mapBytes())});
+    // This rank's share, one record per rank in rank order.
+    struct Share {
+        double haloBytes, migrations, rebuilds, particles, exchangeSeconds, mapBytes;
+    };
+    constexpr double Share::*kFields[] = {&Share::haloBytes,  &Share::migrations,      &Share::rebuilds,
+                                          &Share::particles, &Share::exchangeSeconds, &Share::mapBytes};
+    constexpr std::size_t kCount = std::size(kFields);
+    const Share mine{double(s.haloBytesPerStep()), double(s.migrations()) + i.carriedMigrations,
+                     double(s.rebuilds()) + i.carriedRebuilds, double(s.particles().size()),
+                     s.exchangeSeconds() + i.carriedExchange, double(s.mapBytes())};
+    std::vector<double> record;
+    for (const auto f : kFields) record.push_back(mine.*f);
+    const std::vector<double> all = impl_->comm.allGather(record);
     RunCounters c;
     double most = 0, sum = 0;
-    for (std::size_t r = 0; r < all.size(); r += 6) {
-        c.exchangeSecondsMax = std::max(c.exchangeSecondsMax, all[r + 4]);
-        c.mapBytesMax = std::max(c.mapBytesMax, all[r + 5]);
-        c.haloBytesPerStep += all[r];
-        c.migrations += all[r + 1];
-        c.rebuilds = all[r + 2];
-        most = std::max(most, all[r + 3]);
-        sum += all[r + 3];
+    for (std::size_t r = 0; r + kCount <= all.size(); r += kCount) {
+        Share rank{};
+        for (std::size_t k = 0; k < kCount; ++k) rank.*kFields[k] = all[r + k];
+        c.exchangeSecondsMax = std::max(c.exchangeSecondsMax, rank.exchangeSeconds);
+        c.mapBytesMax = std::max(c.mapBytesMax, rank.mapBytes);
+        c.haloBytesPerStep += rank.haloBytes;
+        c.migrations += rank.migrations;
+        c.rebuilds = rank.rebuilds;  // the same on every rank
+        most = std::max(most, rank.particles);
+        sum += rank.particles;
     }
     c.imbalance = sum > 0 ? most * double(size()) / sum : 1.0;
     c.initialImbalance = s.initialImbalance();

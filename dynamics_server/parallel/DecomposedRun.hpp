@@ -5,10 +5,7 @@
 #include "Commands.hpp"
 #include "DecomposedOptions.hpp"
 #include "Decomposition.hpp"
-#include "core/ForceField.hpp"
-#include "core/Keyframes.hpp"
-#include "core/Particles.hpp"
-#include "core/SoundState.hpp"
+#include "core/Simulation.hpp"
 
 #include <Eigen/Core>
 
@@ -18,14 +15,7 @@
 
 namespace bop::parallel {
 
-struct Totals {              // over all ranks, identical on every rank
-    double particles = 0, kinetic = 0, pairEnergy = 0, probeEnergy = 0, virial = 0, virialVolume = 0;
-    double bloodMv2 = 0, bloodCount = 0, wallVirial = 0;  // core/BloodPressure.hpp, ForceStats::wallVirial
-    core::KeyframeAt keyframe;                  // the map frame(s) of the last forces
-    double bloodVolume = 0, cavityVolume = 0;   // volume voxels and bag voxels in force, length^3
-    Eigen::Vector3d probeReaction = Eigen::Vector3d::Zero();
-    double total() const { return kinetic + pairEnergy + probeEnergy; }
-};
+using Totals = core::Totals;  // over all ranks, identical on every rank
 
 // A state frame's arrays, gathered to rank 0 in rank order (each rank's particles in its own
 // order: the same order at a fixed rank count). Empty on other ranks.
@@ -61,11 +51,15 @@ public:
     // On rank 0 only: a command every rank applies at the start of the next step
     // (std::invalid_argument if it is refused, std::logic_error on other ranks).
     void submit(const Command& command);
-    // Rank 0's values on every rank (one small broadcast): the run loop's decisions.
-    std::array<double, 4> agree(const std::array<double, 4>& mine);
+    // What rank 0 decided for this pass of a run loop, on every rank (one small broadcast).
+    struct Decision {
+        int stop = 0;  // 0: go on; otherwise why the loop stops (the loop's own codes)
+        bool step = false, publish = false, feedback = false;
+    };
+    Decision agree(const Decision& mine);
     long long stepNumber() const;  // steps so far, counted from the scene's first step
     Totals totals() const;
-    const std::vector<core::MapVolume>& frameVolumes() const;  // Simulation::frameVolumes's twin
+    const std::vector<core::MapVolume>& frameVolumes() const;  // of every keyframe's whole map
     RunCounters counters() const;
     core::Particles gather() const;  // every particle sorted by id
     // The last sound state (the start's, and again every core::kSoundSnapshotEvery steps),

@@ -165,17 +165,18 @@ TEST_CASE("a seed on a particle is not placed, elsewhere it is, and the seed cou
     CHECK(crowded(p.pos, m->box, onTop, near));
     CHECK_FALSE(crowded(p.pos, m->box, free, near));
     CHECK(crowded(p.pos, m->box, acrossFace, near));  // 2e-3 apart through the periodic face
-    std::vector<ConstructionEvent> timeline(3);
+    std::vector<ConstructionEvent> timeline(4);
     for (auto& e : timeline) e.species = 1;
     timeline[0].positionVoxels = onTop;  // no map: voxels are length units
     timeline[1].positionVoxels = free;
     timeline[2].positionVoxels = acrossFace;
-    Construction c({}, timeline, 1);
+    timeline[3].positionVoxels = free + Eigen::Vector3d(0.2, 0, 0);  // on the seed before it, this step
     const std::size_t before = p.size();
-    c.update(*m, p, 0);
-    CHECK(p.size() == before + 1);
-    CHECK(p.pos.back() == free);
-    CHECK(c.seedCount() == 3);
+    Simulation sim(m, std::move(p), Construction({}, timeline, 1));
+    sim.step();  // the timeline's seeds at step 0
+    REQUIRE(sim.particles().size() == before + 1);
+    CHECK((sim.particles().pos.back() - free).norm() < 0.1);  // placed, then one step of motion
+    CHECK(sim.construction().seedCount() == 4);
 }
 
 TEST_CASE("positions wrap into the box, from lo up to but not including hi, along periodic axes only", "[core][box]") {

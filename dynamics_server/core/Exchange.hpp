@@ -1,0 +1,62 @@
+#pragma once
+// What a step needs from the other processes of a run (Simulation.hpp): the same calls in the same
+// order on every process. This base class is the run of one process, where there are none: the
+// region is the whole box, every particle is here, no ghosts, and a gather returns what it was
+// given. parallel/MpiExchange.hpp plugs in the ranks of a decomposed run (halo plan, migration,
+// balancing, reductions) behind the same calls.
+#include "Command.hpp"
+#include "ForceField.hpp"
+#include "Model.hpp"
+#include "Particles.hpp"
+
+#include <cstddef>
+#include <vector>
+
+namespace bop::core {
+
+class Exchange {
+public:
+    virtual ~Exchange() = default;
+
+    virtual int rank() const { return 0; }
+    virtual int size() const { return 1; }
+
+    // ---- agreement and reductions (collective) ----
+    // Rank 0's commands on every process.
+    virtual void broadcast(std::vector<Command>&) {}
+    virtual bool allTrue(bool mine) { return mine; }
+    // Every process's values concatenated in rank order (the same on every process): sums over
+    // them in that order are the same everywhere and at every rank count of whole numbers.
+    virtual std::vector<double> allGather(const std::vector<double>& mine) { return mine; }
+    virtual std::vector<double> allGatherV(const std::vector<double>& mine) { return mine; }
+
+    // ---- the region of this process ----
+    // This process's part of the whole box (the whole box here).
+    virtual Box region(const Box& whole) const { return whole; }
+    bool owns(const Eigen::Vector3d& x) const { return size() == 1 || ownsPosition(x); }
+    // Most particles on one process over the mean (collective).
+    virtual double imbalance(std::size_t /*mine*/) { return 1.0; }
+    // Whether the processes split the box along this axis (none does here).
+    virtual bool splitsAxis(int /*axis*/) const { return false; }
+
+    // ---- particles and ghosts (collective) ----
+    // One process wraps positions into the periodic box every drift; ranks wrap when they
+    // migrate, so that their ghosts' positions stay continuous between rebuilds.
+    virtual bool wrapsEveryDrift() const { return true; }
+    // Every particle to the process that owns its position, periodic axes wrapped.
+    virtual void migrate(Particles&) {}
+    // New cut planes for similar counts, the particles moved to their owners; false when the
+    // region did not move (here: never).
+    virtual bool rebalance(Particles&) { return false; }
+    // Copies of the other processes' particles within `range` of this region (a new plan), and
+    // their positions and normals again along the same plan. Periodic images on axes a process
+    // spans whole are the core's (the cell list's), never ghosts.
+    virtual void buildHalo(const Particles&, double /*range*/, Halo& halo) { halo = Halo{}; }
+    virtual void updateHalo(const Particles&, Halo&) {}
+    virtual bool hasGhosts() const { return false; }
+
+protected:
+    virtual bool ownsPosition(const Eigen::Vector3d&) const { return true; }
+};
+
+}  // namespace bop::core

@@ -1,0 +1,157 @@
+// Construction in a step (paper §3.6, physics.md §7; Simulation.hpp): each process checks its
+// own region against its particles and the ghosts within the birth front, the processes gather
+// what they found, and every one makes the same choice (caps, conflicts), as one process makes it
+// over all the particles; the owner of each position adds the particle.
+#include "Simulation.hpp"
+
+#include "ConstructionSteps.hpp"
+#include "ParticleRecords.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace bop::core {
+namespace {
+
+// Particles of every species over all processes (whole numbers: exact in any order).
+std::vector<std::size_t> speciesCounts(Exchange& ex, const Particles& p, int speciesCount) {
+    std::vector<double> mine(std::size_t(speciesCount) + 1, 0.0);
+    for (auto s : p.species) mine[s] += 1;
+    const std::vector<double> all = ex.allGather(mine);
+    std::vector<std::size_t> count(mine.size(), 0);
+    for (std::size_t k = 0; k < all.size(); ++k) count[k % mine.size()] += std::size_t(all[k]);
+    return count;
+}
+
+std::vector<DeathMark> gatherMarks(Exchange& ex, const std::vector<DeathMark>& marks) {
+    if (ex.size() == 1) return marks;
+    std::vector<double> out;
+    for (const auto& m : marks) out.insert(out.end(), {idBits(m.key), idBits(m.id), double(m.species)});
+    const std::vector<double> in = ex.allGatherV(out);
+    std::vector<DeathMark> all;
+    for (std::size_t k = 0; k + 3 <= in.size(); k += 3) all.push_back({idOf(in[k]), idOf(in[k + 1]), int(in[k + 2])});
+    return all;
+}
+
+std::vector<BirthCandidate> gatherCandidates(Exchange& ex, std::vector<BirthCandidate> c) {
+    if (ex.size() == 1) return c;
+    std::vector<double> out;
+    for (const auto& b : c) out.insert(out.end(), {b.pos.x(), b.pos.y(), b.pos.z(), idBits(b.key), idBits(b.voxel)});
+    const std::vector<double> in = ex.allGatherV(out);
+    std::vector<BirthCandidate> all;
+    for (std::size_t k = 0; k + 5 <= in.size(); k += 5)
+        all.push_back({Eigen::Vector3d(in[k], in[k + 1], in[k + 2]), idOf(in[k + 3]), idOf(in[k + 4])});
+    return all;
+}
+
+void removeIds(Particles& p, const std::vector<std::uint64_t>& sortedIds) {
+    if (sortedIds.empty()) return;  // not even a new revision: the neighbour list holds
+    std::vector<char> flag(p.size(), 0);
+    for (std::size_t i = 0; i < p.size(); ++i) flag[i] = std::binary_search(sortedIds.begin(), sortedIds.end(), p.id[i]);
+    p.removeIf(flag);
+}
+
+}  // namespace
+
+Eigen::Vector3d Simulation::defaultSeed(int species) const {
+    if (!sub_.map) throw std::invalid_argument("seeding needs a gradient map");
+    const auto best = core::defaultSeed(construction_.params(), sub_, species,
+                                        [&](const Eigen::Vector3d& x) { return ex_->owns(x); });
+    const std::vector<double> all = ex_->allGather(
+        best ? std::vector<double>{1.0, double(best->key.first), idBits(best->key.second), best->pos.x(), best->pos.y(), best->pos.z()}
+             : std::vector<double>(6, 0.0));
+    std::optional<SeedChoice> choice;
+    for (std::size_t k = 0; k < all.size(); k += 6) {
+        if (all[k] == 0) continue;
+        const SeedChoice c{{(long long)(all[k + 1]), idOf(all[k + 2])}, Eigen::Vector3d(all[k + 3], all[k + 4], all[k + 5])};
+        if (!choice || c.key < choice->key) choice = c;
+    }
+    if (!choice) throw std::invalid_argument("species " + std::to_string(species) + " has no voxels in the map");
+    return choice->pos;
+}
+
+void Simulation::construct(std::vector<ConstructionEvent> events) {
+    const long long step = stats_.step;
+    stats_.built = {};
+    if (events.empty() && !construction_.checkDue(step)) return;  // every process knows both: no message
+    ConstructionCounts built;  // over all processes
+    bool changed = false;      // this process's particles
+    bool moved = false;        // particles migrated (wrapped into the box) or ghosts widened to the birth front
+    std::vector<Eigen::Vector3d> seeded;  // this step's seeds, placed or not: every process knows them
+    for (const auto& e : events) {
+        if (e.action != ConstructionEvent::Action::Seed) {
+            construction_.setBirth(e.species, e.action == ConstructionEvent::Action::BirthOn);
+            continue;
+        }
+        const double h = sub_.map ? kR0 / sub_.map->r0Voxels : 1.0;
+        const Eigen::Vector3d x = e.positionVoxels ? Eigen::Vector3d(*e.positionVoxels * h) : defaultSeed(e.species);
+        const double near = construction_.params().deathR0 * kR0;  // the ghosts reach further
+        const bool free = !crowded(p_.pos, model_->box, x, near) && !crowded(halo_.pos, model_->box, x, near) &&
+                          !crowded(seeded, model_->box, x, near);
+        const std::size_t before = p_.size();
+        construction_.seed(sub_, p_, e.species, x, step, ex_->owns(x) && free);  // every process counts the seed
+        changed = changed || p_.size() != before;
+        seeded.push_back(x);
+    }
+    if (construction_.checkDue(step)) {
+        const ConstructionParams& params = construction_.params();
+        // Every particle within the birth front of this region, at today's positions, in the box.
+        if (!ex_->wrapsEveryDrift()) {
+            ex_->migrate(p_);
+            moved = true;
+        }
+        if (ex_->hasGhosts()) ex_->buildHalo(p_, std::max(range_, params.frontR0 * kR0), halo_);
+        Particles seen = p_;
+        for (std::size_t g = 0; g < halo_.size(); ++g) seen.add(halo_.pos[g], halo_.species[g], halo_.id[g]);
+        const std::size_t owned = p_.size();
+
+        std::vector<std::size_t> count = speciesCounts(*ex_, p_, sub_.speciesCount());
+        const std::vector<std::uint64_t> die = chooseDeaths(
+            params, gatherMarks(*ex_, markDeaths(params, {sub_, sub_.box, seen, owned}, step)), count,
+            construction_.birthSwitches());
+        removeIds(p_, die);
+        removeIds(seen, die);
+        built.deaths = die.size();
+
+        count = speciesCounts(*ex_, p_, sub_.speciesCount());
+        for (int s = 1; sub_.map && s <= sub_.speciesCount(); ++s) {
+            if (!construction_.birthOn(s) || count[std::size_t(s)] == 0) continue;  // births grow from a seed
+            const auto found = birthCandidates(params, {sub_, sub_.box, seen, p_.size()}, s, step,
+                                               [&](const Eigen::Vector3d& x) { return ex_->owns(x); });
+            const auto winners = chooseBirths(params, model_->box, gatherCandidates(*ex_, found), count[std::size_t(s)]);
+            for (const auto& w : winners) {
+                if (ex_->owns(w.pos)) addBirth(sub_, p_, s, w, step);
+                // Every newborn blocks later species' births nearby, here too; across a periodic
+                // seam that other processes hold, as the image this process's ghosts would show.
+                for (int image = 0; image < 27; ++image) {
+                    Eigen::Vector3d x = w.pos;
+                    bool valid = true;
+                    for (int a = 0, code = image; a < 3; ++a, code /= 3) {
+                        const int shift = code % 3 - 1;
+                        if (shift == 0) continue;
+                        valid = valid && model_->box.periodic[std::size_t(a)] && ex_->splitsAxis(a);
+                        x[a] += shift * model_->box.size()[a];
+                    }
+                    if (valid) seen.add(x, s, birthId(step, w.voxel));
+                }
+            }
+            built.births += winners.size();
+        }
+        changed = changed || built.births > 0 || built.deaths > 0;
+    }
+    construction_.addToTotals(built);
+    stats_.built = built;
+    // New particles anywhere (or moved, or ghosts widened for the check): new ghosts, and cut
+    // planes as a growing bag needs them, a new list and forces for the newborn, as one process
+    // makes them.
+    if (ex_->allTrue(!changed) && !moved) return;
+    if (ex_->hasGhosts()) {
+        if (ex_->imbalance(p_.size()) > 1.1) rebalance();
+        else ex_->buildHalo(p_, range_, halo_);
+    }
+    field_.requestRebuild();
+    forcesStale_ = true;
+}
+
+}  // namespace bop::core
