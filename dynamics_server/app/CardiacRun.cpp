@@ -10,7 +10,7 @@ namespace bop::app {
 namespace {
 
 double mlPerLength3(const GradientMap& map) {
-    const double mmPerLength = map.grid.voxelMm / (core::kR0 / map.r0Voxels);
+    const double mmPerLength = map.grid.voxelMm / voxelLength(map.r0Voxels);
     return std::pow(mmPerLength, 3) / 1000;
 }
 
@@ -23,7 +23,7 @@ std::vector<double> cavityMl(const std::vector<core::MapVolume>& frames, const G
 }  // namespace
 
 CardiacRun::CardiacRun(const Scene& scene, const GradientMap& map, const std::vector<core::MapVolume>& frames)
-    : settings_(scene.pressure.value_or(PressureSettings{})), dims_(map.wholeDims()), h_(core::kR0 / map.r0Voxels),
+    : settings_(scene.pressure.value_or(PressureSettings{})), dims_(map.wholeDims()), h_(voxelLength(map.r0Voxels)),
       mlPerLength3_(mlPerLength3(map)),
       series_(settings_, scene.model->keyframes, mlPerLength3_, cavityMl(frames, map)) {}
 

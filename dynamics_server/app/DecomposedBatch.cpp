@@ -6,7 +6,7 @@
 #include "SingleBatch.hpp"
 #include "ExtendedXyz.hpp"
 #include "SimulationSetup.hpp"
-#include "shape/GradientMapFile.hpp"
+#include "bop/common/GradientMapFile.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -139,7 +139,7 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     if (c.births > 0 || c.deaths > 0)
         std::cout << "construction: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths\n";
     if (scene.shape && !o.cache.empty())
-        if (auto maps = shape::readGradientMaps(o.cache, shape::hashText(scene.shape->canonical))) {
+        if (auto maps = bop::readGradientMaps(o.cache, bop::hashText(scene.shape->canonical))) {
             core::Model whole = model;
             whole.map = std::make_shared<GradientMap>(std::move(maps->at(std::size_t(t.keyframe.a))));  // the frame in force
             printFidelity(std::cout, measureFidelity(whole, all));

@@ -6,7 +6,7 @@
 #include "DecomposedBatch.hpp"
 #include "ExtendedXyz.hpp"
 #include "core/BloodPressure.hpp"
-#include "shape/GradientMapFile.hpp"
+#include "bop/common/GradientMapFile.hpp"
 #include "parallel/DecomposedRun.hpp"
 
 #include <spdlog/spdlog.h>
@@ -86,7 +86,7 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
         std::error_code ec;  // the gradient-map cache, for haptic clients to download
         if (scene.shape && !o.front.mapFile.empty() && std::filesystem::is_regular_file(o.front.mapFile, ec)) {
             info.mapBytes = std::filesystem::file_size(o.front.mapFile, ec);
-            info.mapKey = shape::hashText(scene.shape->canonical);
+            info.mapKey = bop::hashText(scene.shape->canonical);
         }
         front = std::make_unique<protocol::ServerFront>(o.front, info);
         // Tests and scripts read this line for the ports.

@@ -11,7 +11,7 @@
 #include "ServedRun.hpp"
 #include "client/CurveKeys.hpp"
 #include "SimulationSetup.hpp"
-#include "shape/GradientMapCrop.hpp"
+#include "bop/common/GradientMapCrop.hpp"
 #include "parallel/Session.hpp"
 
 #include "bop/common/Error.hpp"

@@ -1,6 +1,6 @@
 #include "ShapeReport.hpp"
 
-#include "shape/GmField.hpp"
+#include "core/GmField.hpp"
 
 #include "bop/common/Error.hpp"
 #include "bop/common/Npy.hpp"
@@ -37,7 +37,7 @@ double median(std::vector<double> v) {
 void printShapeReport(std::ostream& os, const shape::ShapeSpec& spec, const shape::ShapeBuild& build) {
     const GradientMap& m0 = build.frames.front();
     const Dims& d = m0.dims();
-    const double h = shape::GmField::kR0 / m0.r0Voxels;
+    const double h = voxelLength(m0.r0Voxels);
     os << std::fixed << std::setprecision(3);
     os << "scene        " << spec.sceneFile << "\n";
     for (std::size_t b = 0; b < spec.bags.size(); ++b)

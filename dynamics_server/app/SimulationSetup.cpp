@@ -2,7 +2,7 @@
 
 #include "ExtendedXyz.hpp"
 #include "core/SoundState.hpp"
-#include "shape/GradientMapFile.hpp"
+#include "bop/common/GradientMapFile.hpp"
 #include "shape/GradientMapFileView.hpp"
 #include "bop/common/Error.hpp"
 
@@ -24,7 +24,7 @@ namespace {
 // The box around a map of `dims` voxels, and the probe's start in simulation units.
 void placeInMap(Scene& scene, const GradientMap& map) {
     const Dims& d = map.wholeDims();
-    const double h = core::kR0 / map.r0Voxels;
+    const double h = voxelLength(map.r0Voxels);
     scene.model->box.lo.setZero();
     scene.model->box.hi = Eigen::Vector3d(d.nx, d.ny, d.nz) * h;
     if (scene.probePositionVoxels) scene.probe.position = *scene.probePositionVoxels * h;
@@ -59,7 +59,7 @@ DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const st
     DecomposedStart s;
     if (scene.shape) {
         if (cache.empty()) throw Error("--cache", "a run on several ranks reads the gradient map from its cache file");
-        const std::uint64_t key = shape::hashText(scene.shape->canonical);
+        const std::uint64_t key = bop::hashText(scene.shape->canonical);
         if (root && !shape::GradientMapFileView::open(cache, key))
             shape::loadOrBuildShape(*scene.shape, cache, true, progress);  // builds and writes; the map is let go
         waitForAll();
@@ -70,7 +70,7 @@ DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const st
         // Every frame when the scene cycles them (keyframes), else the first.
         const int frames = scene.model->keyframes.animated() ? shared->frames() : 1;
         s.options.map = parallel::MapSource{shared->header(0),
-                                            [shared](int f, const shape::VoxelWindow& w) { return shared->crop(f, w); }, frames};
+                                            [shared](int f, const bop::VoxelWindow& w) { return shared->crop(f, w); }, frames};
     }
     core::Construction construction({}, {}, scene.model->speciesCount());
     s.particles = initialParticles(scene, restart, s.firstStep, construction);
@@ -112,7 +112,7 @@ Fidelity measureFidelity(const core::Model& model, const core::Particles& p) {
     if (!model.map) return f;
     const GradientMap& m = *model.map;
     const Dims& d = m.dims();
-    const double h = core::kR0 / m.r0Voxels;
+    const double h = voxelLength(m.r0Voxels);
     std::size_t surfaceIn = 0, volumeIn = 0;
     std::vector<double> angles;
     for (std::size_t i = 0; i < p.size(); ++i) {

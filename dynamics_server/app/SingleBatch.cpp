@@ -6,7 +6,7 @@
 #include "ExitCodes.hpp"
 #include "ExtendedXyz.hpp"
 #include "core/SoundState.hpp"
-#include "shape/GradientMapCrop.hpp"
+#include "bop/common/GradientMapCrop.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -136,8 +136,8 @@ int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions&
     report.summary(*sim, done, seconds);
     if (model.map) {
         std::size_t bytes = 0;
-        for (const auto& f : sim->model().frames) bytes += shape::gradientMapBytes(*f);
-        if (bytes == 0) bytes = shape::gradientMapBytes(*model.map);
+        for (const auto& f : sim->model().frames) bytes += bop::gradientMapBytes(*f);
+        if (bytes == 0) bytes = bop::gradientMapBytes(*model.map);
         std::cout << "gradient map: " << std::fixed << std::setprecision(3) << bytes / 1e6 << " MB (the whole map"
                   << (sim->model().frames.size() > 1 ? ", every keyframe" : "") << ", one process)\n" << std::defaultfloat;
         printFidelity(std::cout, measureFidelity(sim->model(), sim->particles()));

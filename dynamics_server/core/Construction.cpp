@@ -70,7 +70,7 @@ std::uint64_t Construction::seed(const Model& model, Particles& p, int species, 
     Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
     if (model.map) {
         const GradientMap& m = *model.map;
-        n = m.nearestSurface(m.voxelAt((position / (kR0 / m.r0Voxels)).array().floor().cast<int>().matrix()))
+        n = m.nearestSurface(m.voxelAt((position / voxelLength(m.r0Voxels)).array().floor().cast<int>().matrix()))
                 .normal.cast<double>();
     }
     p.add(position, species, gid, model.isSurface(species) ? orientationFor(n) : Eigen::Quaterniond::Identity());

@@ -37,7 +37,7 @@ struct PointGrid {
 };
 
 Eigen::Vector3d voxelCentre(const GradientMap& m, std::size_t v) {
-    return (m.wholeCoords(v).cast<double>() + Eigen::Vector3d::Constant(0.5)) * (kR0 / m.r0Voxels);
+    return (m.wholeCoords(v).cast<double>() + Eigen::Vector3d::Constant(0.5)) * voxelLength(m.r0Voxels);
 }
 
 }  // namespace
@@ -95,7 +95,7 @@ std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, co
                                             const std::function<bool(const Eigen::Vector3d&)>& mine) {
     const GradientMap& m = *view.model.map;
     const Particles& p = view.seen;
-    const double h = kR0 / m.r0Voxels;
+    const double h = voxelLength(m.r0Voxels);
     const double dSame = params.sameR0 * kR0, dAny = params.anyR0 * kR0, dFront = params.frontR0 * kR0;
     // Blocked: a particle closer than dAny, or one of the species closer than dSame (a small
     // grid, and most voxels of a growing bag are blocked). Front: one of the species within dFront.

@@ -15,7 +15,7 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 float ForceField::curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species) const {
     if (!model.map || !model.isSurface(species)) return 1.0f;
     const GradientMap& map = *model.map;
-    const double h = kR0 / map.r0Voxels;
+    const double h = voxelLength(map.r0Voxels);
     return map.nearestSurface(map.voxelAt((x / h).array().floor().cast<int>().matrix())).cpWeight;
 }
 
@@ -65,11 +65,11 @@ void ForceField::gradientMapForces(const Model& model, Particles& p, ForceStats&
     if (oriented_) cpWeight_.assign(p.size(), 1.0f);  // curvature weights serve the co-planar pairs only
     if (!model.map) return;
     if (fieldMap_ != model.map.get()) {
-        field_ = std::make_unique<shape::GmField>(*model.map, model.interpolation);
+        field_ = std::make_unique<core::GmField>(*model.map, model.interpolation);
         fieldMap_ = model.map.get();
     }
     if (blendMap_ && blendFieldMap_ != blendMap_) {
-        blendField_ = std::make_unique<shape::GmField>(*blendMap_, model.interpolation);
+        blendField_ = std::make_unique<core::GmField>(*blendMap_, model.interpolation);
         blendFieldMap_ = blendMap_;
     }
     const double w = blendMap_ ? blendW_ : 0.0;
@@ -77,9 +77,9 @@ void ForceField::gradientMapForces(const Model& model, Particles& p, ForceStats&
     const Eigen::Vector3d centre = 0.5 * Eigen::Vector3d(whole.nx, whole.ny, whole.nz) * field_->voxelSize();
     for (std::size_t i = 0; i < p.size(); ++i) {
         const Species& sp = model.species[p.species[i]];
-        shape::GmSample g = field_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
+        core::GmSample g = field_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
         if (w > 0) {  // keyframes: on the way to the next frame's shape
-            const shape::GmSample n = blendField_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
+            const core::GmSample n = blendField_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
             g.force = (1 - w) * g.force + w * n.force;
             g.torque = (1 - w) * g.torque + w * n.torque;
         }

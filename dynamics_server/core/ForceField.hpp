@@ -92,9 +92,9 @@ private:
     std::uint64_t revision_ = ~std::uint64_t(0);  // particles.revision at the last build
     std::size_t speciesBuild_ = 0;                // list build that ss_ was gathered for
     bool heldSinceCompute_ = false;               // listHolds() said yes since the last compute()
-    std::unique_ptr<shape::GmField> field_;
+    std::unique_ptr<core::GmField> field_;
     const GradientMap* fieldMap_ = nullptr;
-    std::unique_ptr<shape::GmField> blendField_;   // of blendMap_
+    std::unique_ptr<core::GmField> blendField_;   // of blendMap_
     const GradientMap* blendFieldMap_ = nullptr;
     const GradientMap* blendMap_ = nullptr;
     double blendW_ = 0;

@@ -6,7 +6,7 @@ namespace bop::core {
 
 MapVolume countMapVolume(const GradientMap& map, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
     MapVolume out;
-    const double h = kR0 / map.r0Voxels;
+    const double h = voxelLength(map.r0Voxels);
     const Dims& d = map.dims();
     for (int z = 0; z < d.nz; ++z)
         for (int y = 0; y < d.ny; ++y)

@@ -6,7 +6,7 @@
 #include "Potentials.hpp"
 
 #include "bop/common/GradientMap.hpp"
-#include "shape/GmField.hpp"
+#include "core/GmField.hpp"
 
 #include <array>
 #include <cmath>
@@ -17,7 +17,6 @@
 
 namespace bop::core {
 
-using shape::ParticleKind;
 
 struct Species {
     std::string name;                          // shown in reports and snapshots (no spaces)
@@ -84,7 +83,7 @@ struct Model {
     // map: a static shape.
     std::vector<std::shared_ptr<const GradientMap>> frames;
     KeyframeSchedule keyframes;
-    shape::Interpolation interpolation = shape::Interpolation::Trilinear;
+    core::Interpolation interpolation = core::Interpolation::Trilinear;
 
     int speciesCount() const { return int(species.size()) - 1; }
     bool isSurface(int s) const { return species[std::size_t(s)].kind == ParticleKind::Surface; }

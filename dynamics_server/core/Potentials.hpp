@@ -15,6 +15,8 @@
 // - ProbeForm: the haptic probe, k1 f(r/k0) and k1 k0 phi(r/k0) (paper eq. 9, physics.md §2.4).
 //
 // S is the cubic taper S = 1 - 3t^2 + 2t^3, t = (r - r_on)/(r_c - r_on), on [r_on, r_c].
+#include "bop/common/Units.hpp"
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -22,7 +24,8 @@
 
 namespace bop::core {
 
-inline constexpr double kR0 = 1.7320508075688772;  // r0 = sqrt(3), simulation length units
+using bop::kR0;          // r0 = sqrt(3), simulation length units (bop/common/Units.hpp)
+using bop::voxelLength;  // a map voxel's edge, simulation length units
 
 enum class LjCutoff {
     Switched,       // force f(r) S(r) on [rOn, rCut]; energy consistent, phi + C below rOn

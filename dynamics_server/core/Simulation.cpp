@@ -154,7 +154,7 @@ void Simulation::step() {
         ConstructionEvent e;
         e.step = stats_.step;
         e.species = c.species;
-        e.positionVoxels = c.position / (sub_.map ? kR0 / sub_.map->r0Voxels : 1.0);
+        e.positionVoxels = c.position / (sub_.map ? voxelLength(sub_.map->r0Voxels) : 1.0);
         events.push_back(e);
     }
     commands_.clear();

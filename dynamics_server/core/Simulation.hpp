@@ -13,7 +13,7 @@
 #include "Integrator.hpp"
 #include "SoundState.hpp"
 
-#include "shape/GradientMapCrop.hpp"
+#include "bop/common/GradientMapCrop.hpp"
 
 #include <functional>
 #include <memory>
@@ -56,7 +56,7 @@ struct Totals {
 // the windows are cut from the model's maps.
 struct MapSource {
     GradientMap header;
-    std::function<GradientMap(int frame, const shape::VoxelWindow&)> crop;
+    std::function<GradientMap(int frame, const bop::VoxelWindow&)> crop;
     int frames = 1;  // keyframes (the model's schedule says when each is in force)
 };
 
@@ -155,7 +155,7 @@ private:
     std::size_t rebuilds_ = 0;
     double exchangeSeconds_ = 0;
     std::optional<MapSource> mapSource_;
-    shape::VoxelWindow window_;
+    bop::VoxelWindow window_;
     std::vector<std::shared_ptr<const GradientMap>> frames_;  // this window of every keyframe
     std::vector<MapVolume> frameVolumes_;                     // whole-map counts per keyframe
 };

@@ -84,7 +84,7 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
             construction_.setBirth(e.species, e.action == ConstructionEvent::Action::BirthOn);
             continue;
         }
-        const double h = sub_.map ? kR0 / sub_.map->r0Voxels : 1.0;
+        const double h = sub_.map ? voxelLength(sub_.map->r0Voxels) : 1.0;
         const Eigen::Vector3d x = e.positionVoxels ? Eigen::Vector3d(*e.positionVoxels * h) : defaultSeed(e.species);
         const double near = construction_.params().deathR0 * kR0;  // the ghosts reach further
         const bool free = !crowded(p_.pos, model_->box, x, near) && !crowded(halo_.pos, model_->box, x, near) &&

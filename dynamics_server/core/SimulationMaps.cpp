@@ -21,18 +21,18 @@ void Simulation::placeMaps() {
             if (all.size() < 2) all = {model_->map};
             const int count = int(all.size());
             mapSource_ = MapSource{std::move(header),
-                                   [all = std::move(all)](int f, const shape::VoxelWindow& w) {
-                                       return shape::cropGradientMap(*all.at(std::size_t(f)), w);
+                                   [all = std::move(all)](int f, const bop::VoxelWindow& w) {
+                                       return bop::cropGradientMap(*all.at(std::size_t(f)), w);
                                    },
                                    count};
         }
         const GradientMap& whole = mapSource_->header;
-        const double h = kR0 / whole.r0Voxels;
+        const double h = voxelLength(whole.r0Voxels);
         // Owned particles stray up to about half the skin out of the region between rebuilds,
         // ghosts (whose curvature weights the pair terms read) up to the list range beyond it;
         // the trilinear rule reads one voxel further.
         const double margin = 1.5 * range_ + 2 * h;
-        const shape::VoxelWindow w = shape::windowAround(whole.dims(), h, sub_.box.lo, sub_.box.hi, margin);
+        const bop::VoxelWindow w = bop::windowAround(whole.dims(), h, sub_.box.lo, sub_.box.hi, margin);
         if (!first && w.lo == window_.lo && w.hi == window_.hi) return;
         window_ = w;
         // The new windows are made while the old ones live, so the force field, which notices a
@@ -71,7 +71,7 @@ void Simulation::applyKeyframe(double time) {
     stats_.keyframe = at;
     sub_.map = frames_[std::size_t(at.a)];
     field_.setMapBlend(frames_[std::size_t(at.b)].get(), at.w);
-    const double h3 = std::pow(kR0 / sub_.map->r0Voxels, 3);
+    const double h3 = std::pow(voxelLength(sub_.map->r0Voxels), 3);
     std::vector<double> blood, cavity;
     for (const MapVolume& v : frameVolumes_) blood.push_back(v.volumeVoxels), cavity.push_back(v.bagVoxels);
     const KeyframeAt pick = frameVolumes_.size() > 1 ? at : KeyframeAt{};
@@ -81,7 +81,7 @@ void Simulation::applyKeyframe(double time) {
 
 std::size_t Simulation::mapBytes() const {
     std::size_t bytes = 0;
-    for (const auto& f : frames_) bytes += shape::gradientMapBytes(*f);  // every keyframe's window
+    for (const auto& f : frames_) bytes += bop::gradientMapBytes(*f);  // every keyframe's window
     return bytes;
 }
 

@@ -1,5 +1,5 @@
 #include "GradientMapFileView.hpp"
-#include "GradientMapFileFormat.hpp"
+#include "bop/common/GradientMapFileFormat.hpp"
 
 #include "bop/common/Error.hpp"
 

@@ -3,7 +3,7 @@
 // so that no rank ever holds the whole map: under MPI each rank keeps only its subdomain plus a
 // margin (docs/parallel.md, GradientMapCrop.hpp). The view keeps the path, the per-frame header
 // fields and the byte offsets of each frame's arrays; every crop opens the file afresh.
-#include "GradientMapCrop.hpp"
+#include "bop/common/GradientMapCrop.hpp"
 
 #include "bop/common/GradientMap.hpp"
 

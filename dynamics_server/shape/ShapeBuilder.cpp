@@ -1,7 +1,7 @@
 #include "ShapeBuilder.hpp"
 
 #include "DistanceTransform.hpp"
-#include "GradientMapFile.hpp"
+#include "bop/common/GradientMapFile.hpp"
 #include "Labels.hpp"
 
 #include <chrono>

@@ -155,8 +155,8 @@ ShapeSpec readShapeSpec(const ConfigTable& root) {
     s.geometry.cpWeightForm = shape.choice("cp_weight_form", {"linear", "quadratic"}, "linear") == "linear"
                                   ? CpWeightForm::Linear : CpWeightForm::Quadratic;
     const std::string interp = shape.choice("interpolation", {"mixed", "trilinear", "nearest"}, "mixed");
-    s.interpolation = interp == "mixed" ? Interpolation::Mixed
-                      : interp == "trilinear" ? Interpolation::Trilinear : Interpolation::Nearest;
+    s.interpolation = interp == "mixed" ? core::Interpolation::Mixed
+                      : interp == "trilinear" ? core::Interpolation::Trilinear : core::Interpolation::Nearest;
     std::string stamps;
     const std::vector<ConfigTable> bags = shape.tableArray("bag");
     if (bags.empty() || bags.size() > 127) shape.fail("bag", "expected 1 to 127 [[shape.bag]] tables, outer to inner");

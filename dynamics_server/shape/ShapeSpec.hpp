@@ -1,7 +1,7 @@
 #pragma once
 // The shape part of a scene: the voxel grid and the nested bags with their model sources, read
 // from the scene TOML's [grid] and [shape] tables (see config/scenes/*.toml for every key).
-#include "GmField.hpp"
+#include "core/GmField.hpp"
 #include "ModelSource.hpp"
 #include "SurfaceGeometry.hpp"
 
@@ -32,7 +32,7 @@ struct ShapeSpec {
     GridSpec grid;
     std::vector<BagSpec> bags;            // outer to inner
     SurfaceGeometryParams geometry;
-    Interpolation interpolation = Interpolation::Mixed;
+    core::Interpolation interpolation = core::Interpolation::Mixed;
     std::string canonical;                // the shape tables as TOML text (for the cache key)
 };
 

@@ -1,14 +1,11 @@
 #include "app/HapticMap.hpp"
 
-#include "shape/GradientMapFile.hpp"
-
 #include "bop/common/Error.hpp"
+#include "bop/common/GradientMapFile.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
-#include <stdlib.h>
-#include <unistd.h>
 
 namespace bop::haptic {
 
@@ -31,30 +28,8 @@ std::optional<FieldForce> downloadField(protocol::ClientSession& session, const 
             }
         });
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // The file's reader checks magic, version, key and checksum: through a private temporary
-    // file (mkstemps: a fresh name, mode 0600).
-    std::string name = (std::filesystem::temp_directory_path() / "bop-haptic-map-XXXXXX.bopgm").string();
-    const int fd = ::mkstemps(name.data(), 6);
-    if (fd < 0) throw Error(name, "cannot make a temporary file for the downloaded gradient map");
-    const std::filesystem::path tmp = name;
-    for (std::size_t done = 0; done < bytes.size();) {
-        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-        if (n <= 0) {
-            ::close(fd);
-            std::filesystem::remove(tmp);
-            throw Error(name, "cannot write the downloaded gradient map");
-        }
-        done += std::size_t(n);
-    }
-    ::close(fd);
-    std::optional<std::vector<GradientMap>> maps;
-    try {
-        maps = shape::readGradientMaps(tmp.string(), scene.mapKey);
-    } catch (...) {
-        std::filesystem::remove(tmp);
-        throw;
-    }
-    std::filesystem::remove(tmp);
+    // The file's reader checks magic, version, key and checksum, here on the bytes in memory.
+    const std::optional<std::vector<GradientMap>> maps = readGradientMaps(bytes, scene.mapKey, "the downloaded gradient map");
     if (!maps || maps->empty()) throw Error("bop-haptic", "the downloaded gradient map is not the scene's (key mismatch)");
     const Dims& d = maps->front().dims();
     std::printf("bop-haptic: gradient map %dx%dx%d voxels (%.2f MB in %.2f s)\n", d.nx, d.ny, d.nz,

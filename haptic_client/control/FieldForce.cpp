@@ -1,17 +1,14 @@
 #include "control/FieldForce.hpp"
 
+#include "bop/common/Units.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace bop::haptic {
-namespace {
-
-constexpr double kR0 = 1.7320508075688772;  // r0 = sqrt 3, length
-
-}  // namespace
 
 FieldForce::FieldForce(GradientMap map, double stiffness)
-    : map_(std::move(map)), stiffness_(stiffness), h_(kR0 / map_.r0Voxels) {}
+    : map_(std::move(map)), stiffness_(stiffness), h_(voxelLength(map_.r0Voxels)) {}
 
 double FieldForce::distanceAtVoxel(int i, int j, int k) const {
     const Dims& d = map_.dims();

@@ -111,7 +111,7 @@ public:
     CommandReply sendCommand(const Command& command, std::chrono::milliseconds timeout);
     CommandReply sendCommand(const Command& command);
     // Downloads the server's gradient-map file (SceneInfo::mapBytes; the bytes of a .bopgm file,
-    // dynamics_server/shape/GradientMapFile.hpp) in pieces of 1 MiB, each waited for up to
+    // common/include/bop/common/GradientMapFile.hpp) in pieces of 1 MiB, each waited for up to
     // `timeout`, calling `progress(bytes so far, total)` after each. bop::Error naming the
     // endpoint when the server has no map, the map is over `maxBytes`, or a piece does not come.
     std::vector<std::uint8_t> downloadMap(std::uint64_t maxBytes, std::chrono::milliseconds timeout,

@@ -1,8 +1,8 @@
 // Windows read straight from the gradient-map cache file equal the in-memory crop of the whole
 // map, answer every query as the whole map does, and read only about their share of the file.
 #include "ShapeTestUtil.hpp"
-#include "shape/GradientMapCrop.hpp"
-#include "shape/GradientMapFile.hpp"
+#include "bop/common/GradientMapCrop.hpp"
+#include "bop/common/GradientMapFile.hpp"
 #include "shape/GradientMapFileView.hpp"
 
 #include <catch2/catch.hpp>

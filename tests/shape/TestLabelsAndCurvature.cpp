@@ -1,6 +1,6 @@
 // Labels (6-connectivity shells, nested species order) and curvature of voxelised spheres.
 #include "ShapeTestUtil.hpp"
-#include "shape/GmField.hpp"
+#include "core/GmField.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -9,6 +9,7 @@
 #include <queue>
 
 using namespace bop;
+using namespace bop::core;
 using namespace bop::shape;
 
 namespace {

@@ -34,7 +34,7 @@ struct GradientMap {
     std::vector<std::uint8_t> occ;      // species that should occupy each voxel (0 = outside)
     std::vector<std::uint32_t> nearest; // per voxel: index into `surface` of the nearest surface voxel
     std::vector<SurfaceVoxel> surface;  // every surface voxel the voxels name, in voxel-index order
-    // A window of a larger map (one rank's subdomain plus a margin, shape/GradientMapCrop.hpp):
+    // A window of a larger map (one rank's subdomain plus a margin, bop/common/GradientMapCrop.hpp):
     // voxel (0,0,0) of this map is voxel `origin` of the whole map, of size `whole`. A whole
     // map has origin 0 and `whole` empty. grid.originMm stays the whole map's.
     Eigen::Vector3i origin = Eigen::Vector3i::Zero();

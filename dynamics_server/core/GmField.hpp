@@ -3,7 +3,7 @@
 // dynamics core calls them: (kind, species, position, normal) -> (force, torque).
 //
 // Simulation coordinates: the corner of voxel (0,0,0) is the origin and a voxel is
-// h = r0 / r0Voxels simulation length units wide (r0 = sqrt(3), paper units).
+// h = voxelLength(r0Voxels) simulation length units wide (bop/common/Units.hpp).
 // The returned force is the raw f^GM in simulation length units (a unit-stiffness spring, to be
 // multiplied by the species weight alpha_f^GM); the torque is n_i x n(p) (dimensionless, times
 // alpha_tau^GM).
@@ -20,11 +20,12 @@
 //    rules have no in-voxel spring, so their force is continuous.
 // Outside the grid the nearest border voxel's rule is used plus a spring back to its centre.
 #include "bop/common/GradientMap.hpp"
+#include "bop/common/Units.hpp"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-namespace bop::shape {
+namespace bop::core {
 
 enum class ParticleKind : std::uint8_t { Surface, Volume };
 enum class Interpolation : std::uint8_t { Mixed, Trilinear, Nearest };
@@ -36,8 +37,6 @@ struct GmSample {
 
 class GmField {
 public:
-    static constexpr double kR0 = 1.7320508075688772;  // r0 = sqrt(3), simulation length units
-
     GmField(const GradientMap& map, Interpolation interp = Interpolation::Mixed);
 
     double voxelSize() const { return h_; }  // h, simulation length units per voxel
@@ -60,4 +59,4 @@ private:
     double h_;
 };
 
-}  // namespace bop::shape
+}  // namespace bop::core

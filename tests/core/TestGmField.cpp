@@ -1,13 +1,14 @@
 // Gradient-map force and torque rules: the paper's per-voxel table at voxel centres, a
 // continuous field between them, sensible torques, and a spring back from outside the grid.
-#include "ShapeTestUtil.hpp"
-#include "shape/GmField.hpp"
+#include "shape/ShapeTestUtil.hpp"
+#include "core/GmField.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <random>
 
 using namespace bop;
+using namespace bop::core;
 using namespace bop::shape;
 
 namespace {

@@ -1,15 +1,16 @@
-#include "GradientMapFile.hpp"
-#include "GradientMapFileFormat.hpp"
+#include "bop/common/GradientMapFile.hpp"
+#include "bop/common/GradientMapFileFormat.hpp"
 
 #include "bop/common/Error.hpp"
 #include "bop/common/Npy.hpp"
 
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 
-namespace bop::shape {
+namespace bop {
 using namespace gmfile;
 namespace {
 
@@ -25,7 +26,7 @@ struct Writer {
 };
 
 struct Reader {
-    const std::vector<unsigned char>& buf;
+    std::span<const std::uint8_t> buf;
     std::size_t pos = 0;
     const std::string& path;
     void need(std::size_t n) const {
@@ -86,7 +87,12 @@ std::optional<std::vector<GradientMap>> readGradientMaps(const std::string& path
     if (!std::filesystem::exists(path)) return std::nullopt;
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path, "cannot open the gradient-map file");
-    const std::vector<unsigned char> buf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return readGradientMaps(bytes, key, path);
+}
+
+std::optional<std::vector<GradientMap>> readGradientMaps(std::span<const std::uint8_t> buf, std::uint64_t key,
+                                                         const std::string& path) {
     Reader r{buf, 0, path};
     if (buf.size() < 8 || std::memcmp(buf.data(), kMagic, 8) != 0) throw Error(path, "not a BoP gradient-map file (bad magic)");
     r.pos = 8;
@@ -128,4 +134,4 @@ std::optional<std::vector<GradientMap>> readGradientMaps(const std::string& path
     return out;
 }
 
-}  // namespace bop::shape
+}  // namespace bop

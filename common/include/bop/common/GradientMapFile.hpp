@@ -1,6 +1,6 @@
 #pragma once
 // The gradient-map cache file (.bopgm): what bop-shape writes so that the server need not
-// rebuild a map. Little-endian binary, documented in docs/file-formats.md:
+// rebuild a map, and what haptic clients download from it. Little-endian binary, documented in docs/file-formats.md:
 //   "BOPGMAP\0", u32 version, u64 key (hash of the scene's shape tables and source files),
 //   u32 frames, per frame {i32 nx ny nz, f64 origin_mm[3], f64 voxel_mm, f64 r0_voxels,
 //   i32 bags, u64 surface count, u8 occ[N], u32 nearest[N], surface records}, u64 checksum.
@@ -8,10 +8,11 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
-namespace bop::shape {
+namespace bop {
 
 std::uint64_t hashText(const std::string& text);  // FNV-1a, 64 bit
 
@@ -21,5 +22,8 @@ void writeGradientMaps(const std::string& path, const std::vector<GradientMap>& 
 // nullopt if the file is absent or was made for another key (a stale cache);
 // bop::Error naming the file if it is truncated, corrupt or inconsistent.
 std::optional<std::vector<GradientMap>> readGradientMaps(const std::string& path, std::uint64_t key);
+// The same from the file's bytes in memory (a haptic client's download); `name` names them in errors.
+std::optional<std::vector<GradientMap>> readGradientMaps(std::span<const std::uint8_t> bytes, std::uint64_t key,
+                                                         const std::string& name);
 
-}  // namespace bop::shape
+}  // namespace bop

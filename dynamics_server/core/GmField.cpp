@@ -1,12 +1,12 @@
-#include "GmField.hpp"
+#include "core/GmField.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace bop::shape {
+namespace bop::core {
 
 GmField::GmField(const GradientMap& map, Interpolation interp)
-    : map_(map), interp_(interp), h_(kR0 / map.r0Voxels) {}
+    : map_(map), interp_(interp), h_(voxelLength(map.r0Voxels)) {}
 
 Eigen::Vector3d GmField::normalAtVoxel(std::size_t v) const {
     return map_.nearestSurface(v).normal.cast<double>();
@@ -43,7 +43,7 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
     const Dims& whole = map_.wholeDims();
     const Eigen::Vector3d pWhole = position / h_;
     // Keep the evaluation point on the grid; a particle beyond the whole map's grid is pulled
-    // back by a spring. A crop's margin keeps its particles inside it (shape/GradientMapCrop.hpp).
+    // back by a spring. A crop's margin keeps its particles inside it (bop/common/GradientMapCrop.hpp).
     const Eigen::Vector3d wholeHi(whole.nx - 0.5, whole.ny - 0.5, whole.nz - 0.5);
     const Eigen::Vector3d back = pWhole.cwiseMax(Eigen::Vector3d::Constant(0.5)).cwiseMin(wholeHi) - pWhole;
     const Eigen::Vector3d pVox = pWhole - map_.origin.cast<double>();  // this map's voxel coordinates
@@ -86,4 +86,4 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
     return out;
 }
 
-}  // namespace bop::shape
+}  // namespace bop::core

@@ -1,11 +1,11 @@
 #pragma once
-// Internal to shape/: the on-disk pieces of the gradient-map cache file shared by the whole-file
-// reader/writer (GradientMapFile.cpp) and the windowed reader (GradientMapFileView.cpp).
+// The on-disk pieces of the gradient-map cache file shared by the whole-file reader/writer
+// (common/src/GradientMapFile.cpp) and the server's windowed reader (shape/GradientMapFileView.cpp).
 // Layout: see GradientMapFile.hpp.
 #include <cstddef>
 #include <cstdint>
 
-namespace bop::shape::gmfile {
+namespace bop::gmfile {
 
 constexpr char kMagic[8] = {'B', 'O', 'P', 'G', 'M', 'A', 'P', '\0'};
 constexpr std::uint32_t kVersion = 1;
@@ -28,4 +28,4 @@ inline std::uint64_t hashBytes(const unsigned char* p, std::size_t n, std::uint6
     return h;
 }
 
-}  // namespace bop::shape::gmfile
+}  // namespace bop::gmfile

@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-namespace bop::shape {
+namespace bop {
 
 // Voxels [lo, hi) of the whole map, in whole-map voxel coordinates.
 struct VoxelWindow {
@@ -26,4 +26,4 @@ GradientMap cropGradientMap(const GradientMap& whole, const VoxelWindow& window)
 // Bytes the map's arrays hold (per-voxel occupancy and nearest index, surface records).
 std::size_t gradientMapBytes(const GradientMap& map);
 
-}  // namespace bop::shape
+}  // namespace bop

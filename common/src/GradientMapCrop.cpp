@@ -1,10 +1,10 @@
-#include "GradientMapCrop.hpp"
+#include "bop/common/GradientMapCrop.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace bop::shape {
+namespace bop {
 
 VoxelWindow windowAround(const Dims& whole, double h, const Eigen::Vector3d& regionLo,
                          const Eigen::Vector3d& regionHi, double margin) {
@@ -61,4 +61,4 @@ std::size_t gradientMapBytes(const GradientMap& map) {
            map.surface.size() * sizeof(SurfaceVoxel);
 }
 
-}  // namespace bop::shape
+}  // namespace bop
