@@ -1,7 +1,7 @@
 #include "client/ClientSessionImpl.hpp"
 
 #include "bop/common/Error.hpp"
-#include "client/CurveKeys.hpp"
+#include "security/CurveKeys.hpp"
 #include "codec/Codec.hpp"
 #include "codec/MessageKind.hpp"
 

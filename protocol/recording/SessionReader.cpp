@@ -2,7 +2,7 @@
 
 #include "bop/common/Error.hpp"
 #include "recording/McapReader.hpp"
-#include "server/SessionRecorder.hpp"
+#include "recording/SessionTopics.hpp"
 
 #include <deque>
 

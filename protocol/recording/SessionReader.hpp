@@ -1,5 +1,5 @@
 #pragma once
-// A recorded session (server/SessionRecorder.hpp) read back: the scene, the commands with the
+// A recorded session (recording/SessionRecorder.hpp) read back: the scene, the commands with the
 // steps they were applied at, the probes with theirs, and the frame chunks as they were sent.
 // Every message passes its decoder; a recording is untrusted input like the network.
 #include "codec/Codec.hpp"

@@ -7,8 +7,8 @@
 #include "codec/Codec.hpp"
 #include "codec/MessageKind.hpp"
 #include "server/FrontUdp.hpp"
-#include "server/SessionRecorder.hpp"
-#include "server/ZapHandler.hpp"
+#include "recording/SessionRecorder.hpp"
+#include "security/ZapHandler.hpp"
 
 #include <zmq.hpp>
 

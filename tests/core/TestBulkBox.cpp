@@ -1,7 +1,7 @@
 // The bulk-material box of a scene: whole fcc cells at nearest distance r0, none lost to
 // rounding when the box is exactly n cells across (the benchmark's 10,976-particle box).
 #include "TestUtil.hpp"
-#include "app/SceneConfig.hpp"
+#include "app/scene/SceneConfig.hpp"
 
 #include <catch2/catch.hpp>
 

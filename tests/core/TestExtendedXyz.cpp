@@ -1,6 +1,6 @@
 // Extended XYZ snapshots: bit-exact round trip of a trajectory, files from other tools, and a
 // bop::Error naming the file and the line for every malformed input.
-#include "app/ExtendedXyz.hpp"
+#include "app/files/ExtendedXyz.hpp"
 #include "bop/common/Error.hpp"
 
 #include "TestUtil.hpp"

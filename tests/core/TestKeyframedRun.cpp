@@ -2,8 +2,8 @@
 // force is the blend of two frames' forces; the blood's pressure against the mechanical
 // pressure on the walls of an ideal gas; the averaged pressure cycle of app/CardiacSeries.
 #include "TestUtil.hpp"
-#include "app/CardiacSeries.hpp"
-#include "app/SimulationSetup.hpp"
+#include "app/cardiac/CardiacSeries.hpp"
+#include "app/scene/SimulationSetup.hpp"
 #include "shape/KeyframeTestScene.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 // Keyframed gradient maps (core/Keyframes.hpp), the blood's pressure formulas, the filled volume
 // of oriented surface particles, and the periodic spline of the pressure curve.
-#include "app/PeriodicSpline.hpp"
+#include "app/cardiac/PeriodicSpline.hpp"
 #include "core/BloodPressure.hpp"
 #include "core/FilledVolume.hpp"
 #include "core/Keyframes.hpp"

@@ -13,10 +13,10 @@
 // The contract, beyond the sanitizers': nothing thrown leaves the loop (no UnsoundState: no
 // in-range input may make the physics unsound), the front counts no internal error, and the
 // run's totals stay finite.
-#include "app/SceneConfig.hpp"
-#include "app/ServedLoop.hpp"
-#include "app/ServedRun.hpp"
-#include "app/SimulationSetup.hpp"
+#include "app/scene/SceneConfig.hpp"
+#include "app/runs/ServedLoop.hpp"
+#include "app/runs/ServedRun.hpp"
+#include "app/scene/SimulationSetup.hpp"
 #include "parallel/DecomposedRun.hpp"
 #include "parallel/Session.hpp"
 #include "server/ServerFront.hpp"

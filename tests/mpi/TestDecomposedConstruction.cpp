@@ -2,7 +2,7 @@
 // mpiexec gave makes the same particles, with the same ids, as a single process; ids stay
 // unique; each rank holds only its window of the gradient map.
 #include "TestUtil.hpp"
-#include "app/SimulationSetup.hpp"
+#include "app/scene/SimulationSetup.hpp"
 #include "parallel/DecomposedSimulation.hpp"
 
 #include <catch2/catch.hpp>

@@ -2,7 +2,7 @@
 // every few steps) has, at whatever rank count mpiexec gave, the map frame of the schedule at
 // every step, the single process's blood volume and pressure sums, and its particles.
 #include "TestUtil.hpp"
-#include "app/SimulationSetup.hpp"
+#include "app/scene/SimulationSetup.hpp"
 #include "parallel/DecomposedSimulation.hpp"
 #include "parallel/Session.hpp"
 #include "shape/KeyframeTestScene.hpp"

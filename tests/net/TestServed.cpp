@@ -5,7 +5,7 @@
 #include "ServerProcess.hpp"
 #include "TestUtil.hpp"
 #include "client/ClientSession.hpp"
-#include "client/CurveKeys.hpp"
+#include "security/CurveKeys.hpp"
 #include "codec/Codec.hpp"
 #include "recording/SessionReader.hpp"
 #include "shape/KeyframeTestScene.hpp"

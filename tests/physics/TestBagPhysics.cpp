@@ -2,7 +2,7 @@
 // of stepping, run in the Release build only): shape fidelity, elastic recovery after a poke,
 // and how particle counts scale with r0 (paper Table 1).
 #include "TestUtil.hpp"
-#include "app/SimulationSetup.hpp"
+#include "app/scene/SimulationSetup.hpp"
 
 #include <catch2/catch.hpp>
 

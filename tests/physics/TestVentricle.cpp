@@ -4,8 +4,8 @@
 // pressure peaks in systole, within one frame of the smallest cavity; the particles follow the
 // wall at end-diastole and eject less than the voxels (the blood has no valve to leave by).
 #include "TestUtil.hpp"
-#include "app/CardiacRun.hpp"
-#include "app/SimulationSetup.hpp"
+#include "app/cardiac/CardiacRun.hpp"
+#include "app/scene/SimulationSetup.hpp"
 #include "shape/LvPhantom.hpp"
 
 #include <catch2/catch.hpp>

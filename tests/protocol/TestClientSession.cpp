@@ -5,7 +5,7 @@
 
 #include "bop/common/Error.hpp"
 #include "client/ClientSession.hpp"
-#include "client/CurveKeys.hpp"
+#include "security/CurveKeys.hpp"
 #include "codec/Codec.hpp"
 
 #include <catch2/catch.hpp>

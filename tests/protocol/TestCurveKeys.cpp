@@ -1,8 +1,8 @@
-// CURVE key files (client/CurveKeys.hpp): the pair bop-keys writes, and files that are not keys.
+// CURVE key files (security/CurveKeys.hpp): the pair bop-keys writes, and files that are not keys.
 #include "TestUtil.hpp"
 
 #include "bop/common/Error.hpp"
-#include "client/CurveKeys.hpp"
+#include "security/CurveKeys.hpp"
 
 #include <catch2/catch.hpp>
 #include <zmq.h>

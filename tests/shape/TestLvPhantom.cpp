@@ -1,7 +1,7 @@
 // The synthetic gated left ventricle: its volume curve and ejection fraction, the shipped data
 // file against the generator, and the ventricle scene's maps measured against the ground truth.
 #include "TestUtil.hpp"
-#include "app/SceneConfig.hpp"
+#include "app/scene/SceneConfig.hpp"
 #include "core/Keyframes.hpp"
 #include "shape/LvPhantom.hpp"
 #include "shape/ShapeBuilder.hpp"

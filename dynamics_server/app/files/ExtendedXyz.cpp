@@ -1,0 +1,139 @@
+// Extended XYZ output: one frame per call, numbers in %.17g (std::to_chars with precision 17,
+// the same text as printf's %.17g, locale independent) so that reading back is bit-exact.
+#include "app/files/ExtendedXyz.hpp"
+
+#include "bop/common/Error.hpp"
+
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <fstream>
+
+namespace bop::app {
+
+namespace {
+
+constexpr const char* kProperties =
+    "species:S:1:pos:R:3:velo:R:3:normal:R:3:orientation:R:4:omega:R:3:id:I:1:species_number:I:1";
+
+// Every species number used in p needs a name without whitespace or quotes.
+void checkSpeciesNames(const std::string& where, const core::Particles& p,
+                       const std::vector<std::string>& speciesNames) {
+    bool seen[256] = {};
+    for (std::uint8_t s : p.species) {
+        if (seen[s]) continue;
+        seen[s] = true;
+        if (s >= speciesNames.size() || speciesNames[s].empty())
+            throw Error(where, "species number " + std::to_string(s) +
+                                   " has no name, expected a non-empty name at index " + std::to_string(s) +
+                                   " of the species table (" + std::to_string(speciesNames.size()) + " entries)");
+        for (char c : speciesNames[s])
+            if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '"' || c == '\'')
+                throw Error(where, "species name '" + speciesNames[s] +
+                                       "' contains whitespace or quotes, expected a single word");
+    }
+}
+
+void putNumber(std::string& out, double v) {
+    char buf[40];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 17);
+    out.append(buf, r.ptr);
+}
+
+template <class Int>
+void putInteger(std::string& out, Int v) {
+    char buf[24];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    out.append(buf, r.ptr);
+}
+
+void putTriple(std::string& out, const Eigen::Vector3d& v, char sep = ' ') {
+    for (int k = 0; k < 3; ++k) {
+        if (k > 0) out += sep;
+        putNumber(out, v[k]);
+    }
+}
+
+std::string commentLine(const XyzFrameInfo& info) {
+    const Eigen::Vector3d len = info.boxHi - info.boxLo;
+    std::string s = "Lattice=\"";
+    putNumber(s, len.x());
+    s += " 0 0 0 ";
+    putNumber(s, len.y());
+    s += " 0 0 0 ";
+    putNumber(s, len.z());
+    s += "\" Origin=\"";
+    putTriple(s, info.boxLo);
+    s += "\" BoxHi=\"";
+    putTriple(s, info.boxHi);
+    s += "\" Properties=";
+    s += kProperties;
+    s += " Time=";
+    putNumber(s, info.time);
+    s += " Step=";
+    putInteger(s, info.step);
+    if (!info.births.empty()) {
+        s += " Births=";
+        for (char b : info.births) s += b ? '1' : '0';
+    }
+    if (info.seeds >= 0) {
+        s += " Seeds=";
+        putInteger(s, info.seeds);
+    }
+    s += " pbc=\"";
+    for (int k = 0; k < 3; ++k) {
+        if (k > 0) s += ' ';
+        s += info.periodic[std::size_t(k)] ? 'T' : 'F';
+    }
+    s += "\"\n";
+    return s;
+}
+
+void writeFrame(std::ostream& os, const core::Particles& p, const std::vector<std::string>& speciesNames,
+                const XyzFrameInfo& info) {
+    std::string line = std::to_string(p.size()) + "\n" + commentLine(info);
+    os.write(line.data(), std::streamsize(line.size()));
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        line.clear();
+        line += speciesNames[p.species[i]];
+        line += ' ';
+        putTriple(line, p.pos[i]);
+        line += ' ';
+        putTriple(line, p.vel[i]);
+        line += ' ';
+        putTriple(line, p.normal[i]);
+        line += ' ';
+        const Eigen::Quaterniond& q = p.q[i];  // OVITO's component order: x y z w
+        for (double c : {q.x(), q.y(), q.z(), q.w()}) {
+            putNumber(line, c);
+            line += ' ';
+        }
+        putTriple(line, p.omega[i]);
+        line += ' ';
+        putInteger(line, p.id[i]);
+        line += ' ';
+        putInteger(line, int(p.species[i]));
+        line += '\n';
+        os.write(line.data(), std::streamsize(line.size()));
+    }
+}
+
+}  // namespace
+
+void writeExtendedXyz(std::ostream& os, const core::Particles& p, const std::vector<std::string>& speciesNames,
+                      const XyzFrameInfo& info) {
+    checkSpeciesNames("extended XYZ output", p, speciesNames);
+    writeFrame(os, p, speciesNames, info);
+}
+
+void appendExtendedXyz(const std::string& path, const core::Particles& p, const std::vector<std::string>& speciesNames,
+                       const XyzFrameInfo& info) {
+    checkSpeciesNames(path, p, speciesNames);
+    std::ofstream out(path, std::ios::binary | std::ios::app);
+    if (!out) throw Error(path, std::string("cannot write: ") + std::strerror(errno));
+    writeFrame(out, p, speciesNames, info);
+    out.flush();
+    if (!out) throw Error(path, std::string("cannot write: ") + std::strerror(errno) + " (disk full?)");
+}
+
+}  // namespace bop::app

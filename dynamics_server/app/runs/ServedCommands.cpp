@@ -1,0 +1,108 @@
+#include "app/runs/ServedCommands.hpp"
+
+#include "server/InboundRanges.hpp"
+
+#include <filesystem>
+
+namespace bop::app {
+namespace {
+
+protocol::CommandReply answer(const protocol::Command& c, protocol::ReplyStatus s, long long step, std::string why = {}) {
+    protocol::CommandReply r;
+    r.requestId = c.requestId;
+    r.status = s;
+    r.step = std::uint64_t(std::max(0LL, step));
+    r.message = why.substr(0, protocol::kMaxTextBytes);  // a reply may not exceed its cap
+    return r;
+}
+
+}  // namespace
+
+protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::DecomposedRun& run,
+                             const protocol::SceneInfo& scene) {
+    using protocol::ReplyStatus;
+    const long long next = run.stepNumber();
+    const int speciesCount = int(scene.species.size());
+    if (const auto why = protocol::refuseCommand(c, scene)) return answer(c, ReplyStatus::Rejected, next, *why);
+    parallel::Command rc;
+    try {
+        if (const auto* seed = std::get_if<protocol::SeedParticle>(&c.body)) {
+            rc.kind = parallel::Command::Kind::Seed;
+            rc.species = seed->species;
+            rc.position = seed->position;
+        } else if (const auto* birth = std::get_if<protocol::SetBirth>(&c.body)) {
+            rc.kind = parallel::Command::Kind::Birth;
+            rc.species = birth->species;
+            rc.on = birth->enabled;
+        } else if (const auto* p = std::get_if<protocol::SetParameter>(&c.body)) {
+            const std::string& n = p->name;
+            if (n == "lj" || n == "co_normal" || n == "co_planar") {
+                rc.kind = parallel::Command::Kind::Weight;
+                rc.table = n == "lj" ? parallel::Command::Table::Lj
+                         : n == "co_normal" ? parallel::Command::Table::CoNormal : parallel::Command::Table::CoPlanar;
+                rc.species = p->speciesA;
+                rc.other = p->speciesB;
+                rc.value = p->value;
+            } else if (n == "k0" || n == "k1") {  // within their ranges: the decoder checked
+                (n == "k0" ? desk.probe.params.k0 : desk.probe.params.k1) = p->value;
+                rc.kind = parallel::Command::Kind::Probe;
+                rc.probe = desk.probe;
+            } else if (n == "drag_v" || n == "drag_w") {
+                if (p->speciesA < 1 || p->speciesA > speciesCount)
+                    return answer(c, ReplyStatus::Rejected, next, "no species " + std::to_string(p->speciesA));
+                auto& d = desk.drags[std::size_t(p->speciesA)];
+                (n == "drag_v" ? d.first : d.second) = p->value;
+                rc.kind = parallel::Command::Kind::Drag;
+                rc.species = p->speciesA;
+                rc.dragV = d.first;
+                rc.dragW = d.second;
+            } else {
+                return answer(c, ReplyStatus::Unsupported, next, "unknown parameter '" + n + "'");
+            }
+        } else if (const auto* r = std::get_if<protocol::RunControl>(&c.body)) {
+            if (r->action == protocol::RunAction::Pause) desk.paused = true;
+            else if (r->action == protocol::RunAction::Resume) desk.paused = false, desk.singleSteps = 0;
+            else desk.singleSteps += r->steps;
+            return answer(c, ReplyStatus::Ok, next);
+        } else {
+            return answer(c, ReplyStatus::Unsupported, next, "not supported by this server yet");
+        }
+        if (rc.kind == parallel::Command::Kind::Seed || rc.kind == parallel::Command::Kind::Birth)
+            if (rc.species < 1 || rc.species > speciesCount)
+                return answer(c, ReplyStatus::Rejected, next, "no species " + std::to_string(rc.species));
+        run.submit(rc);
+    } catch (const std::invalid_argument& e) {
+        return answer(c, ReplyStatus::Rejected, next, e.what());
+    }
+    return answer(c, ReplyStatus::Ok, next);
+}
+
+protocol::CommandReply record(const protocol::Command& c, const protocol::Record& r, protocol::ServerFront& front,
+                              const std::string& outDir, const std::string& operatorRecording, long long step) {
+    using protocol::ReplyStatus;
+    if (!operatorRecording.empty())
+        return answer(c, ReplyStatus::Rejected, step, "the server records the whole session to " + operatorRecording +
+                                                          " (--record); clients cannot start or stop it");
+    try {
+        if (!r.start) {
+            const std::string file = front.stopRecording();
+            return answer(c, ReplyStatus::Ok, step, file.empty() ? "not recording" : "recorded " + file);
+        }
+        std::string name = r.path.empty() ? "session-step" + std::to_string(step) + ".mcap" : r.path;
+        const auto endsWith = [&](const std::string& tail) {
+            return name.size() > tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+        };
+        if (name.find('/') != std::string::npos || name.front() == '.' || !endsWith(".mcap"))
+            return answer(c, ReplyStatus::Rejected, step,
+                          "a plain file name ending in .mcap is expected (it goes into " + outDir + ")");
+        const std::string path = outDir + "/" + name;
+        if (std::filesystem::exists(path) || std::filesystem::exists(path + ".partial"))
+            return answer(c, ReplyStatus::Rejected, step, path + " exists; recordings never replace a file");
+        front.startRecording(path);
+        return answer(c, ReplyStatus::Ok, step, "recording to " + path);
+    } catch (const std::exception& e) {
+        return answer(c, ReplyStatus::Failed, step, e.what());
+    }
+}
+
+}  // namespace bop::app

@@ -1,0 +1,177 @@
+#include "app/runs/ServedLoop.hpp"
+
+#include "app/files/Checkpoint.hpp"
+#include "app/runs/DecomposedBatch.hpp"
+#include "core/BloodPressure.hpp"
+#include "server/InboundRanges.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <thread>
+
+namespace bop::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::int64_t nowNs() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
+}
+
+protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t, const Desk& desk, long long step,
+                             double dt, double volume, double stepRate, bool paperEq15) {
+    protocol::StateFrame f;
+    const std::size_t n = a.species.size();
+    f.step = std::uint64_t(step);
+    f.simTime = double(step) * dt;
+    f.probePosition = desk.probe.position;
+    f.probeForce = t.probeReaction;
+    f.probeActive = desk.probe.active;
+    // In a bag: the blood's pressure (core/BloodPressure.hpp; the scene's formula); in a bulk box: the whole box's.
+    const double pressure = t.bloodVolume <= 0 ? (2 * t.kinetic + t.virial) / (3 * volume)
+                            : paperEq15     ? core::paperEq15Pressure(t.bloodMv2, t.virialVolume, t.bloodCount, t.bloodVolume)
+                                            : core::virialPressure(t.bloodMv2, t.virialVolume, t.bloodVolume);
+    f.stats = {t.kinetic, t.pairEnergy + t.probeEnergy, pressure, stepRate, std::uint64_t(n), desk.loop, t.cavityVolume,
+               t.keyframe.phase()};
+    f.frameParticleCount = std::uint32_t(n);
+    f.positions = std::move(a.positions);
+    f.normals = std::move(a.normals);
+    f.species = std::move(a.species);
+    f.ids = std::move(a.ids);
+    return f;
+}
+
+}  // namespace
+
+ServedLoop::ServedLoop(const Scene& scene, parallel::DecomposedRun& run, protocol::ServerFront* front,
+                       const ServeOptions& o, std::function<bool()> stopRequested, CardiacRun* cardiac,
+                       std::chrono::microseconds idle)
+    : scene_(scene), model_(*scene.model), run_(run), front_(front), o_(o), stopRequested_(std::move(stopRequested)),
+      cardiac_(cardiac), idle_(idle), info_(sceneInfoOf(scene, nullptr)), volume_(model_.box.size().prod()),
+      rateClock_(Clock::now()) {
+    desk_.probe = scene.probe;
+    for (const auto& s : model_.species) desk_.drags.emplace_back(s.dragV, s.dragW);
+    if (o.replay)
+        for (const auto& c : o.replay->chunks)
+            if (c.frame.chunkIndex == 0) frameSteps_.insert(static_cast<long long>(c.frame.step));
+}
+
+void ServedLoop::takeProbe(const protocol::Probe& p) {
+    desk_.probe.active = p.active;
+    desk_.probe.position = p.position;
+    desk_.probe.params = {p.k0, p.k1};
+    desk_.probeSeq = p.seq;
+    desk_.loop = p.loop;
+    desk_.clientProbe = true;
+    desk_.lastClientProbe = Clock::now();
+    front_->probeApplied(p, std::uint64_t(run_.stepNumber()));
+    parallel::Command c;
+    c.probe = desk_.probe;
+    run_.submit(c);
+}
+
+ServedLoop::Decision ServedLoop::replayInputs() {
+    const long long now = run_.stepNumber();
+    const auto& r = *o_.replay;
+    for (; nextCommand_ < r.commands.size() && (long long)(r.commands[nextCommand_].reply.step) <= now; ++nextCommand_) {
+        const auto& rc = r.commands[nextCommand_];
+        if ((long long)(rc.reply.step) < now || rc.reply.status != protocol::ReplyStatus::Ok) continue;
+        front_->reply({"", rc.command}, apply(rc.command, desk_, run_, info_));
+    }
+    for (; nextProbe_ < r.probes.size() && (long long)(r.probes[nextProbe_].step) <= now; ++nextProbe_) {
+        const protocol::Probe& p = r.probes[nextProbe_].probe;
+        if ((long long)(r.probes[nextProbe_].step) != now) continue;
+        if (const auto why = protocol::refuseProbe(p, info_)) {  // a recording is a file: not trusted either
+            spdlog::warn("replay: probe {} at step {} not applied: {}", p.seq, now, *why);
+            continue;
+        }
+        takeProbe(p);
+    }
+    desk_.paused = false;  // the recording's steps drive the run
+    const bool last = frameSteps_.empty() || now >= *frameSteps_.rbegin();
+    return {stopRequested_() || last ? Stopped : Go, true, frameSteps_.count(now + 1) > 0, desk_.probe.active};
+}
+
+ServedLoop::Decision ServedLoop::decide() {
+    for (const auto& pc : front_->takeCommands()) {
+        const auto* rec = std::get_if<protocol::Record>(&pc.command.body);
+        front_->reply(pc, rec ? record(pc.command, *rec, *front_, o_.outDir, o_.front.recordPath, run_.stepNumber())
+                              : apply(pc.command, desk_, run_, info_));
+    }
+    if (const auto p = front_->takeProbe()) takeProbe(*p);
+    if (!front_->anyHaptic()) desk_.loop = {};  // no device loop probing now
+    // No probe from any client for a second: a dead client's probe lets go. Taken as a probe like
+    // any other, so that a recording holds it and a replay applies it.
+    if (desk_.clientProbe && desk_.probe.active && Clock::now() - desk_.lastClientProbe > std::chrono::seconds(1)) {
+        protocol::Probe off;
+        off.seq = desk_.probeSeq;
+        off.position = desk_.probe.position;
+        off.active = false;
+        off.k0 = desk_.probe.params.k0;
+        off.k1 = desk_.probe.params.k1;
+        takeProbe(off);
+    }
+    const bool step = !desk_.paused || desk_.singleSteps > 0;
+    if (desk_.paused && desk_.singleSteps > 0) --desk_.singleSteps;
+    // No gather while the front still holds a frame: it would only replace it.
+    const bool frame = !front_->framePending() && front_->frameDue(Clock::now());
+    const bool stop = stopRequested_() || (o_.steps > 0 && done_ >= o_.steps);
+    return {stop ? Stopped : Go, step, frame, front_->anyHaptic() || desk_.probe.active};
+}
+
+bool ServedLoop::pass() {
+    Decision d;
+    if (front_) {
+        try {
+            d = o_.replay ? replayInputs() : decide();
+        } catch (const std::exception& e) {  // rank 0's trouble stops every rank at this pass, cleanly
+            error_ = std::string("taking the clients' inputs: ") + e.what();
+            d = {Failed, false, false, false};
+        }
+    }
+    const Decision ctl = run_.agree(d);
+    if (ctl.stop != Go) {
+        if (ctl.stop == Failed && error_.empty()) error_ = "rank 0 stopped the run";
+        return false;
+    }
+    if (ctl.step) {
+        run_.step();  // core::UnsoundState leaves here, on every rank
+        ++done_, ++rateSteps_;
+        if (cardiac_) recordCardiac(*cardiac_, run_, model_);
+        if (o_.checkpointEvery > 0 && run_.stepNumber() % o_.checkpointEvery == 0) {
+            const core::Particles all = run_.gather();  // collective
+            if (front_) try {
+                    writeCheckpoint(o_.outDir + "/checkpoint.xyz", all, model_, run_.construction(), run_.stepNumber());
+                } catch (const std::exception& e) {  // the run goes on; the previous checkpoint is whole
+                    spdlog::error("{}", e.what());
+                }
+        }
+    } else {
+        std::this_thread::sleep_for(idle_);
+    }
+    if (!ctl.feedback && !ctl.publish) return true;
+    const parallel::Totals t = run_.totals();  // collective
+    if (front_ && ctl.feedback)
+        front_->offerFeedback({desk_.probeSeq, std::uint64_t(run_.stepNumber()), t.probeReaction, nowNs()});
+    if (ctl.publish) publish(t);
+    return true;
+}
+
+void ServedLoop::publish(const parallel::Totals& t) {
+    parallel::FrameArrays arrays;
+    if (front_) {  // the memory of a frame the front has sent
+        protocol::StateFrame spare = front_->takeSpareFrame();
+        arrays = {std::move(spare.positions), std::move(spare.normals), std::move(spare.species), std::move(spare.ids)};
+    }
+    run_.gatherFrame(arrays);  // collective
+    if (!front_) return;
+    const double elapsed = std::chrono::duration<double>(Clock::now() - rateClock_).count();
+    if (elapsed > 0.5) stepRate_ = double(rateSteps_) / elapsed, rateSteps_ = 0, rateClock_ = Clock::now();
+    if (o_.replay)  // a replay is compared frame by frame: none may be replaced unsent
+        while (front_->framePending()) std::this_thread::sleep_for(std::chrono::microseconds(200));
+    front_->setParticleCount(arrays.species.size());
+    front_->offerFrame(frameOf(std::move(arrays), t, desk_, run_.stepNumber(), model_.integration.dt, volume_, stepRate_,
+                               scene_.pressure && scene_.pressure->paperEq15));
+}
+
+}  // namespace bop::app

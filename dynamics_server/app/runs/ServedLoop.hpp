@@ -1,0 +1,64 @@
+#pragma once
+// The served run's loop, one pass at a time (runServed drives it; the front fuzzer too). Rank 0
+// takes the clients' commands and newest probe from the front (or a recording's, by step), turns
+// them into run commands or desk changes, and decides whether to stop, step, publish a frame and
+// send feedback; every rank agrees on that decision, steps, and joins the gathers when due. No
+// rank waits on a client. Nothing rank 0 meets while taking the inputs escapes: the run stops
+// cleanly instead, every rank at the same pass (error()).
+#include "app/cardiac/CardiacRun.hpp"
+#include "app/runs/ServedCommands.hpp"
+#include "app/runs/ServedRun.hpp"
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <set>
+#include <string>
+
+namespace bop::app {
+
+class ServedLoop {
+public:
+    // front: rank 0's (null on the other ranks); stopRequested: rank 0's signal flag, read each pass;
+    // idle: how long a pass without a step (paused) sleeps.
+    ServedLoop(const Scene& scene, parallel::DecomposedRun& run, protocol::ServerFront* front, const ServeOptions& o,
+               std::function<bool()> stopRequested, CardiacRun* cardiac = nullptr,
+               std::chrono::microseconds idle = std::chrono::milliseconds(1));
+
+    // One pass; false when the run is to stop (a signal, --steps, the replay's end, or an error on
+    // rank 0: error()). core::UnsoundState from a step that ends unsound (on every rank).
+    bool pass();
+
+    long long stepsDone() const { return done_; }
+    const std::string& error() const { return error_; }  // why rank 0 stopped the run; empty if nothing went wrong
+    Desk& desk() { return desk_; }
+
+private:
+    enum Stop : int { Go = 0, Stopped = 1, Failed = 2 };  // Decision::stop
+    using Decision = parallel::DecomposedRun::Decision;
+    Decision decide();        // rank 0
+    Decision replayInputs();  // rank 0, replaying
+    void takeProbe(const protocol::Probe& p);
+    void publish(const parallel::Totals& t);  // collective gather; rank 0 offers the frame
+
+    const Scene& scene_;
+    const core::Model& model_;
+    parallel::DecomposedRun& run_;
+    protocol::ServerFront* front_;
+    const ServeOptions& o_;
+    std::function<bool()> stopRequested_;
+    CardiacRun* cardiac_;
+    std::chrono::microseconds idle_;
+    protocol::SceneInfo info_;  // the scene's ranges, for replayed inputs (server/InboundRanges.hpp)
+    Desk desk_;
+    std::string error_;
+    long long done_ = 0;
+    std::size_t nextCommand_ = 0, nextProbe_ = 0;  // replayed inputs (ServeOptions::replay), by step
+    std::set<long long> frameSteps_;
+    double volume_ = 0;  // the box's, length^3
+    std::chrono::steady_clock::time_point rateClock_;
+    long long rateSteps_ = 0;
+    double stepRate_ = 0;
+};
+
+}  // namespace bop::app

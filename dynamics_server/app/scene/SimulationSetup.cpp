@@ -1,0 +1,145 @@
+#include "app/scene/SimulationSetup.hpp"
+
+#include "app/files/ExtendedXyz.hpp"
+#include "core/SoundState.hpp"
+#include "bop/common/GradientMapFile.hpp"
+#include "shape/GradientMapFileView.hpp"
+#include "bop/common/Error.hpp"
+
+#include <algorithm>
+#include <ostream>
+#include <iomanip>
+#include <cmath>
+
+namespace bop::app {
+
+std::vector<std::string> speciesNames(const core::Model& model) {
+    std::vector<std::string> names;
+    for (const auto& s : model.species) names.push_back(s.name);
+    return names;
+}
+
+namespace {
+
+// The box around a map of `dims` voxels, and the probe's start in simulation units.
+void placeInMap(Scene& scene, const GradientMap& map) {
+    const Dims& d = map.wholeDims();
+    const double h = voxelLength(map.r0Voxels);
+    scene.model->box.lo.setZero();
+    scene.model->box.hi = Eigen::Vector3d(d.nx, d.ny, d.nz) * h;
+    if (scene.probePositionVoxels) scene.probe.position = *scene.probePositionVoxels * h;
+}
+
+}  // namespace
+
+core::Particles initialParticles(const Scene& scene, const std::string& restart, long long& firstStep,
+                                 core::Construction& construction) {
+    firstStep = 0;
+    construction = core::Construction(scene.construction, scene.timeline, scene.model->speciesCount());
+    if (!restart.empty()) {
+        XyzFrame f = readExtendedXyz(restart, speciesNames(*scene.model));
+        // A state a run can start from: finite, near the box, not flung (core/SoundState.hpp).
+        if (const core::Unsoundness u = core::findUnsound(*scene.model, f.particles, Eigen::Vector3d::Zero()); u.what)
+            throw Error(restart, "not a state a run can start from: " + u.text());
+        firstStep = f.info.step;
+        if (!f.info.births.empty()) {
+            try {
+                construction.restore(f.info.births, std::uint64_t(std::max(0LL, f.info.seeds)));
+            } catch (const std::invalid_argument& e) {
+                throw Error(restart, e.what());
+            }
+        }
+        return std::move(f.particles);
+    }
+    return scene.bulk ? bulkLattice(scene) : core::Particles{};
+}
+
+DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const std::string& restart, bool root,
+                                const std::function<void()>& waitForAll, const shape::ProgressFn& progress) {
+    DecomposedStart s;
+    if (scene.shape) {
+        if (cache.empty()) throw Error("--cache", "a run on several ranks reads the gradient map from its cache file");
+        const std::uint64_t key = bop::hashText(scene.shape->canonical);
+        if (root && !shape::GradientMapFileView::open(cache, key))
+            shape::loadOrBuildShape(*scene.shape, cache, true, progress);  // builds and writes; the map is let go
+        waitForAll();
+        auto view = shape::GradientMapFileView::open(cache, key);
+        if (!view) throw Error(cache, "gradient-map cache not found by this rank: put --cache on a filesystem every rank sees");
+        auto shared = std::make_shared<const shape::GradientMapFileView>(std::move(*view));
+        placeInMap(scene, shared->header(0));
+        // Every frame when the scene cycles them (keyframes), else the first.
+        const int frames = scene.model->keyframes.animated() ? shared->frames() : 1;
+        s.options.map = parallel::MapSource{shared->header(0),
+                                            [shared](int f, const bop::VoxelWindow& w) { return shared->crop(f, w); }, frames};
+    }
+    core::Construction construction({}, {}, scene.model->speciesCount());
+    s.particles = initialParticles(scene, restart, s.firstStep, construction);
+    s.options.firstStep = s.firstStep;
+    s.options.construction = std::move(construction);
+    return s;
+}
+
+std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart,
+                                                  const shape::ProgressFn& progress) {
+    core::Model& model = *scene.model;
+    if (scene.shape) {
+        shape::ShapeBuild maps = shape::loadOrBuildShape(*scene.shape, cache, false, progress);
+        if (model.keyframes.animated()) {  // every frame, the first one's map in force
+            for (GradientMap& m : maps.frames) model.frames.push_back(std::make_shared<const GradientMap>(std::move(m)));
+            model.map = model.frames[std::size_t(model.keyframes.firstFrame)];
+        } else {
+            model.map = std::make_shared<GradientMap>(std::move(maps.frames.front()));
+        }
+        placeInMap(scene, *model.map);
+    }
+    long long firstStep = 0;
+    core::Construction construction({}, {}, model.speciesCount());
+    core::Particles particles = initialParticles(scene, restart, firstStep, construction);
+    auto sim = std::make_unique<core::Simulation>(scene.model, std::move(particles), std::move(construction), firstStep);
+    sim->probe() = scene.probe;
+    return sim;
+}
+
+void printFidelity(std::ostream& out, const Fidelity& f) {
+    out << "shape fidelity: " << std::setprecision(3) << 100 * f.surfaceInOwnVoxels
+        << "% of surface particles in their surface voxels, " << 100 * f.volumeInOwnVoxels
+        << "% of volume particles in their volume voxels, median normal angle " << std::setprecision(2)
+        << f.medianNormalAngleDeg << " deg\n" << std::setprecision(6);
+}
+
+Fidelity measureFidelity(const core::Model& model, const core::Particles& p) {
+    Fidelity f;
+    if (!model.map) return f;
+    const GradientMap& m = *model.map;
+    const Dims& d = m.dims();
+    const double h = voxelLength(m.r0Voxels);
+    std::size_t surfaceIn = 0, volumeIn = 0;
+    std::vector<double> angles;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const Eigen::Vector3d v = p.pos[i] / h;
+        const Eigen::Vector3i c = v.array().floor().cast<int>().matrix();
+        const bool inGrid = d.contains(c.x(), c.y(), c.z());
+        const std::size_t idx = inGrid ? d.index(c.x(), c.y(), c.z()) : 0;
+        const bool own = inGrid && m.occ[idx] == p.species[i];
+        if (model.isSurface(p.species[i])) {
+            ++f.surface;
+            surfaceIn += own;
+            if (inGrid) {
+                const double cosA = std::clamp(p.normal[i].dot(m.nearestSurface(idx).normal.cast<double>()), -1.0, 1.0);
+                angles.push_back(std::acos(cosA) * 180.0 / M_PI);
+            }
+        } else {
+            ++f.volume;
+            volumeIn += own;
+        }
+    }
+    f.surfaceInOwnVoxels = f.surface ? double(surfaceIn) / double(f.surface) : 0;
+    f.volumeInOwnVoxels = f.volume ? double(volumeIn) / double(f.volume) : 0;
+    if (!angles.empty()) {
+        std::nth_element(angles.begin(), angles.begin() + long(angles.size() / 2), angles.end());
+        f.medianNormalAngleDeg = angles[angles.size() / 2];
+    }
+    return f;
+}
+
+}  // namespace bop::app

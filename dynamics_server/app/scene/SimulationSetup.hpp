@@ -1,0 +1,57 @@
+#pragma once
+// From a loaded scene to a running simulation: the gradient map (built, or read from the cache),
+// the box around it, the initial particles (a restart file, a bulk lattice, or none for a bag
+// built by its construction timeline) and the probe.
+#include "app/scene/SceneConfig.hpp"
+
+#include "core/Simulation.hpp"
+#include "parallel/DecomposedOptions.hpp"
+#include "shape/ShapeBuilder.hpp"
+
+#include <memory>
+#include <iosfwd>
+#include <string>
+
+namespace bop::app {
+
+// cache: gradient-map cache file ("" = always build); restart: extended XYZ file ("" = none);
+// progress: messages while the map is built.
+std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart,
+                                                  const shape::ProgressFn& progress = {});
+
+// The same start for a decomposed run (every rank calls it), without holding the whole map:
+// rank 0 checks the cache and builds it if missing or stale while the others wait
+// (waitForAll), then every rank reads only the map windows it needs from the cache file, which
+// must therefore lie on a filesystem every rank sees.
+struct DecomposedStart {
+    core::Particles particles;
+    long long firstStep = 0;
+    parallel::DecomposedOptions options;
+};
+DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const std::string& restart, bool root,
+                                const std::function<void()>& waitForAll, const shape::ProgressFn& progress = {});
+
+// The particles to start from (a restart file's, a bulk lattice, or none) and the construction:
+// the scene's timeline, with a checkpoint's birth switches and seed count when the restart file
+// is one (app/Checkpoint.hpp). firstStep: the file's step, else 0.
+core::Particles initialParticles(const Scene& scene, const std::string& restart, long long& firstStep,
+                                 core::Construction& construction);
+
+// Species names by number (index 0 unused), as snapshots write them.
+std::vector<std::string> speciesNames(const core::Model& model);
+
+// Shape fidelity of a bag (issue acceptance; independent of the code that places particles):
+// fractions of surface particles in voxels of their own species, of volume particles in voxels
+// of their own species, and the median angle between a surface particle's normal and the map
+// normal at its voxel.
+struct Fidelity {
+    double surfaceInOwnVoxels = 0;   // fraction
+    double volumeInOwnVoxels = 0;    // fraction
+    double medianNormalAngleDeg = 0; // degrees
+    std::size_t surface = 0, volume = 0;
+};
+Fidelity measureFidelity(const core::Model& model, const core::Particles& p);
+// "shape fidelity: ..." as the batch runs' summaries print it, one line.
+void printFidelity(std::ostream& out, const Fidelity& f);
+
+}  // namespace bop::app
