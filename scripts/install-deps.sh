@@ -7,8 +7,8 @@
 set -euo pipefail
 
 packages=(
-  # toolchain
-  build-essential cmake ninja-build pkg-config git
+  # toolchain; clang-format checks the sources' format (scripts/test.sh)
+  build-essential cmake ninja-build pkg-config git clang-format
   # libraries (see README "Dependencies")
   libeigen3-dev libspdlog-dev libtomlplusplus-dev libcli11-dev libstb-dev
   libtinyobjloader-dev libnifti2-dev libniftiio-dev libznz-dev zlib1g-dev

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds with warnings as errors, runs every test with ctest, then
-# builds the unit tests with AddressSanitizer + UndefinedBehaviorSanitizer and runs them.
+# Installs what is missing, checks the sources' format, builds with warnings as errors, runs
+# every test with ctest, then builds the unit tests with AddressSanitizer +
+# UndefinedBehaviorSanitizer and runs them.
 #   scripts/test.sh                 everything (what CI runs)
 #   scripts/test.sh --no-sanitize   skip the sanitizer build and the fuzzing
 # Last, every decoder of untrusted input is fuzzed for BOP_FUZZ_SECONDS (default 3; scripts/fuzz.sh alone: 30) each.
@@ -9,6 +10,12 @@ cd "$(dirname "$0")/.."
 jobs=${BOP_JOBS:-2}
 
 scripts/install-deps.sh
+
+echo "== format (.clang-format) =="
+# Every C++ file as clang-format writes it: `clang-format -i FILE` fixes one.
+mapfile -t sources < <(git ls-files '*.cpp' '*.hpp' '*.h' 2>/dev/null || find common dynamics_server protocol viz_client haptic_client tests scripts -name '*.[ch]pp')
+clang-format --dry-run --Werror --style=file "${sources[@]}"
+echo "format: ${#sources[@]} files as .clang-format writes them"
 
 echo "== build (Release, -Werror) =="
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DBOP_WERROR=ON -DBOP_BUILD_VIEWER=ON >/dev/null

@@ -5,4 +5,6 @@
 
 #include <catch2/catch.hpp>
 
-int bop::test::runCatch(int argc, char** argv) { return Catch::Session().run(argc, argv); }
+int bop::test::runCatch(int argc, char** argv) {
+    return Catch::Session().run(argc, argv);
+}

@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <fstream>
+
 #include <unistd.h>
 
 namespace bop::test {
@@ -24,6 +25,8 @@ std::string writeText(const std::string& path, const std::string& text) {
     return path;
 }
 
-std::string sourceDir() { return BOP_SOURCE_DIR; }
+std::string sourceDir() {
+    return BOP_SOURCE_DIR;
+}
 
 }  // namespace bop::test

@@ -1,12 +1,11 @@
 #include "bop/common/Canvas.hpp"
 
-#include <cstdlib>
-
 #include "bop/common/Error.hpp"
 #include "bop/common/Npy.hpp"  // writeFileAtomic
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
@@ -78,8 +77,7 @@ Canvas Canvas::fromRgb(int width, int height, std::vector<std::uint8_t> rgb) {
 
 Canvas::Canvas(int width, int height, Rgb fill) : width_(width), height_(height) {
     if (width < 0 || height < 0)
-        throw std::invalid_argument("Canvas: negative size " + std::to_string(width) + " x " +
-                                    std::to_string(height));
+        throw std::invalid_argument("Canvas: negative size " + std::to_string(width) + " x " + std::to_string(height));
     pixels_.resize(std::size_t(width) * std::size_t(height) * 3);
     for (std::size_t i = 0; i < pixels_.size(); i += 3) {
         pixels_[i] = fill.r;
@@ -98,9 +96,8 @@ void Canvas::set(int x, int y, Rgb c) {
 
 Rgb Canvas::get(int x, int y) const {
     if (x < 0 || y < 0 || x >= width_ || y >= height_)
-        throw std::out_of_range("Canvas::get(" + std::to_string(x) + ", " + std::to_string(y) +
-                                ") outside " + std::to_string(width_) + " x " +
-                                std::to_string(height_));
+        throw std::out_of_range("Canvas::get(" + std::to_string(x) + ", " + std::to_string(y) + ") outside " +
+                                std::to_string(width_) + " x " + std::to_string(height_));
     const std::size_t i = (std::size_t(y) * std::size_t(width_) + std::size_t(x)) * 3;
     return {pixels_[i], pixels_[i + 1], pixels_[i + 2]};
 }
@@ -130,8 +127,7 @@ void Canvas::drawText(int x, int y, const std::string& text, Rgb c, int scale) {
     std::string s = sanitise(text);
     // Each quad is 4 vertices of 16 bytes; no glyph uses more than ~20 quads.
     std::vector<char> buffer((s.size() + 1) * 64 * 24);
-    const int quads = stb_easy_font_print(0.0f, 0.0f, s.data(), nullptr, buffer.data(),
-                                          int(buffer.size()));
+    const int quads = stb_easy_font_print(0.0f, 0.0f, s.data(), nullptr, buffer.data(), int(buffer.size()));
     for (int q = 0; q < quads; ++q) {
         // Vertices 0 and 2 are opposite corners of an axis-aligned quad (integer coords).
         float v0[2], v2[2];  // x, y of vertices 0 and 2
@@ -164,8 +160,8 @@ void Canvas::blit(int x, int y, const Canvas& src) {
 
 void Canvas::writePng(const std::string& path) const {
     if (width_ == 0 || height_ == 0)
-        throw Error(path, "cannot write an empty picture (" + std::to_string(width_) + " x " +
-                              std::to_string(height_) + " px)");
+        throw Error(path, "cannot write an empty picture (" + std::to_string(width_) + " x " + std::to_string(height_) +
+                              " px)");
     std::vector<unsigned char> png;
     if (!stbi_write_png_to_func(appendBytes, &png, width_, height_, 3, pixels_.data(), width_ * 3))
         throw Error(path, "cannot encode PNG");

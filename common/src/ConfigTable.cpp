@@ -9,24 +9,31 @@ namespace {
 
 const char* typeName(const toml::node& n) {
     switch (n.type()) {
-        case toml::node_type::string: return "a string";
-        case toml::node_type::integer: return "an integer";
-        case toml::node_type::floating_point: return "a number";
-        case toml::node_type::boolean: return "a boolean";
-        case toml::node_type::array: return "an array";
-        case toml::node_type::table: return "a table";
-        default: return "a date or time";
+        case toml::node_type::string:
+            return "a string";
+        case toml::node_type::integer:
+            return "an integer";
+        case toml::node_type::floating_point:
+            return "a number";
+        case toml::node_type::boolean:
+            return "a boolean";
+        case toml::node_type::array:
+            return "an array";
+        case toml::node_type::table:
+            return "a table";
+        default:
+            return "a date or time";
     }
 }
 
 // Unit suffixes a key may carry, with the word used in messages.
 const std::map<std::string, std::string>& unitWords() {
     static const std::map<std::string, std::string> m = {
-        {"mm", "millimetres"}, {"cm", "centimetres"}, {"m", "metres"}, {"um", "micrometres"},
-        {"in", "inches"}, {"voxels", "voxels"}, {"voxel", "voxels"}, {"r0", "multiples of r0"},
-        {"s", "seconds"}, {"ms", "milliseconds"}, {"us", "microseconds"}, {"hz", "hertz"},
-        {"khz", "kilohertz"}, {"steps", "steps"}, {"deg", "degrees"}, {"rad", "radians"},
-        {"ml", "millilitres"}, {"mmhg", "mmHg"}, {"kpa", "kilopascals"}};
+        {"mm", "millimetres"}, {"cm", "centimetres"},  {"m", "metres"},        {"um", "micrometres"},
+        {"in", "inches"},      {"voxels", "voxels"},   {"voxel", "voxels"},    {"r0", "multiples of r0"},
+        {"s", "seconds"},      {"ms", "milliseconds"}, {"us", "microseconds"}, {"hz", "hertz"},
+        {"khz", "kilohertz"},  {"steps", "steps"},     {"deg", "degrees"},     {"rad", "radians"},
+        {"ml", "millilitres"}, {"mmhg", "mmHg"},       {"kpa", "kilopascals"}};
     return m;
 }
 
@@ -50,8 +57,8 @@ toml::table ConfigTable::parseFile(const std::string& path) {
         return toml::parse_file(path);
     } catch (const toml::parse_error& e) {
         std::ostringstream os;
-        os << "line " << e.source().begin.line << ", column " << e.source().begin.column << ": "
-           << e.description() << " (expected valid TOML)";
+        os << "line " << e.source().begin.line << ", column " << e.source().begin.column << ": " << e.description()
+           << " (expected valid TOML)";
         throw Error(path, os.str());
     }
 }
@@ -75,7 +82,9 @@ const toml::node& ConfigTable::require(const std::string& key) const {
     return *n;
 }
 
-bool ConfigTable::has(const std::string& key) const { return get(key) != nullptr; }
+bool ConfigTable::has(const std::string& key) const {
+    return get(key) != nullptr;
+}
 
 double ConfigTable::number(const std::string& key) const {
     const toml::node& n = require(key);
@@ -189,11 +198,11 @@ void ConfigTable::finish() const {
         for (const auto& wanted : asked_) {
             const auto [wbase, wunit] = splitUnit(wanted);
             if (!unit.empty() && !wunit.empty() && wbase == base)
-                fail(key, "unit '" + unit + "' is not accepted here; this quantity is in " +
-                              unitWords().at(wunit) + ": write '" + wanted + "'");
-            if (unit.empty() && !wunit.empty() && wbase == key)
-                fail(key, "the unit is missing; this quantity is in " + unitWords().at(wunit) +
+                fail(key, "unit '" + unit + "' is not accepted here; this quantity is in " + unitWords().at(wunit) +
                               ": write '" + wanted + "'");
+            if (unit.empty() && !wunit.empty() && wbase == key)
+                fail(key,
+                     "the unit is missing; this quantity is in " + unitWords().at(wunit) + ": write '" + wanted + "'");
         }
         std::string known;
         for (const auto& a : asked_) known += (known.empty() ? "" : ", ") + a;

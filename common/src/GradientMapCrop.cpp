@@ -6,8 +6,8 @@
 
 namespace bop {
 
-VoxelWindow windowAround(const Dims& whole, double h, const Eigen::Vector3d& regionLo,
-                         const Eigen::Vector3d& regionHi, double margin) {
+VoxelWindow windowAround(const Dims& whole, double h, const Eigen::Vector3d& regionLo, const Eigen::Vector3d& regionHi,
+                         double margin) {
     const Eigen::Vector3i n(whole.nx, whole.ny, whole.nz);
     VoxelWindow w;
     for (int a = 0; a < 3; ++a) {
@@ -51,8 +51,7 @@ GradientMap cropGradientMap(const GradientMap& whole, const VoxelWindow& window)
     named.erase(std::unique(named.begin(), named.end()), named.end());
     out.surface.reserve(named.size());
     for (std::uint32_t s : named) out.surface.push_back(whole.surface[s]);
-    for (auto& n : out.nearest)
-        n = std::uint32_t(std::lower_bound(named.begin(), named.end(), n) - named.begin());
+    for (auto& n : out.nearest) n = std::uint32_t(std::lower_bound(named.begin(), named.end(), n) - named.begin());
     return out;
 }
 

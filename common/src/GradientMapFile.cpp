@@ -1,7 +1,7 @@
 #include "bop/common/GradientMapFile.hpp"
-#include "bop/common/GradientMapFileFormat.hpp"
 
 #include "bop/common/Error.hpp"
+#include "bop/common/GradientMapFileFormat.hpp"
 #include "bop/common/Npy.hpp"
 
 #include <cstdint>
@@ -21,8 +21,14 @@ struct Writer {
         buf.resize(at + n);
         if (n) std::memcpy(buf.data() + at, p, n);
     }
-    template <class T> void put(const T& v) { putBytes(&v, sizeof(T)); }
-    template <class T> void putArray(const std::vector<T>& v) { putBytes(v.data(), v.size() * sizeof(T)); }
+    template <class T>
+    void put(const T& v) {
+        putBytes(&v, sizeof(T));
+    }
+    template <class T>
+    void putArray(const std::vector<T>& v) {
+        putBytes(v.data(), v.size() * sizeof(T));
+    }
 };
 
 struct Reader {
@@ -34,14 +40,16 @@ struct Reader {
             throw Error(path, "truncated gradient-map file (needs " + std::to_string(pos + n) + " bytes, has " +
                                   std::to_string(buf.size()) + "); rebuild it with bop-shape");
     }
-    template <class T> T get() {
+    template <class T>
+    T get() {
         need(sizeof(T));
         T v;
         std::memcpy(&v, buf.data() + pos, sizeof(T));
         pos += sizeof(T);
         return v;
     }
-    template <class T> void getArray(std::vector<T>& v, std::size_t n) {
+    template <class T>
+    void getArray(std::vector<T>& v, std::size_t n) {
         need(n * sizeof(T));
         v.resize(n);
         std::memcpy(v.data(), buf.data() + pos, n * sizeof(T));
@@ -63,7 +71,9 @@ void writeGradientMaps(const std::string& path, const std::vector<GradientMap>& 
     w.put(std::uint32_t(frames.size()));
     for (const GradientMap& m : frames) {
         const Dims& d = m.dims();
-        w.put(std::int32_t(d.nx)); w.put(std::int32_t(d.ny)); w.put(std::int32_t(d.nz));
+        w.put(std::int32_t(d.nx));
+        w.put(std::int32_t(d.ny));
+        w.put(std::int32_t(d.nz));
         for (int a = 0; a < 3; ++a) w.put(m.grid.originMm[a]);
         w.put(m.grid.voxelMm);
         w.put(m.r0Voxels);
@@ -74,8 +84,8 @@ void writeGradientMaps(const std::string& path, const std::vector<GradientMap>& 
         std::vector<SurfaceRecord> recs(m.surface.size());
         for (std::size_t s = 0; s < recs.size(); ++s) {
             const SurfaceVoxel& sv = m.surface[s];
-            recs[s] = {sv.voxel, sv.species, {0, 0, 0}, {sv.normal.x(), sv.normal.y(), sv.normal.z()},
-                       sv.meanCurvature, sv.gaussCurvature, sv.kappa, sv.cpWeight};
+            recs[s] = {sv.voxel,         sv.species,        {0, 0, 0}, {sv.normal.x(), sv.normal.y(), sv.normal.z()},
+                       sv.meanCurvature, sv.gaussCurvature, sv.kappa,  sv.cpWeight};
         }
         w.putArray(recs);
     }
@@ -94,7 +104,8 @@ std::optional<std::vector<GradientMap>> readGradientMaps(const std::string& path
 std::optional<std::vector<GradientMap>> readGradientMaps(std::span<const std::uint8_t> buf, std::uint64_t key,
                                                          const std::string& path) {
     Reader r{buf, 0, path};
-    if (buf.size() < 8 || std::memcmp(buf.data(), kMagic, 8) != 0) throw Error(path, "not a BoP gradient-map file (bad magic)");
+    if (buf.size() < 8 || std::memcmp(buf.data(), kMagic, 8) != 0)
+        throw Error(path, "not a BoP gradient-map file (bad magic)");
     r.pos = 8;
     if (const auto v = r.get<std::uint32_t>(); v != kVersion)
         throw Error(path, "gradient-map file version " + std::to_string(v) + ", expected " + std::to_string(kVersion));
@@ -102,7 +113,8 @@ std::optional<std::vector<GradientMap>> readGradientMaps(std::span<const std::ui
     if (buf.size() < 8 + 8) throw Error(path, "truncated gradient-map file");
     std::uint64_t stored;
     std::memcpy(&stored, buf.data() + buf.size() - 8, 8);
-    if (stored != hashBytes(buf.data(), buf.size() - 8)) throw Error(path, "gradient-map file is corrupt (checksum mismatch); rebuild it with bop-shape");
+    if (stored != hashBytes(buf.data(), buf.size() - 8))
+        throw Error(path, "gradient-map file is corrupt (checksum mismatch); rebuild it with bop-shape");
     const auto frames = r.get<std::uint32_t>();
     if (frames == 0 || frames > kMaxFrames) throw Error(path, "implausible frame count " + std::to_string(frames));
     std::vector<GradientMap> out(frames);
@@ -124,8 +136,9 @@ std::optional<std::vector<GradientMap>> readGradientMaps(std::span<const std::ui
         for (std::size_t s = 0; s < ns; ++s) {
             const SurfaceRecord& x = recs[s];
             if (x.voxel >= d.count() || m.occ[x.voxel] != x.species) throw Error(path, "inconsistent surface record");
-            m.surface[s] = {x.voxel, x.species, {x.normal[0], x.normal[1], x.normal[2]},
-                            x.meanCurvature, x.gaussCurvature, x.kappa, x.cpWeight};
+            m.surface[s] = {x.voxel,         x.species,        {x.normal[0], x.normal[1], x.normal[2]},
+                            x.meanCurvature, x.gaussCurvature, x.kappa,
+                            x.cpWeight};
         }
         for (auto n : m.nearest)
             if (n >= ns) throw Error(path, "nearest-surface index out of range");

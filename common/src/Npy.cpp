@@ -9,12 +9,12 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+
 #include <unistd.h>
 
 namespace bop {
 
-static_assert(std::endian::native == std::endian::little,
-              "Npy.cpp writes host bytes as little-endian data");
+static_assert(std::endian::native == std::endian::little, "Npy.cpp writes host bytes as little-endian data");
 
 namespace {
 
@@ -66,7 +66,8 @@ bool parseHeader(const std::string& path, const std::string& header, NpyArray& o
     p = findValue(header, "fortran_order");
     if (p == std::string::npos) throw Error(path, "malformed .npy header: no 'fortran_order'");
     bool fortran = false;
-    if (header.compare(p, 4, "True") == 0) fortran = true;
+    if (header.compare(p, 4, "True") == 0)
+        fortran = true;
     else if (header.compare(p, 5, "False") != 0)
         throw Error(path, "malformed .npy header: 'fortran_order' is neither True nor False");
 
@@ -98,10 +99,8 @@ bool parseHeader(const std::string& path, const std::string& header, NpyArray& o
 // Element size in bytes from a descr such as "<f4", "|u1", "<c16"; 0 if unknown.
 std::size_t itemSize(const std::string& descr) {
     std::size_t i = 0;
-    if (i < descr.size() && (descr[i] == '<' || descr[i] == '>' || descr[i] == '|' || descr[i] == '='))
-        ++i;
-    if (i >= descr.size() || descr[i] == '\0' || std::strchr("biufcSUV", descr[i]) == nullptr)
-        return 0;
+    if (i < descr.size() && (descr[i] == '<' || descr[i] == '>' || descr[i] == '|' || descr[i] == '=')) ++i;
+    if (i >= descr.size() || descr[i] == '\0' || std::strchr("biufcSUV", descr[i]) == nullptr) return 0;
     const char kind = descr[i++];
     if (i >= descr.size()) return 0;
     std::size_t n = 0;
@@ -115,16 +114,46 @@ std::size_t itemSize(const std::string& descr) {
 
 }  // namespace
 
-template <> std::string npyDescr<std::uint8_t>() { return "|u1"; }
-template <> std::string npyDescr<std::int8_t>() { return "|i1"; }
-template <> std::string npyDescr<std::uint16_t>() { return "<u2"; }
-template <> std::string npyDescr<std::int16_t>() { return "<i2"; }
-template <> std::string npyDescr<std::uint32_t>() { return "<u4"; }
-template <> std::string npyDescr<std::int32_t>() { return "<i4"; }
-template <> std::string npyDescr<std::uint64_t>() { return "<u8"; }
-template <> std::string npyDescr<std::int64_t>() { return "<i8"; }
-template <> std::string npyDescr<float>() { return "<f4"; }
-template <> std::string npyDescr<double>() { return "<f8"; }
+template <>
+std::string npyDescr<std::uint8_t>() {
+    return "|u1";
+}
+template <>
+std::string npyDescr<std::int8_t>() {
+    return "|i1";
+}
+template <>
+std::string npyDescr<std::uint16_t>() {
+    return "<u2";
+}
+template <>
+std::string npyDescr<std::int16_t>() {
+    return "<i2";
+}
+template <>
+std::string npyDescr<std::uint32_t>() {
+    return "<u4";
+}
+template <>
+std::string npyDescr<std::int32_t>() {
+    return "<i4";
+}
+template <>
+std::string npyDescr<std::uint64_t>() {
+    return "<u8";
+}
+template <>
+std::string npyDescr<std::int64_t>() {
+    return "<i8";
+}
+template <>
+std::string npyDescr<float>() {
+    return "<f4";
+}
+template <>
+std::string npyDescr<double>() {
+    return "<f8";
+}
 
 void writeFileAtomic(const std::string& path, const void* data, std::size_t size) {
     const std::string tmp = path + ".tmp";
@@ -147,8 +176,8 @@ void writeNpy(const std::string& path, const T* data, const std::vector<std::siz
     const std::size_t n = product(shape);
     if (n > 0 && data == nullptr) throw Error(path, "cannot write: no data for shape " + shapeText(shape));
 
-    std::string dict = "{'descr': '" + npyDescr<T>() + "', 'fortran_order': False, 'shape': " +
-                       shapeText(shape) + ", }";
+    std::string dict =
+        "{'descr': '" + npyDescr<T>() + "', 'fortran_order': False, 'shape': " + shapeText(shape) + ", }";
     const std::size_t preamble = kMagicSize + 2 + 2;  // magic, version, uint16 header length
     std::size_t total = preamble + dict.size() + 1;   // + '\n'
     total = (total + kAlign - 1) / kAlign * kAlign;
@@ -180,21 +209,22 @@ template void writeNpy(const std::string&, const std::int64_t*, const std::vecto
 template void writeNpy(const std::string&, const float*, const std::vector<std::size_t>&);
 template void writeNpy(const std::string&, const double*, const std::vector<std::size_t>&);
 
-std::size_t NpyArray::count() const { return product(shape); }
+std::size_t NpyArray::count() const {
+    return product(shape);
+}
 
 NpyArray readNpy(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path, std::string("cannot read: ") + std::strerror(errno));
-    const std::vector<unsigned char> file((std::istreambuf_iterator<char>(in)),
-                                          std::istreambuf_iterator<char>());
+    const std::vector<unsigned char> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (in.bad()) throw Error(path, "cannot read: I/O error");
 
     if (file.size() < kMagicSize + 2 || std::memcmp(file.data(), kMagic, kMagicSize) != 0)
         throw Error(path, "not a .npy file (bad magic)");
     const int major = file[6], minor = file[7];
     if (major < 1 || major > 3)
-        throw Error(path, "unsupported .npy version " + std::to_string(major) + "." +
-                              std::to_string(minor) + " (expected 1.0, 2.0 or 3.0)");
+        throw Error(path, "unsupported .npy version " + std::to_string(major) + "." + std::to_string(minor) +
+                              " (expected 1.0, 2.0 or 3.0)");
     const std::size_t lenBytes = major == 1 ? 2 : 4;
     const std::size_t preamble = kMagicSize + 2 + lenBytes;
     if (file.size() < preamble) throw Error(path, "truncated .npy header");
@@ -212,8 +242,7 @@ NpyArray readNpy(const std::string& path) {
     const std::size_t want = out.count() * item;
     const std::size_t have = file.size() - preamble - headerLen;
     if (have < want)
-        throw Error(path, "truncated data: expected " + std::to_string(want) + " bytes, found " +
-                              std::to_string(have));
+        throw Error(path, "truncated data: expected " + std::to_string(want) + " bytes, found " + std::to_string(have));
     const auto* begin = file.data() + preamble + headerLen;
     out.bytes.assign(begin, begin + want);
     return out;

@@ -1,6 +1,6 @@
 #pragma once
 // The pressure of the blood (the volume particles) in a bag, paper §5.2 eqs. 13–15 with
-// physics.md §6: the kinetic sum and the virial of pairs of two volume particles (the bag's
+// docs/physics.md §6: the kinetic sum and the virial of pairs of two volume particles (the bag's
 // surface particles and the gradient map are the container wall, whose virial is -3PV and is
 // not added). V is the volume of the volume voxels of the map in force.
 #include "Model.hpp"
@@ -14,7 +14,7 @@ struct BloodSums {
 };
 BloodSums bloodSums(const Model& model, const Particles& p);
 
-// Standard virial pressure P = (sum m v^2 + W) / (3V), energy / length^3 (physics.md §6.1).
+// Standard virial pressure P = (sum m v^2 + W) / (3V), energy / length^3 (docs/physics.md §6.1).
 inline double virialPressure(double mv2, double virial, double volume) {
     return volume > 0 ? (mv2 + virial) / (3 * volume) : 0.0;
 }

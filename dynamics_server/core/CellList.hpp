@@ -4,6 +4,7 @@
 // that every pair within the cutoff is visited exactly once. Particles outside a non-periodic
 // box are binned into the border cells, which keeps every close pair in adjacent cells.
 #include <Eigen/Core>
+
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -28,8 +29,8 @@ public:
     int index(int i, int j, int k) const { return i + n_[0] * (j + n_[1] * k); }
 
     struct Neighbour {
-        int cell;                // neighbour cell index
-        Eigen::Vector3d shift;   // add to the neighbour's positions (periodic image), length units
+        int cell;               // neighbour cell index
+        Eigen::Vector3d shift;  // add to the neighbour's positions (periodic image), length units
     };
     // The half stencil of cell c: itself first (shift 0), then up to 13 distinct neighbours.
     int halfStencil(int c, std::array<Neighbour, 14>& out) const;

@@ -16,7 +16,9 @@ std::uint64_t splitMix(std::uint64_t x) {
     return x ^ (x >> 31);
 }
 
-bool everywhere(const Eigen::Vector3d&) { return true; }
+bool everywhere(const Eigen::Vector3d&) {
+    return true;
+}
 
 }  // namespace
 
@@ -43,7 +45,9 @@ void Construction::restore(const std::vector<char>& births, std::uint64_t seeds)
     seeds_ = seeds;
 }
 
-bool Construction::building() const { return std::find(birth_.begin(), birth_.end(), char(1)) != birth_.end(); }
+bool Construction::building() const {
+    return std::find(birth_.begin(), birth_.end(), char(1)) != birth_.end();
+}
 
 bool Construction::checkDue(long long step) const {
     return params_.everySteps > 0 && step % params_.everySteps == 0 && building();

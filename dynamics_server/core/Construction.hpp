@@ -1,5 +1,5 @@
 #pragma once
-// Building a bag by birth and death (paper §3.6, physics.md §7): the user seeds one particle
+// Building a bag by birth and death (paper §3.6, docs/physics.md §7): the user seeds one particle
 // per species; where a species' voxels lack particles next to existing ones, particles are born;
 // where two particles are too close, one dies. Rate-limited, surfaces first, then volumes. This
 // class holds the timeline, the switches and the counts; a step (Simulation.cpp construct())
@@ -16,21 +16,22 @@
 namespace bop::core {
 
 struct ConstructionParams {
-    int everySteps = 10;       // steps between birth/death checks
-    double deathR0 = 0.5;      // a pair closer than this dies (one of the two), multiples of r0
-    double sameR0 = 0.8;       // no birth within this of a particle of the same species, r0
-    double anyR0 = 0.69;       // no birth within this of any particle, r0
-    double frontR0 = 2.0;      // births only within this of a particle of the same species, r0
-    double capFraction = 0.05; // at most max(1, ceil(fraction * N_species)) births (deaths) per check
-    std::uint64_t seed = 1;    // random seed of every construction choice
+    int everySteps = 10;        // steps between birth/death checks
+    double deathR0 = 0.5;       // a pair closer than this dies (one of the two), multiples of r0
+    double sameR0 = 0.8;        // no birth within this of a particle of the same species, r0
+    double anyR0 = 0.69;        // no birth within this of any particle, r0
+    double frontR0 = 2.0;       // births only within this of a particle of the same species, r0
+    double capFraction = 0.05;  // at most max(1, ceil(fraction * N_species)) births (deaths) per check
+    std::uint64_t seed = 1;     // random seed of every construction choice
 };
 
 struct ConstructionEvent {
     enum class Action { Seed, BirthOn, BirthOff };
-    long long step = 0;                           // applied at the start of this step
+    long long step = 0;  // applied at the start of this step
     Action action = Action::Seed;
     int species = 1;
-    std::optional<Eigen::Vector3d> positionVoxels;  // seed position in voxel coordinates; default: a voxel of the species
+    std::optional<Eigen::Vector3d>
+        positionVoxels;  // seed position in voxel coordinates; default: a voxel of the species
 };
 
 struct ConstructionCounts {
@@ -50,19 +51,22 @@ public:
     void setBirth(int species, bool on);
     bool birthOn(int species) const { return birth_[std::size_t(species)]; }
     const std::vector<char>& birthSwitches() const { return birth_; }  // per species number (index 0 unused)
-    std::uint64_t seedCount() const { return seeds_; }  // seeds placed so far
+    std::uint64_t seedCount() const { return seeds_; }                 // seeds placed so far
     // A restart from a checkpoint: its birth switches (per species number from 1) and seed count.
     // (A snapshot without them restarts with every birth off.) std::invalid_argument for a count
     // of switches other than the species count.
     void restore(const std::vector<char>& births, std::uint64_t seeds);
-    bool building() const;                                   // some species' birth is on
-    bool checkDue(long long step) const;                     // a birth/death check runs at this step
+    bool building() const;                                          // some species' birth is on
+    bool checkDue(long long step) const;                            // a birth/death check runs at this step
     std::vector<ConstructionEvent> eventsAt(long long step) const;  // the timeline's, in order
     int speciesCount() const { return int(birth_.size()) - 1; }
 
     const ConstructionParams& params() const { return params_; }
     ConstructionCounts totals() const { return totals_; }
-    void addToTotals(const ConstructionCounts& c) { totals_.births += c.births; totals_.deaths += c.deaths; }
+    void addToTotals(const ConstructionCounts& c) {
+        totals_.births += c.births;
+        totals_.deaths += c.deaths;
+    }
 
 private:
     ConstructionParams params_;

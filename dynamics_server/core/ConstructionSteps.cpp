@@ -9,7 +9,9 @@
 namespace bop::core {
 namespace {
 
-double unit(std::uint64_t h) { return double(h >> 11) * 0x1.0p-53; }  // [0, 1)
+double unit(std::uint64_t h) {
+    return double(h >> 11) * 0x1.0p-53;
+}  // [0, 1)
 
 // Spatial lookup over a set of points with one query radius (or less). Cells are at least
 // the radius wide, and wider in big boxes so that the grid stays under about 10^7 cells.
@@ -23,7 +25,8 @@ struct PointGrid {
     }
     // Calls f(index, distance^2) for every point within `radius` of x until f returns true;
     // returns whether it did.
-    template <class F> bool anyNear(const Eigen::Vector3d& x, double radius, const std::vector<Eigen::Vector3d>& pts, F f) {
+    template <class F>
+    bool anyNear(const Eigen::Vector3d& x, double radius, const std::vector<Eigen::Vector3d>& pts, F f) {
         cells.around(cells.cellOf(x), 1, near);
         const double r2 = radius * radius;
         for (const auto& nb : near)
@@ -60,8 +63,10 @@ std::vector<DeathMark> markDeaths(const ConstructionParams& params, const Constr
             if (j <= i || (j >= view.owned && i >= view.owned)) return false;  // each pair once; own ones only
             const bool si = view.model.isSurface(p.species[i]), sj = view.model.isSurface(p.species[j]);
             std::size_t victim;
-            if (si != sj) victim = si ? j : i;  // surface + volume: the volume particle dies
-            else victim = p.id[i] > p.id[j] ? i : j;
+            if (si != sj)
+                victim = si ? j : i;  // surface + volume: the volume particle dies
+            else
+                victim = p.id[i] > p.id[j] ? i : j;
             if (victim < view.owned) marked[victim] = 1;
             return false;
         });
@@ -73,9 +78,8 @@ std::vector<DeathMark> markDeaths(const ConstructionParams& params, const Constr
 
 std::vector<std::uint64_t> chooseDeaths(const ConstructionParams& params, std::vector<DeathMark> marks,
                                         const std::vector<std::size_t>& count, const std::vector<char>& birthOn) {
-    std::sort(marks.begin(), marks.end(), [](const DeathMark& a, const DeathMark& b) {
-        return a.key != b.key ? a.key < b.key : a.id < b.id;
-    });
+    std::sort(marks.begin(), marks.end(),
+              [](const DeathMark& a, const DeathMark& b) { return a.key != b.key ? a.key < b.key : a.id < b.id; });
     std::vector<std::size_t> killed(count.size(), 0);
     std::vector<std::uint64_t> die;
     for (const DeathMark& m : marks) {
@@ -90,9 +94,8 @@ std::vector<std::uint64_t> chooseDeaths(const ConstructionParams& params, std::v
     return die;
 }
 
-std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, const ConstructionView& view,
-                                            int species, long long step,
-                                            const std::function<bool(const Eigen::Vector3d&)>& mine) {
+std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, const ConstructionView& view, int species,
+                                            long long step, const std::function<bool(const Eigen::Vector3d&)>& mine) {
     const GradientMap& m = *view.model.map;
     const Particles& p = view.seen;
     const double h = voxelLength(m.r0Voxels);
@@ -108,14 +111,16 @@ std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, co
         if (m.occ[v] != species) continue;
         const std::uint64_t voxel = m.wholeIndex(v);
         const std::uint64_t key = mixHash(params.seed, std::uint64_t(step), std::uint64_t(species), voxel);
-        const Eigen::Vector3d jitter(unit(mixHash(key, 1)) - 0.5, unit(mixHash(key, 2)) - 0.5, unit(mixHash(key, 3)) - 0.5);
+        const Eigen::Vector3d jitter(unit(mixHash(key, 1)) - 0.5, unit(mixHash(key, 2)) - 0.5,
+                                     unit(mixHash(key, 3)) - 0.5);
         const Eigen::Vector3d c = (m.wholeCoords(v).cast<double>() + Eigen::Vector3d::Constant(0.5) + 0.1 * jitter) * h;
         if (!mine(c)) continue;
         const bool blocked = close.anyNear(c, dClose, p.pos, [&](std::uint32_t j, double d2) {
             return d2 < dAny * dAny || (p.species[j] == species && d2 < dSame * dSame);
         });
         if (blocked) continue;
-        const bool front = far.anyNear(c, dFront, p.pos, [&](std::uint32_t j, double) { return p.species[j] == species; });
+        const bool front =
+            far.anyNear(c, dFront, p.pos, [&](std::uint32_t j, double) { return p.species[j] == species; });
         if (front) accepted.push_back({c, key, voxel});
     }
     return accepted;
@@ -152,7 +157,8 @@ void addBirth(const Model& model, Particles& p, int species, const BirthCandidat
     const GradientMap& m = *model.map;
     const std::size_t v = m.voxelAt(m.wholeDims().coords(c.voxel));
     const Eigen::Vector3d n = m.nearestSurface(v).normal.cast<double>();
-    p.add(c.pos, species, birthId(step, c.voxel), model.isSurface(species) ? orientationFor(n) : Eigen::Quaterniond::Identity());
+    p.add(c.pos, species, birthId(step, c.voxel),
+          model.isSurface(species) ? orientationFor(n) : Eigen::Quaterniond::Identity());
 }
 
 std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Model& model, int species,
@@ -164,8 +170,9 @@ std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Mo
     std::optional<SeedChoice> best;
     for (std::size_t v = 0; v < m.occ.size(); ++v) {
         if (m.occ[v] != species) continue;
-        const std::pair<long long, std::uint64_t> key{surface ? 0 : -m.delta(v).squaredNorm(),
-                                                      mixHash(params.seed, 0x5eedULL, std::uint64_t(species), m.wholeIndex(v))};
+        const std::pair<long long, std::uint64_t> key{
+            surface ? 0 : -m.delta(v).squaredNorm(),
+            mixHash(params.seed, 0x5eedULL, std::uint64_t(species), m.wholeIndex(v))};
         if (best && !(key < best->key)) continue;
         const Eigen::Vector3d c = voxelCentre(m, v);
         if (mine(c)) best = SeedChoice{key, c};

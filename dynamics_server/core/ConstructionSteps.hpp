@@ -1,5 +1,5 @@
 #pragma once
-// The pieces of a construction check (paper §3.6, physics.md §7), split so that a decomposed run
+// The pieces of a construction check (paper §3.6, docs/physics.md §7), split so that a decomposed run
 // can do each piece on its own ranks and choose globally in between: a single process calls
 // them on all its particles, a rank calls them on its own particles plus the copies of its
 // neighbours' (its halo) and gathers what they return. Every choice is ordered by hashes of
@@ -41,13 +41,12 @@ std::vector<std::uint64_t> chooseDeaths(const ConstructionParams& params, std::v
 
 struct BirthCandidate {
     Eigen::Vector3d pos = Eigen::Vector3d::Zero();  // simulation length units
-    std::uint64_t key = 0;                           // priority: the smaller key wins
-    std::uint64_t voxel = 0;                         // whole-map voxel index
+    std::uint64_t key = 0;                          // priority: the smaller key wins
+    std::uint64_t voxel = 0;                        // whole-map voxel index
 };
 // Unblocked front voxels of `species` in the map whose candidate position `mine` accepts.
-std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, const ConstructionView& view,
-                                            int species, long long step,
-                                            const std::function<bool(const Eigen::Vector3d&)>& mine);
+std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, const ConstructionView& view, int species,
+                                            long long step, const std::function<bool(const Eigen::Vector3d&)>& mine);
 // Winners among the candidates of the whole model (any order): no conflicting candidate
 // (closer than sameR0) has a smaller key; at most the cap for `have` particles of the species;
 // in key order. `box`: the whole model's box.

@@ -9,6 +9,7 @@
 #include "bop/common/Volume.hpp"
 
 #include <Eigen/Core>
+
 #include <vector>
 
 namespace bop::core {

@@ -8,7 +8,9 @@ namespace bop::core {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 }  // namespace
 
@@ -20,7 +22,9 @@ float ForceField::curvatureWeight(const Model& model, const Eigen::Vector3d& x, 
 }
 
 ForceField::ForceField(const Model& model)
-    : kernel_(model), isVolume_(std::size_t(model.speciesCount()) + 1, 0), oriented_(kernel_.anyOriented()),
+    : kernel_(model),
+      isVolume_(std::size_t(model.speciesCount()) + 1, 0),
+      oriented_(kernel_.anyOriented()),
       skin_(model.integration.skinR0 * kR0) {
     for (int s = 1; s <= model.speciesCount(); ++s) isVolume_[std::size_t(s)] = !model.isSurface(s);
 }
@@ -175,8 +179,8 @@ void ForceField::computePairsBruteForce(const Model& model, Particles& p, ForceS
             for (int a = 0; a < 3; ++a)
                 if (model.box.periodic[std::size_t(a)]) r[a] -= L[a] * std::round(r[a] / L[a]);
             kernel.apply(i, j, p.species[i], p.species[j], r, r.squaredNorm(), p.normal[i], p.normal[j], w[i], w[j],
-                         p.force.data(), p.torque.data(), !model.isSurface(p.species[i]), !model.isSurface(p.species[j]),
-                         sums);
+                         p.force.data(), p.torque.data(), !model.isSurface(p.species[i]),
+                         !model.isSurface(p.species[j]), sums);
         }
     stats.pairEnergy = sums.energy;
     stats.virial = sums.virial;

@@ -15,7 +15,7 @@ namespace bop::core {
 struct ProbeState {
     bool active = false;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();  // simulation length units
-    ProbeParams params;                                   // k0, k1 (eq. 9)
+    ProbeParams params;                                  // k0, k1 (eq. 9)
 };
 
 // Particles owned elsewhere (another rank's subdomain) that the pair terms read: positions
@@ -29,15 +29,15 @@ struct Halo {
 };
 
 struct ForceStats {
-    double pairEnergy = 0;      // LJ + co-normal + co-planar energy (weights symmetrised), energy units
-    double probeEnergy = 0;     // energy of the probe's interaction with the particles
-    double virial = 0;          // sum over pairs of r_ij . F_j (conservative pair forces), energy
-    double virialVolume = 0;    // the same over pairs of two volume particles only
+    double pairEnergy = 0;    // LJ + co-normal + co-planar energy (weights symmetrised), energy units
+    double probeEnergy = 0;   // energy of the probe's interaction with the particles
+    double virial = 0;        // sum over pairs of r_ij . F_j (conservative pair forces), energy
+    double virialVolume = 0;  // the same over pairs of two volume particles only
     // sum over volume particles of (x - map centre) . F^GM: the gradient map's wall virial on
     // the blood, -3PV for a gas the map alone contains (energy)
     double wallVirial = 0;
     Eigen::Vector3d probeReaction = Eigen::Vector3d::Zero();  // force of the particles on the probe
-    std::size_t pairsInRange = 0;  // pairs within the largest cutoff
+    std::size_t pairsInRange = 0;                             // pairs within the largest cutoff
 };
 
 struct PhaseTimes {
@@ -84,17 +84,17 @@ private:
     void gradientMapForces(const Model& model, Particles& particles, ForceStats& stats);
     void probeForces(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats);
 
-    PairKernel kernel_;            // weights and evaluators of this model, built once
-    std::vector<char> isVolume_;   // per species number
-    bool oriented_ = false;        // some species pair has co-normal or co-planar weights
-    double skin_ = 0;              // neighbour-list skin, length units
+    PairKernel kernel_;           // weights and evaluators of this model, built once
+    std::vector<char> isVolume_;  // per species number
+    bool oriented_ = false;       // some species pair has co-normal or co-planar weights
+    double skin_ = 0;             // neighbour-list skin, length units
     NeighbourList list_;
     std::uint64_t revision_ = ~std::uint64_t(0);  // particles.revision at the last build
     std::size_t speciesBuild_ = 0;                // list build that ss_ was gathered for
     bool heldSinceCompute_ = false;               // listHolds() said yes since the last compute()
     std::unique_ptr<core::GmField> field_;
     const GradientMap* fieldMap_ = nullptr;
-    std::unique_ptr<core::GmField> blendField_;   // of blendMap_
+    std::unique_ptr<core::GmField> blendField_;  // of blendMap_
     const GradientMap* blendFieldMap_ = nullptr;
     const GradientMap* blendMap_ = nullptr;
     double blendW_ = 0;

@@ -12,12 +12,11 @@ Eigen::Vector3d GmField::normalAtVoxel(std::size_t v) const {
     return map_.nearestSurface(v).normal.cast<double>();
 }
 
-Eigen::Vector3d GmField::ruleAtVoxel(std::size_t v, ParticleKind kind, int species,
-                                     const Eigen::Vector3d& pVox) const {
+Eigen::Vector3d GmField::ruleAtVoxel(std::size_t v, ParticleKind kind, int species, const Eigen::Vector3d& pVox) const {
     const int o = map_.occ[v];
     const int sigma = map_.nearestSpecies(v);
     const Eigen::Vector3d d = map_.delta(v).cast<double>();
-    // Direction "inward with respect to the nearest surface" (physics.md §4.6).
+    // Direction "inward with respect to the nearest surface" (docs/physics.md §4.6).
     auto inward = [&]() -> Eigen::Vector3d {
         if (o < sigma) return d;
         if (o > sigma) return -d;
@@ -51,9 +50,11 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
     const Eigen::Vector3d q = pVox.cwiseMax(Eigen::Vector3d::Constant(0.5)).cwiseMin(hi);
 
     Eigen::Vector3d f = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero();
-    const bool nearest = interp_ == Interpolation::Nearest || (interp_ == Interpolation::Mixed && kind == ParticleKind::Surface);
+    const bool nearest =
+        interp_ == Interpolation::Nearest || (interp_ == Interpolation::Mixed && kind == ParticleKind::Surface);
     if (nearest) {
-        const Eigen::Vector3i c = q.array().floor().cast<int>().min(Eigen::Array3i(dm.nx - 1, dm.ny - 1, dm.nz - 1)).matrix();
+        const Eigen::Vector3i c =
+            q.array().floor().cast<int>().min(Eigen::Array3i(dm.nx - 1, dm.ny - 1, dm.nz - 1)).matrix();
         const std::size_t v = dm.index(c.x(), c.y(), c.z());
         f = ruleAtVoxel(v, kind, species, q);
         n = normalAtVoxel(v);
@@ -61,7 +62,8 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
         const Eigen::Vector3d s = q - Eigen::Vector3d::Constant(0.5);  // centre-based coordinates
         Eigen::Vector3i base = s.array().floor().cast<int>().matrix();
         base = base.cwiseMin(Eigen::Vector3i(dm.nx - 2, dm.ny - 2, dm.nz - 2)).cwiseMax(Eigen::Vector3i::Zero());
-        const Eigen::Vector3d t = (s - base.cast<double>()).cwiseMax(Eigen::Vector3d::Zero()).cwiseMin(Eigen::Vector3d::Ones());
+        const Eigen::Vector3d t =
+            (s - base.cast<double>()).cwiseMax(Eigen::Vector3d::Zero()).cwiseMin(Eigen::Vector3d::Ones());
         for (int corner = 0; corner < 8; ++corner) {
             const int a = corner & 1, b = (corner >> 1) & 1, c = (corner >> 2) & 1;
             const double w = (a ? t.x() : 1 - t.x()) * (b ? t.y() : 1 - t.y()) * (c ? t.z() : 1 - t.z());
@@ -73,10 +75,12 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
         }
         if (kind == ParticleKind::Surface) {
             const double len = n.norm();
-            if (len > 1e-6) n /= len;
+            if (len > 1e-6)
+                n /= len;
             else {
                 const Eigen::Vector3i c = q.array().floor().cast<int>().matrix();
-                n = normalAtVoxel(dm.index(std::min(c.x(), dm.nx - 1), std::min(c.y(), dm.ny - 1), std::min(c.z(), dm.nz - 1)));
+                n = normalAtVoxel(
+                    dm.index(std::min(c.x(), dm.nx - 1), std::min(c.y(), dm.ny - 1), std::min(c.z(), dm.nz - 1)));
             }
         }
     }

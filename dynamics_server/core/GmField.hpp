@@ -1,5 +1,5 @@
 #pragma once
-// Gradient-map force and torque rules (paper Figs. 3 and 4, §3.4; physics.md §4.5–4.6) as the
+// Gradient-map force and torque rules (paper Figs. 3 and 4, §3.4; docs/physics.md §4.5–4.6) as the
 // dynamics core calls them: (kind, species, position, normal) -> (force, torque).
 //
 // Simulation coordinates: the corner of voxel (0,0,0) is the origin and a voxel is
@@ -48,9 +48,8 @@ public:
 
     // The per-voxel rule in voxel units for a particle at pVox (voxel coordinates, where the
     // centre of voxel (i,j,k) is (i+1/2, j+1/2, k+1/2)). Exposed for tests.
-    Eigen::Vector3d ruleAtVoxel(std::size_t v, ParticleKind kind, int species,
-                                const Eigen::Vector3d& pVox) const;
-    // Outward normal n(v) of the nearest surface (physics.md §4.4).
+    Eigen::Vector3d ruleAtVoxel(std::size_t v, ParticleKind kind, int species, const Eigen::Vector3d& pVox) const;
+    // Outward normal n(v) of the nearest surface (docs/physics.md §4.4).
     Eigen::Vector3d normalAtVoxel(std::size_t v) const;
 
 private:

@@ -1,5 +1,5 @@
 #pragma once
-// Damped velocity Verlet with exact drag and exact rotation (physics.md §3.2), split as
+// Damped velocity Verlet with exact drag and exact rotation (docs/physics.md §3.2), split as
 // O-B-A | forces | B-O:
 //   O: v *= exp(-beta_v dt / 2m), omega *= exp(-beta_tau dt / 2I)   (exact half step of the drag)
 //   B: v += dt/2 F/m, omega += dt/2 tau/I
@@ -30,7 +30,7 @@ double kick(const Model& model, const DragFactors& drag, Particles& p);
 // Kinetic energy: sum of v^2/2 + I omega^2/2 over particles, energy units.
 double kineticEnergy(const Model& model, const Particles& p);
 
-// Shortest-arc rotation that carries e_z to n (physics.md §3.3).
+// Shortest-arc rotation that carries e_z to n (docs/physics.md §3.3).
 Eigen::Quaterniond orientationFor(const Eigen::Vector3d& n);
 
 }  // namespace bop::core

@@ -1,8 +1,8 @@
 #pragma once
 // Gradient maps as keyframes (paper §5.2): a bag whose shape changes by cycling through a
 // sequence of maps, one per gated image frame. Before `startTime` the first frame f holds; from
-// then on frame (f + k) mod frames is in force from start + k·duration; with blending, the shape forces move linearly from one frame's map to the
-// next's across each frame's interval, so they never jump. The schedule depends on the
+// then on frame (f + k) mod frames is in force from start + k·duration; with blending, the shape forces move linearly
+// from one frame's map to the next's across each frame's interval, so they never jump. The schedule depends on the
 // simulation time alone, so every rank of a decomposed run picks the same frames.
 #include "bop/common/GradientMap.hpp"
 
@@ -13,8 +13,8 @@
 namespace bop::core {
 
 struct KeyframeAt {
-    int a = 0, b = 0;  // frame in force and the frame it blends towards
-    double w = 0;      // weight of b in [0, 1): force = (1 - w) f_a + w f_b
+    int a = 0, b = 0;                       // frame in force and the frame it blends towards
+    double w = 0;                           // weight of b in [0, 1): force = (1 - w) f_a + w f_b
     double phase() const { return a + w; }  // frame number with its fraction, for reports
 };
 

@@ -4,7 +4,6 @@
 // scene file; commands from the network replace parts of it only between steps.
 #include "Keyframes.hpp"
 #include "Potentials.hpp"
-
 #include "bop/common/GradientMap.hpp"
 #include "core/GmField.hpp"
 
@@ -17,24 +16,23 @@
 
 namespace bop::core {
 
-
 struct Species {
-    std::string name;                          // shown in reports and snapshots (no spaces)
-    ParticleKind kind = ParticleKind::Volume;  // surface (oriented) or volume
+    std::string name;                               // shown in reports and snapshots (no spaces)
+    ParticleKind kind = ParticleKind::Volume;       // surface (oriented) or volume
     std::array<float, 3> colour{0.5f, 0.5f, 0.5f};  // RGB in [0, 1]
-    double alphaForceOp = 1.0;    // alpha_f^OP: weight of LJ + co-normal + co-planar forces (eq. 2)
-    double alphaForceGm = 1.0;    // alpha_f^GM: gradient-map spring stiffness, energy / length^2
-    double alphaTorqueOp = 1.0;   // alpha_tau^OP: weight of oriented-particle torques (eq. 3)
-    double alphaTorqueGm = 1.0;   // alpha_tau^GM: gradient-map torque, energy
-    double dragV = 1.0;           // beta_v: translational damping, mass / time (eq. 10)
-    double dragW = 0.3;           // beta_tau: rotational damping, inertia / time (eq. 11)
+    double alphaForceOp = 1.0;                      // alpha_f^OP: weight of LJ + co-normal + co-planar forces (eq. 2)
+    double alphaForceGm = 1.0;                      // alpha_f^GM: gradient-map spring stiffness, energy / length^2
+    double alphaTorqueOp = 1.0;                     // alpha_tau^OP: weight of oriented-particle torques (eq. 3)
+    double alphaTorqueGm = 1.0;                     // alpha_tau^GM: gradient-map torque, energy
+    double dragV = 1.0;                             // beta_v: translational damping, mass / time (eq. 10)
+    double dragW = 0.3;                             // beta_tau: rotational damping, inertia / time (eq. 11)
 };
 
 // alpha_ab for one potential: the weight applied to the force (torque) on a particle of species
 // a from a particle of species b (paper eqs. 6-8; asymmetric allowed). Index 0 is unused.
 struct WeightMatrix {
-    int n = 0;                 // species count + 1
-    std::vector<double> w;     // n x n, row = receiving species
+    int n = 0;              // species count + 1
+    std::vector<double> w;  // n x n, row = receiving species
     WeightMatrix() = default;
     WeightMatrix(int species, double fill) : n(species + 1), w(std::size_t(n) * n, fill) {}
     double operator()(int a, int b) const { return w[std::size_t(a) * n + b]; }
@@ -59,25 +57,25 @@ struct Box {
 };
 
 struct Integration {
-    double dt = 0.02;       // time step, simulation time units (physics.md §3.4: 0.02-0.03)
-    double inertia = 0.3;   // moment of inertia of a surface particle, mass * length^2
-    double skinR0 = 0.3;    // neighbour-list skin beyond the largest cutoff, multiples of r0
+    double dt = 0.02;      // time step, simulation time units (docs/physics.md §3.4: 0.02-0.03)
+    double inertia = 0.3;  // moment of inertia of a surface particle, mass * length^2
+    double skinR0 = 0.3;   // neighbour-list skin beyond the largest cutoff, multiples of r0
     // The most a particle moves in one step, multiples of r0 (0: no limit); its velocity is
     // scaled down to it after each half kick, as LAMMPS's fix nve/limit does. No sound run comes
     // near it (thermal motion moves about 0.01 r0 a step); it keeps a blow-up (a probe driven
     // hard into the bag, particles shot into each other) from flinging particles away.
     double maxStepR0 = 0.2;
-    double maxTurn = 0.5;   // the most a surface particle turns in one step, radians (0: no limit)
+    double maxTurn = 0.5;  // the most a surface particle turns in one step, radians (0: no limit)
 };
 
 struct Model {
-    std::vector<Species> species;      // index = species number; [0] is a placeholder
+    std::vector<Species> species;  // index = species number; [0] is a placeholder
     WeightMatrix lj, coNormal, coPlanar;
     LjParams ljParams;
     OrientedParams oriented;
     Integration integration;
     Box box;
-    bool curvatureWeighting = true;    // multiply co-planar weights by the map's curvature weight
+    bool curvatureWeighting = true;          // multiply co-planar weights by the map's curvature weight
     std::shared_ptr<const GradientMap> map;  // shape of the bag(s) in force now; null for bulk material
     // Keyframed shapes (Keyframes.hpp): every frame's map, `map` being one of them. Empty or one
     // map: a static shape.

@@ -16,6 +16,7 @@
 #include "Model.hpp"
 
 #include <Eigen/Core>
+
 #include <cstdint>
 #include <vector>
 
@@ -57,17 +58,17 @@ public:
     // index of a halo ghost.
     const std::vector<std::uint32_t>& owner() const { return owner_; }
     const std::vector<Eigen::Vector3d>& positions() const { return pos_; }  // current entry positions
-    const Pairs& pairs() const { return pairs_; }          // Newton pairs: forces to both sides
-    const Pairs& haloPairs() const { return haloPairs_; }  // particle with halo ghost: one side
+    const Pairs& pairs() const { return pairs_; }                           // Newton pairs: forces to both sides
+    const Pairs& haloPairs() const { return haloPairs_; }                   // particle with halo ghost: one side
 
 private:
     double range_ = 0;
     std::size_t particles_ = 0, halo_ = 0, builds_ = 0;
     std::vector<std::uint32_t> owner_;
     Pairs pairs_, haloPairs_;
-    std::vector<Eigen::Vector3d> pos_, shift_;    // entry positions now; entry minus owner at the build
-    std::vector<Eigen::Vector3d> built_;          // particle positions at the build
-    std::vector<Eigen::Vector3d> now_;            // particles (unwrapped since the build), then halo
+    std::vector<Eigen::Vector3d> pos_, shift_;  // entry positions now; entry minus owner at the build
+    std::vector<Eigen::Vector3d> built_;        // particle positions at the build
+    std::vector<Eigen::Vector3d> now_;          // particles (unwrapped since the build), then halo
 };
 
 }  // namespace bop::core

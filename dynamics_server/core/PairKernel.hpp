@@ -12,11 +12,19 @@ namespace bop::core {
 class PairKernel {
 public:
     explicit PairKernel(const Model& m)
-        : lj_(m.ljParams), weight_(m.oriented), n_(m.speciesCount() + 1),
+        : lj_(m.ljParams),
+          weight_(m.oriented),
+          n_(m.speciesCount() + 1),
           useCurvature_(m.curvatureWeighting && m.map != nullptr) {
         const std::size_t nn = std::size_t(n_) * n_;
-        ljF_.assign(nn, 0); ljE_.assign(nn, 0); cnF_.assign(nn, 0); cnT_.assign(nn, 0);
-        cpF_.assign(nn, 0); cpT_.assign(nn, 0); cnE_.assign(nn, 0); cpE_.assign(nn, 0);
+        ljF_.assign(nn, 0);
+        ljE_.assign(nn, 0);
+        cnF_.assign(nn, 0);
+        cnT_.assign(nn, 0);
+        cpF_.assign(nn, 0);
+        cpT_.assign(nn, 0);
+        cnE_.assign(nn, 0);
+        cpE_.assign(nn, 0);
         oriented_.assign(nn, 0);
         for (int a = 1; a < n_; ++a)
             for (int b = 1; b < n_; ++b) {
@@ -32,8 +40,8 @@ public:
                 cpT_[k] = sa.alphaTorqueOp * m.coPlanar(a, b);
                 cnE_[k] = 0.5 * (m.coNormal(a, b) + m.coNormal(b, a));
                 cpE_[k] = 0.5 * (m.coPlanar(a, b) + m.coPlanar(b, a));
-                oriented_[k] = (m.coNormal(a, b) != 0 || m.coNormal(b, a) != 0 || m.coPlanar(a, b) != 0 ||
-                                m.coPlanar(b, a) != 0);
+                oriented_[k] =
+                    (m.coNormal(a, b) != 0 || m.coNormal(b, a) != 0 || m.coPlanar(a, b) != 0 || m.coPlanar(b, a) != 0);
             }
         cutoff2_ = std::max(lj_.cutoff2(), m.hasSurfaceSpecies() ? weight_.cutoff2() : 0.0);
     }
@@ -78,8 +86,8 @@ public:
     // Accumulates the pair's forces and torques into f[i], f[j], t[i], t[j].
     // wi, wj: curvature weights of the co-planar term (1 without a map).
     inline void apply(std::size_t i, std::size_t j, int a, int b, const Eigen::Vector3d& r, double r2,
-                      const Eigen::Vector3d& ni, const Eigen::Vector3d& nj, float wi, float wj,
-                      Eigen::Vector3d* f, Eigen::Vector3d* t, bool volumeA, bool volumeB, Sums& s) const {
+                      const Eigen::Vector3d& ni, const Eigen::Vector3d& nj, float wi, float wj, Eigen::Vector3d* f,
+                      Eigen::Vector3d* t, bool volumeA, bool volumeB, Sums& s) const {
         if (r2 >= cutoff2_) return;
         applyLj(i, j, a, b, r, r2, f, volumeA, volumeB, s);
         const std::size_t ab = std::size_t(a) * n_ + b, ba = std::size_t(b) * n_ + a;

@@ -29,15 +29,15 @@ inline constexpr int kParticleWithForcesRecord = kParticleRecord + 6;
 
 inline void packParticle(const Particles& p, std::size_t i, std::vector<double>& out) {
     const auto& q = p.q[i];
-    out.insert(out.end(), {p.pos[i].x(), p.pos[i].y(), p.pos[i].z(), p.vel[i].x(), p.vel[i].y(), p.vel[i].z(), q.w(),
-                           q.x(), q.y(), q.z(), p.omega[i].x(), p.omega[i].y(), p.omega[i].z(), double(p.species[i]),
-                           idBits(p.id[i])});
+    out.insert(out.end(),
+               {p.pos[i].x(), p.pos[i].y(), p.pos[i].z(), p.vel[i].x(), p.vel[i].y(), p.vel[i].z(), q.w(), q.x(), q.y(),
+                q.z(), p.omega[i].x(), p.omega[i].y(), p.omega[i].z(), double(p.species[i]), idBits(p.id[i])});
 }
 
 // Appends the particle of one record (kParticleRecord values at v).
 inline void unpackParticle(const double* v, Particles& p) {
-    const std::size_t i = p.add(Eigen::Vector3d(v[0], v[1], v[2]), int(v[13]), idOf(v[14]),
-                                Eigen::Quaterniond(v[6], v[7], v[8], v[9]));
+    const std::size_t i =
+        p.add(Eigen::Vector3d(v[0], v[1], v[2]), int(v[13]), idOf(v[14]), Eigen::Quaterniond(v[6], v[7], v[8], v[9]));
     p.q[i] = Eigen::Quaterniond(v[6], v[7], v[8], v[9]);  // bit for bit, not renormalised
     p.normal[i] = p.q[i] * Eigen::Vector3d::UnitZ();
     p.vel[i] = Eigen::Vector3d(v[3], v[4], v[5]);

@@ -5,22 +5,23 @@
 // the identity quaternion and zero angular velocity.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
 #include <cstdint>
 #include <vector>
 
 namespace bop::core {
 
 struct Particles {
-    std::vector<Eigen::Vector3d> pos;      // position
-    std::vector<Eigen::Vector3d> vel;      // velocity
-    std::vector<Eigen::Quaterniond> q;     // orientation (unit quaternion, w x y z)
-    std::vector<Eigen::Vector3d> omega;    // angular velocity, space frame
-    std::vector<Eigen::Vector3d> normal;   // cached n = R(q) e_z (recomputed after each rotation)
-    std::vector<Eigen::Vector3d> force;    // total force of the last evaluation (without drag)
-    std::vector<Eigen::Vector3d> torque;   // total torque of the last evaluation (without drag)
-    std::vector<std::uint8_t> species;     // species number (1-based, see the scene's species table)
-    std::vector<std::uint64_t> id;         // global id, unique for the particle's lifetime
-    std::uint64_t revision = 0;            // counts add/remove/resize (neighbour lists rebuild on change)
+    std::vector<Eigen::Vector3d> pos;     // position
+    std::vector<Eigen::Vector3d> vel;     // velocity
+    std::vector<Eigen::Quaterniond> q;    // orientation (unit quaternion, w x y z)
+    std::vector<Eigen::Vector3d> omega;   // angular velocity, space frame
+    std::vector<Eigen::Vector3d> normal;  // cached n = R(q) e_z (recomputed after each rotation)
+    std::vector<Eigen::Vector3d> force;   // total force of the last evaluation (without drag)
+    std::vector<Eigen::Vector3d> torque;  // total torque of the last evaluation (without drag)
+    std::vector<std::uint8_t> species;    // species number (1-based, see the scene's species table)
+    std::vector<std::uint64_t> id;        // global id, unique for the particle's lifetime
+    std::uint64_t revision = 0;           // counts add/remove/resize (neighbour lists rebuild on change)
 
     std::size_t size() const { return pos.size(); }
 
@@ -46,8 +47,15 @@ struct Particles {
         for (std::size_t i = 0; i < size(); ++i) {
             if (flag[i]) continue;
             if (w != i) {
-                pos[w] = pos[i]; vel[w] = vel[i]; q[w] = q[i]; omega[w] = omega[i]; normal[w] = normal[i];
-                force[w] = force[i]; torque[w] = torque[i]; species[w] = species[i]; id[w] = id[i];
+                pos[w] = pos[i];
+                vel[w] = vel[i];
+                q[w] = q[i];
+                omega[w] = omega[i];
+                normal[w] = normal[i];
+                force[w] = force[i];
+                torque[w] = torque[i];
+                species[w] = species[i];
+                id[w] = id[i];
             }
             ++w;
         }
@@ -56,8 +64,15 @@ struct Particles {
 
     void resize(std::size_t n) {
         ++revision;
-        pos.resize(n); vel.resize(n); q.resize(n); omega.resize(n); normal.resize(n);
-        force.resize(n); torque.resize(n); species.resize(n); id.resize(n);
+        pos.resize(n);
+        vel.resize(n);
+        q.resize(n);
+        omega.resize(n);
+        normal.resize(n);
+        force.resize(n);
+        torque.resize(n);
+        species.resize(n);
+        id.resize(n);
     }
 };
 

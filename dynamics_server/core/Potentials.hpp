@@ -1,5 +1,5 @@
 #pragma once
-// Pair potentials of the dynamics core (physics.md §1–§2), as small evaluators in the HOOMD
+// Pair potentials of the dynamics core (docs/physics.md §1–§2), as small evaluators in the HOOMD
 // spirit: they turn a squared distance (or a distance) and their parameters into force/r and
 // energy, with no allocation, no exceptions and no std::pow on the hot path.
 //
@@ -8,11 +8,11 @@
 // energy unit of the simulation. Pair vector r = p_j - p_i (from i to j).
 //
 // - LjForm: phi(r) = 1.5 (r^-3 - r^-1), f(r) = -phi'(r) = 4.5 r^-4 - 1.5 r^-2 (positive =
-//   repulsive), with one of four cutoff treatments (physics.md §2.2).
+//   repulsive), with one of four cutoff treatments (docs/physics.md §2.2).
 // - OrientedWeight: psi(r) = exp(-r^2 / (2 sigma^2)) S(r) for the oriented-particle energies.
 // - coNormal / coPlanar: forces and torques of |n_i - n_j|^2 psi and ((n_i.r)^2 + (n_j.r)^2) psi
-//   (physics.md §1.2); torque tau = -n x dE/dn.
-// - ProbeForm: the haptic probe, k1 f(r/k0) and k1 k0 phi(r/k0) (paper eq. 9, physics.md §2.4).
+//   (docs/physics.md §1.2); torque tau = -n x dE/dn.
+// - ProbeForm: the haptic probe, k1 f(r/k0) and k1 k0 phi(r/k0) (paper eq. 9, docs/physics.md §2.4).
 //
 // S is the cubic taper S = 1 - 3t^2 + 2t^3, t = (r - r_on)/(r_c - r_on), on [r_on, r_c].
 #include "bop/common/Units.hpp"
@@ -36,8 +36,8 @@ enum class LjCutoff {
 
 struct LjParams {
     LjCutoff mode = LjCutoff::Switched;  // cutoff treatment
-    double rOnR0 = 1.2;   // switch start, multiples of r0 (used only by Switched)
-    double rCutR0 = 1.6;  // cutoff, multiples of r0 (the paper: Truncated at 3)
+    double rOnR0 = 1.2;                  // switch start, multiples of r0 (used only by Switched)
+    double rCutR0 = 1.6;                 // cutoff, multiples of r0 (the paper: Truncated at 3)
 };
 
 class LjForm {
@@ -46,10 +46,10 @@ public:
     explicit LjForm(const LjParams& p = {});
 
     const LjParams& params() const { return params_; }
-    double cutoff() const { return rc_; }        // cutoff radius, simulation length units
-    double cutoff2() const { return rc2_; }      // squared cutoff, simulation length units^2
-    double switchOn() const { return rOn_; }     // start of the switch (= cutoff if none), length
-    double energyConstant() const { return c_; } // constant C added to phi below rOn (energy)
+    double cutoff() const { return rc_; }                // cutoff radius, simulation length units
+    double cutoff2() const { return rc2_; }              // squared cutoff, simulation length units^2
+    double switchOn() const { return rOn_; }             // start of the switch (= cutoff if none), length
+    double energyConstant() const { return c_; }         // constant C added to phi below rOn (energy)
     double invSwitchWidth() const { return invWidth_; }  // 1 / (rc - rOn), 1/length; 0 without a switch
     double forceShift() const { return fShift_; }        // f(rc) subtracted by ShiftedForce, else 0
 
@@ -81,7 +81,7 @@ public:
     // f(r)/r for r2 < cutoff2() (the caller has checked), without branches: the LJ-only pair
     // loop's fast path. Below the switch t clamps to 0 (S = 1); without a switch invWidth_ is 0.
     double forceOverR(double r2) const {
-        const double inv2 = 1.0 / r2;   // the division and the root run side by side
+        const double inv2 = 1.0 / r2;  // the division and the root run side by side
         const double r = std::sqrt(r2);
         const double rinv = r * inv2;
         const double f = (4.5 * inv2 - 1.5) * inv2 - fShift_;
@@ -104,8 +104,8 @@ public:
 private:
     // Energy in the switch region: G(rCut) - G(r), G the antiderivative of f S (see .cpp).
     double switchedEnergy(double r, double inv, double inv2) const {
-        const double g = a_[0] * inv2 * inv + a_[1] * inv2 + a_[2] * inv + a_[3] * std::log(r) +
-                         r * (a_[4] + a_[5] * r);
+        const double g =
+            a_[0] * inv2 * inv + a_[1] * inv2 + a_[2] * inv + a_[3] * std::log(r) + r * (a_[4] + a_[5] * r);
         return gCut_ - g;
     }
 
@@ -179,12 +179,12 @@ struct OrientedPair {
 
 // Co-normality E = |n_i - n_j|^2 psi(r). r: p_j - p_i (length); rlen = |r| (length); ni, nj:
 // unit normals; psi (dimensionless) and dpsi = dpsi/dr (1/length) from OrientedWeight::eval.
-void coNormal(const Eigen::Vector3d& r, double rlen, const Eigen::Vector3d& ni,
-              const Eigen::Vector3d& nj, double psi, double dpsi, OrientedPair& out);
+void coNormal(const Eigen::Vector3d& r, double rlen, const Eigen::Vector3d& ni, const Eigen::Vector3d& nj, double psi,
+              double dpsi, OrientedPair& out);
 
 // Pair-symmetric co-planarity E = ((n_i.r)^2 + (n_j.r)^2) psi(r); arguments as coNormal.
-void coPlanar(const Eigen::Vector3d& r, double rlen, const Eigen::Vector3d& ni,
-              const Eigen::Vector3d& nj, double psi, double dpsi, OrientedPair& out);
+void coPlanar(const Eigen::Vector3d& r, double rlen, const Eigen::Vector3d& ni, const Eigen::Vector3d& nj, double psi,
+              double dpsi, OrientedPair& out);
 
 struct ProbeParams {
     double k0 = 1.0;  // range scale, dimensionless (equilibrium spacing k0 r0)
@@ -232,14 +232,14 @@ public:
 private:
     LjForm lj_;
     ProbeParams params_;
-    double rc_ = 0.0;        // length
-    double rc2_ = 0.0;       // length^2
-    double invK0Sq_ = 0.0;   // 1 / k0^2
-    double k1OverK0_ = 0.0;  // k1 / k0
-    double k1K0_ = 0.0;      // k1 k0
-    double core_ = 0.0;      // kProbeCoreR0 k0 r0, length
-    double core2_ = 0.0;     // length^2
-    double coreForce_ = 0.0; // the force at the core's edge, force
+    double rc_ = 0.0;          // length
+    double rc2_ = 0.0;         // length^2
+    double invK0Sq_ = 0.0;     // 1 / k0^2
+    double k1OverK0_ = 0.0;    // k1 / k0
+    double k1K0_ = 0.0;        // k1 k0
+    double core_ = 0.0;        // kProbeCoreR0 k0 r0, length
+    double core2_ = 0.0;       // length^2
+    double coreForce_ = 0.0;   // the force at the core's edge, force
     double coreEnergy_ = 0.0;  // the energy there, energy
 };
 

@@ -13,15 +13,20 @@ namespace bop::core {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 void setWeight(Model& m, const Command& c) {  // std::invalid_argument if out of range
     if (c.other < 1 || c.other > m.speciesCount())
         throw std::invalid_argument("weight command: no species " + std::to_string(c.other));
     if (c.species < 1 || c.species > m.speciesCount())
         throw std::invalid_argument("weight command: no species " + std::to_string(c.species));
-    if (!std::isfinite(c.value) || c.value < 0) throw std::invalid_argument("weight command: weights must be 0 or more");
-    WeightMatrix& w = c.table == Command::Table::Lj ? m.lj : c.table == Command::Table::CoNormal ? m.coNormal : m.coPlanar;
+    if (!std::isfinite(c.value) || c.value < 0)
+        throw std::invalid_argument("weight command: weights must be 0 or more");
+    WeightMatrix& w = c.table == Command::Table::Lj         ? m.lj
+                      : c.table == Command::Table::CoNormal ? m.coNormal
+                                                            : m.coPlanar;
     w(c.species, c.other) = c.value;
 }
 
@@ -34,8 +39,14 @@ double haloReach(const Model& model, const SimulationOptions& o) {
 
 Simulation::Simulation(std::shared_ptr<const Model> model, Particles particles, Construction construction,
                        long long firstStep)
-    : ownExchange_(std::make_unique<Exchange>()), ex_(ownExchange_.get()), model_(std::move(model)), sub_(*model_),
-      field_(*model_), drag_(*model_), p_(std::move(particles)), construction_(std::move(construction)) {
+    : ownExchange_(std::make_unique<Exchange>()),
+      ex_(ownExchange_.get()),
+      model_(std::move(model)),
+      sub_(*model_),
+      field_(*model_),
+      drag_(*model_),
+      p_(std::move(particles)),
+      construction_(std::move(construction)) {
     stats_.step = firstStep;
     stats_.time = double(firstStep) * model_->integration.dt;
     range_ = field_.listRange();
@@ -47,7 +58,11 @@ Simulation::Simulation(std::shared_ptr<const Model> model, Particles particles, 
 
 Simulation::Simulation(std::shared_ptr<const Model> model, const Particles& all, SimulationOptions options,
                        Exchange& exchange)
-    : ex_(&exchange), model_(std::move(model)), sub_(*model_), field_(*model_), drag_(*model_),
+    : ex_(&exchange),
+      model_(std::move(model)),
+      sub_(*model_),
+      field_(*model_),
+      drag_(*model_),
       construction_(options.construction ? *options.construction : Construction({}, {}, model_->speciesCount())),
       mapSource_(std::move(options.map)) {
     stats_.step = options.firstStep;
@@ -93,8 +108,9 @@ void Simulation::submit(const Command& command) {
         Model trial = sub_;
         setWeight(trial, command);
         if (ForceField(trial).listRange() != range_)
-            throw std::invalid_argument("weight command: it would change the interaction range (oriented terms on or "
-                                        "off); give the scene a nonzero weight of that kind to start with");
+            throw std::invalid_argument(
+                "weight command: it would change the interaction range (oriented terms on or "
+                "off); give the scene a nonzero weight of that kind to start with");
     }
     commands_.push_back(command);
 }
@@ -127,7 +143,9 @@ void Simulation::forces(bool energies) {
     forcesStale_ = false;
 }
 
-void Simulation::refreshForces() { forces(true); }
+void Simulation::refreshForces() {
+    forces(true);
+}
 
 void Simulation::rebalance() {
     if (ex_->rebalance(p_)) {
@@ -191,13 +209,15 @@ void Simulation::step() {
     if (!ex_->allTrue(sound(*model_, p_, stats_.forces.probeReaction))) throwUnsound();
 }
 
-bool Simulation::soundEverywhere() const { return ex_->allTrue(sound(*model_, p_, stats_.forces.probeReaction)); }
+bool Simulation::soundEverywhere() const {
+    return ex_->allTrue(sound(*model_, p_, stats_.forces.probeReaction));
+}
 
 void Simulation::throwUnsound() const {
     // What each process found, so that every one throws the same words: the first finding.
     const Unsoundness mine = findUnsound(*model_, p_, stats_.forces.probeReaction);
-    const std::vector<double> all = ex_->allGather(
-        {double(mine.what), double(mine.id & 0xffffffffu), double(mine.id >> 32), double(mine.species)});
+    const std::vector<double> all =
+        ex_->allGather({double(mine.what), double(mine.id & 0xffffffffu), double(mine.id >> 32), double(mine.species)});
     for (std::size_t r = 0; r < all.size(); r += 4) {
         if (all[r] == 0) continue;
         const Unsoundness u{Unsoundness::What(int(all[r])), std::uint64_t(all[r + 1]) | std::uint64_t(all[r + 2]) << 32,
@@ -210,9 +230,9 @@ void Simulation::throwUnsound() const {
 Totals Simulation::totals() const {
     const ForceStats& f = stats_.forces;
     const BloodSums blood = bloodSums(sub_, p_);
-    const std::vector<double> mine{double(p_.size()), stats_.kinetic, f.pairEnergy, f.probeEnergy, f.virial,
-                                   f.virialVolume, f.probeReaction.x(), f.probeReaction.y(), f.probeReaction.z(),
-                                   blood.mv2, blood.count, f.wallVirial};
+    const std::vector<double> mine{
+        double(p_.size()),   stats_.kinetic,      f.pairEnergy,        f.probeEnergy, f.virial,    f.virialVolume,
+        f.probeReaction.x(), f.probeReaction.y(), f.probeReaction.z(), blood.mv2,     blood.count, f.wallVirial};
     const std::vector<double> all = ex_->allGather(mine);
     std::vector<double> sum(mine.size(), 0.0);
     for (std::size_t r = 0; r < all.size() / mine.size(); ++r)  // rank order: the same sum everywhere

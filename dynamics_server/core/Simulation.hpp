@@ -12,7 +12,6 @@
 #include "ForceField.hpp"
 #include "Integrator.hpp"
 #include "SoundState.hpp"
-
 #include "bop/common/GradientMapCrop.hpp"
 
 #include <functional>
@@ -22,31 +21,33 @@
 namespace bop::core {
 
 struct StepStats {
-    long long step = 0;          // steps completed
-    double time = 0;             // simulation time
-    double kinetic = 0;          // kinetic energy (translation + rotation) of this process's particles
-    ForceStats forces;           // energies, virial and probe reaction of the last force evaluation
-    ConstructionCounts built;    // births and deaths of the last step (every process's)
-    BloodSums blood;             // kinetic sum and count of this process's volume particles after the step
-    KeyframeAt keyframe;         // the gradient-map frame(s) of the last force evaluation
-    double bloodVolume = 0;      // volume voxels of the map(s) in force, length^3 (eq. 15's V)
-    double cavityVolume = 0;     // every voxel of the bags in the map(s) in force, length^3
+    long long step = 0;        // steps completed
+    double time = 0;           // simulation time
+    double kinetic = 0;        // kinetic energy (translation + rotation) of this process's particles
+    ForceStats forces;         // energies, virial and probe reaction of the last force evaluation
+    ConstructionCounts built;  // births and deaths of the last step (every process's)
+    BloodSums blood;           // kinetic sum and count of this process's volume particles after the step
+    KeyframeAt keyframe;       // the gradient-map frame(s) of the last force evaluation
+    double bloodVolume = 0;    // volume voxels of the map(s) in force, length^3 (eq. 15's V)
+    double cavityVolume = 0;   // every voxel of the bags in the map(s) in force, length^3
     double total() const { return kinetic + forces.pairEnergy + forces.probeEnergy; }
 };
 
 struct StepTimes {
-    PhaseTimes forces;           // neighbour list, pairs, gradient map, probe
-    double integrate = 0;        // kicks and drift, s
-    double construction = 0;     // births and deaths, s
-    double total() const { return forces.neighbours + forces.pairs + forces.gradientMap + forces.probe + integrate + construction; }
+    PhaseTimes forces;        // neighbour list, pairs, gradient map, probe
+    double integrate = 0;     // kicks and drift, s
+    double construction = 0;  // births and deaths, s
+    double total() const {
+        return forces.neighbours + forces.pairs + forces.gradientMap + forces.probe + integrate + construction;
+    }
 };
 
 // Sums over every process, the same on each (totals()).
 struct Totals {
     double particles = 0, kinetic = 0, pairEnergy = 0, probeEnergy = 0, virial = 0, virialVolume = 0;
     double bloodMv2 = 0, bloodCount = 0, wallVirial = 0;  // BloodPressure.hpp, ForceStats::wallVirial
-    KeyframeAt keyframe;                  // the map frame(s) of the last forces
-    double bloodVolume = 0, cavityVolume = 0;  // volume voxels and bag voxels in force, length^3
+    KeyframeAt keyframe;                                  // the map frame(s) of the last forces
+    double bloodVolume = 0, cavityVolume = 0;             // volume voxels and bag voxels in force, length^3
     Eigen::Vector3d probeReaction = Eigen::Vector3d::Zero();
     double total() const { return kinetic + pairEnergy + probeEnergy; }
 };
@@ -85,7 +86,9 @@ public:
     // Commands, construction, kick and drift, exchange, forces, kick. UnsoundState (every process
     // alike) when the step ends in a state not fit to go on from (SoundState.hpp). Collective.
     void step();
-    void run(long long steps) { for (long long s = 0; s < steps; ++s) step(); }
+    void run(long long steps) {
+        for (long long s = 0; s < steps; ++s) step();
+    }
     // On rank 0: a command every process applies at the start of the next step
     // (std::invalid_argument if it is refused, std::logic_error on other ranks).
     void submit(const Command& command);
@@ -112,7 +115,7 @@ public:
     void setTimes(const StepTimes& t) { times_ = t; }  // carried over when a run continues from a checkpoint
     const ForceField& forceField() const { return field_; }
     long long stepCount() const { return stats_.step; }
-    std::size_t rebuilds() const { return rebuilds_; }  // neighbour lists and halos built again
+    std::size_t rebuilds() const { return rebuilds_; }           // neighbour lists and halos built again
     double exchangeSeconds() const { return exchangeSeconds_; }  // in halo, migration and the rebuild vote
     std::size_t mapBytes() const;  // this process's window of the gradient map (of every keyframe)
     // Voxel counts of each keyframe's whole map (one entry for a static shape, none without a map).
@@ -127,12 +130,12 @@ public:
     Particles gather(const Particles& mine) const;
 
 private:
-    void apply(const Command& c);  // every process, at the start of a step
+    void apply(const Command& c);                           // every process, at the start of a step
     void construct(std::vector<ConstructionEvent> events);  // SimulationConstruction.cpp
-    Eigen::Vector3d defaultSeed(int species) const;        // collective
-    void placeMaps();   // this region's windows of the map(s); SimulationMaps.cpp
+    Eigen::Vector3d defaultSeed(int species) const;         // collective
+    void placeMaps();                                       // this region's windows of the map(s); SimulationMaps.cpp
     void applyKeyframe(double time);
-    void rebalance();   // new region, its windows, ghosts and list
+    void rebalance();  // new region, its windows, ghosts and list
     void forces(bool energies);
     [[noreturn]] void throwUnsound() const;  // collective: UnsoundState naming what a process found
 
@@ -148,10 +151,10 @@ private:
     Construction construction_;
     StepStats stats_;
     StepTimes times_;
-    double range_ = 0;       // neighbour-list range, length
+    double range_ = 0;  // neighbour-list range, length
     long long energyEvery_ = 1;
-    bool forcesStale_ = false;            // a command or setModel changed the weights since the last forces
-    std::vector<Command> commands_;       // queued on rank 0
+    bool forcesStale_ = false;       // a command or setModel changed the weights since the last forces
+    std::vector<Command> commands_;  // queued on rank 0
     std::size_t rebuilds_ = 0;
     double exchangeSeconds_ = 0;
     std::optional<MapSource> mapSource_;

@@ -1,11 +1,10 @@
-// Construction in a step (paper §3.6, physics.md §7; Simulation.hpp): each process checks its
+// Construction in a step (paper §3.6, docs/physics.md §7; Simulation.hpp): each process checks its
 // own region against its particles and the ghosts within the birth front, the processes gather
 // what they found, and every one makes the same choice (caps, conflicts), as one process makes it
 // over all the particles; the owner of each position adds the particle.
-#include "Simulation.hpp"
-
 #include "ConstructionSteps.hpp"
 #include "ParticleRecords.hpp"
+#include "Simulation.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -48,7 +47,8 @@ std::vector<BirthCandidate> gatherCandidates(Exchange& ex, std::vector<BirthCand
 void removeIds(Particles& p, const std::vector<std::uint64_t>& sortedIds) {
     if (sortedIds.empty()) return;  // not even a new revision: the neighbour list holds
     std::vector<char> flag(p.size(), 0);
-    for (std::size_t i = 0; i < p.size(); ++i) flag[i] = std::binary_search(sortedIds.begin(), sortedIds.end(), p.id[i]);
+    for (std::size_t i = 0; i < p.size(); ++i)
+        flag[i] = std::binary_search(sortedIds.begin(), sortedIds.end(), p.id[i]);
     p.removeIf(flag);
 }
 
@@ -58,13 +58,15 @@ Eigen::Vector3d Simulation::defaultSeed(int species) const {
     if (!sub_.map) throw std::invalid_argument("seeding needs a gradient map");
     const auto best = core::defaultSeed(construction_.params(), sub_, species,
                                         [&](const Eigen::Vector3d& x) { return ex_->owns(x); });
-    const std::vector<double> all = ex_->allGather(
-        best ? std::vector<double>{1.0, double(best->key.first), idBits(best->key.second), best->pos.x(), best->pos.y(), best->pos.z()}
-             : std::vector<double>(6, 0.0));
+    const std::vector<double> all =
+        ex_->allGather(best ? std::vector<double>{1.0, double(best->key.first), idBits(best->key.second), best->pos.x(),
+                                                  best->pos.y(), best->pos.z()}
+                            : std::vector<double>(6, 0.0));
     std::optional<SeedChoice> choice;
     for (std::size_t k = 0; k < all.size(); k += 6) {
         if (all[k] == 0) continue;
-        const SeedChoice c{{(long long)(all[k + 1]), idOf(all[k + 2])}, Eigen::Vector3d(all[k + 3], all[k + 4], all[k + 5])};
+        const SeedChoice c{{(long long)(all[k + 1]), idOf(all[k + 2])},
+                           Eigen::Vector3d(all[k + 3], all[k + 4], all[k + 5])};
         if (!choice || c.key < choice->key) choice = c;
     }
     if (!choice) throw std::invalid_argument("species " + std::to_string(species) + " has no voxels in the map");
@@ -75,9 +77,9 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
     const long long step = stats_.step;
     stats_.built = {};
     if (events.empty() && !construction_.checkDue(step)) return;  // every process knows both: no message
-    ConstructionCounts built;  // over all processes
-    bool changed = false;      // this process's particles
-    bool moved = false;        // particles migrated (wrapped into the box) or ghosts widened to the birth front
+    ConstructionCounts built;                                     // over all processes
+    bool changed = false;                                         // this process's particles
+    bool moved = false;  // particles migrated (wrapped into the box) or ghosts widened to the birth front
     std::vector<Eigen::Vector3d> seeded;  // this step's seeds, placed or not: every process knows them
     for (const auto& e : events) {
         if (e.action != ConstructionEvent::Action::Seed) {
@@ -107,9 +109,9 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
         const std::size_t owned = p_.size();
 
         std::vector<std::size_t> count = speciesCounts(*ex_, p_, sub_.speciesCount());
-        const std::vector<std::uint64_t> die = chooseDeaths(
-            params, gatherMarks(*ex_, markDeaths(params, {sub_, sub_.box, seen, owned}, step)), count,
-            construction_.birthSwitches());
+        const std::vector<std::uint64_t> die =
+            chooseDeaths(params, gatherMarks(*ex_, markDeaths(params, {sub_, sub_.box, seen, owned}, step)), count,
+                         construction_.birthSwitches());
         removeIds(p_, die);
         removeIds(seen, die);
         built.deaths = die.size();
@@ -119,7 +121,8 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
             if (!construction_.birthOn(s) || count[std::size_t(s)] == 0) continue;  // births grow from a seed
             const auto found = birthCandidates(params, {sub_, sub_.box, seen, p_.size()}, s, step,
                                                [&](const Eigen::Vector3d& x) { return ex_->owns(x); });
-            const auto winners = chooseBirths(params, model_->box, gatherCandidates(*ex_, found), count[std::size_t(s)]);
+            const auto winners =
+                chooseBirths(params, model_->box, gatherCandidates(*ex_, found), count[std::size_t(s)]);
             for (const auto& w : winners) {
                 if (ex_->owns(w.pos)) addBirth(sub_, p_, s, w, step);
                 // Every newborn blocks later species' births nearby, here too; across a periodic
@@ -147,8 +150,10 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
     // makes them.
     if (ex_->allTrue(!changed) && !moved) return;
     if (ex_->hasGhosts()) {
-        if (ex_->imbalance(p_.size()) > 1.1) rebalance();
-        else ex_->buildHalo(p_, range_, halo_);
+        if (ex_->imbalance(p_.size()) > 1.1)
+            rebalance();
+        else
+            ex_->buildHalo(p_, range_, halo_);
     }
     field_.requestRebuild();
     forcesStale_ = true;

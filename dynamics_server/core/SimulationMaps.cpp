@@ -38,7 +38,8 @@ void Simulation::placeMaps() {
         // The new windows are made while the old ones live, so the force field, which notices a
         // new map by its address, cannot mistake one for the other.
         std::vector<std::shared_ptr<const GradientMap>> next;
-        for (int f = 0; f < mapSource_->frames; ++f) next.push_back(std::make_shared<const GradientMap>(mapSource_->crop(f, w)));
+        for (int f = 0; f < mapSource_->frames; ++f)
+            next.push_back(std::make_shared<const GradientMap>(mapSource_->crop(f, w)));
         frames_ = std::move(next);
     }
     sub_.frames = frames_.size() > 1 ? frames_ : std::vector<std::shared_ptr<const GradientMap>>{};

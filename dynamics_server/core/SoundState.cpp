@@ -9,9 +9,12 @@ struct Bounds {
     Eigen::Array3d lo, hi;
     double maxSpeed2;  // (length / time)^2
     explicit Bounds(const Model& m)
-        : lo(m.box.lo.array() - kRunawayLength), hi(m.box.hi.array() + kRunawayLength),
+        : lo(m.box.lo.array() - kRunawayLength),
+          hi(m.box.hi.array() + kRunawayLength),
           maxSpeed2(std::pow(kRunawayLength / m.integration.dt, 2)) {}
-    bool inside(const Eigen::Vector3d& x) const { return (x.array() >= lo).all() && (x.array() <= hi).all(); }  // false for NaN
+    bool inside(const Eigen::Vector3d& x) const {
+        return (x.array() >= lo).all() && (x.array() <= hi).all();
+    }  // false for NaN
     bool slow(const Eigen::Vector3d& v) const { return v.squaredNorm() <= maxSpeed2; }
 };
 

@@ -15,14 +15,25 @@
 
 namespace bop::core {
 
-inline constexpr double kRunawayLength = 1e6;     // how far beyond the box a particle may be, length
+inline constexpr double kRunawayLength = 1e6;          // how far beyond the box a particle may be, length
 inline constexpr long long kSoundSnapshotEvery = 100;  // steps between copies of the last sound state
 
 // One pass over the particles, without a branch per particle.
 bool sound(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction);
 // What is wrong with a state, the first thing found.
 struct Unsoundness {
-    enum What : int { None = 0, Position, Runaway, Velocity, Speed, AngularVelocity, Force, Torque, ProbeReaction, Sum };
+    enum What : int {
+        None = 0,
+        Position,
+        Runaway,
+        Velocity,
+        Speed,
+        AngularVelocity,
+        Force,
+        Torque,
+        ProbeReaction,
+        Sum
+    };
     What what = None;
     std::uint64_t id = 0;  // the particle's id (Position .. Torque)
     int species = 0;

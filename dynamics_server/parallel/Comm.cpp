@@ -32,7 +32,8 @@ CartComm::CartComm(MPI_Comm base, const core::Box& box) {
     check(MPI_Comm_set_errhandler(cart_, MPI_ERRORS_RETURN), "MPI_Comm_set_errhandler");
     check(MPI_Comm_rank(cart_, &rank_), "MPI_Comm_rank");
     check(MPI_Cart_coords(cart_, rank_, 3, coords_.data()), "MPI_Cart_coords");
-    for (int a = 0; a < 3; ++a) check(MPI_Cart_shift(cart_, a, 1, &lower_[std::size_t(a)], &upper_[std::size_t(a)]), "MPI_Cart_shift");
+    for (int a = 0; a < 3; ++a)
+        check(MPI_Cart_shift(cart_, a, 1, &lower_[std::size_t(a)], &upper_[std::size_t(a)]), "MPI_Cart_shift");
 }
 
 CartComm::~CartComm() {
@@ -42,13 +43,16 @@ CartComm::~CartComm() {
 
 void CartComm::sendRecv(const std::vector<double>& out, int to, std::vector<double>& in, int from, int tag) const {
     if (out.size() > std::size_t(std::numeric_limits<int>::max()))
-        throw std::runtime_error("MPI_Sendrecv: " + std::to_string(out.size()) + " values exceed one message's int count");
+        throw std::runtime_error("MPI_Sendrecv: " + std::to_string(out.size()) +
+                                 " values exceed one message's int count");
     unsigned long long nOut = out.size(), nIn = 0;
     check(MPI_Sendrecv(&nOut, 1, MPI_UNSIGNED_LONG_LONG, to, tag, &nIn, 1, MPI_UNSIGNED_LONG_LONG, from, tag, cart_,
-                       MPI_STATUS_IGNORE), "MPI_Sendrecv (count)");
+                       MPI_STATUS_IGNORE),
+          "MPI_Sendrecv (count)");
     in.resize(from == MPI_PROC_NULL ? 0 : std::size_t(nIn));
-    check(MPI_Sendrecv(out.data(), int(out.size()), MPI_DOUBLE, to, tag + 1, in.data(), int(in.size()), MPI_DOUBLE, from,
-                       tag + 1, cart_, MPI_STATUS_IGNORE), "MPI_Sendrecv");
+    check(MPI_Sendrecv(out.data(), int(out.size()), MPI_DOUBLE, to, tag + 1, in.data(), int(in.size()), MPI_DOUBLE,
+                       from, tag + 1, cart_, MPI_STATUS_IGNORE),
+          "MPI_Sendrecv");
 }
 
 std::vector<double> CartComm::allGather(const std::vector<double>& mine) const {
@@ -60,7 +64,8 @@ std::vector<double> CartComm::allGather(const std::vector<double>& mine) const {
 
 std::vector<double> CartComm::allGatherV(const std::vector<double>& mine) const {
     if (mine.size() > std::size_t(std::numeric_limits<int>::max()))
-        throw std::runtime_error("MPI_Allgatherv: " + std::to_string(mine.size()) + " values exceed one message's int count");
+        throw std::runtime_error("MPI_Allgatherv: " + std::to_string(mine.size()) +
+                                 " values exceed one message's int count");
     int count = int(mine.size());
     const std::size_t ranks = std::size_t(size_);
     std::vector<int> counts(ranks, 0), offsets(ranks, 0);
@@ -78,7 +83,8 @@ std::vector<double> CartComm::allGatherV(const std::vector<double>& mine) const 
 
 std::vector<float> CartComm::gatherV(const std::vector<float>& mine) const {
     if (mine.size() > std::size_t(std::numeric_limits<int>::max()))
-        throw std::runtime_error("MPI_Gatherv: " + std::to_string(mine.size()) + " values exceed one message's int count");
+        throw std::runtime_error("MPI_Gatherv: " + std::to_string(mine.size()) +
+                                 " values exceed one message's int count");
     int count = int(mine.size());
     const std::size_t ranks = std::size_t(size_);
     std::vector<int> counts(ranks, 0), offsets(ranks, 0);

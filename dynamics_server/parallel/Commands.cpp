@@ -7,19 +7,19 @@
 namespace bop::parallel {
 namespace {
 
-constexpr std::size_t kProbeFields = 7;  // kind, active, x, y, z, k0, k1
-constexpr std::size_t kDragFields = 4;   // kind, species, beta_v, beta_tau
-constexpr std::size_t kSeedFields = 5;   // kind, species, x, y, z
-constexpr std::size_t kBirthFields = 3;  // kind, species, on
-constexpr std::size_t kWeightFields = 5; // kind, table, species, other, value
+constexpr std::size_t kProbeFields = 7;   // kind, active, x, y, z, k0, k1
+constexpr std::size_t kDragFields = 4;    // kind, species, beta_v, beta_tau
+constexpr std::size_t kSeedFields = 5;    // kind, species, x, y, z
+constexpr std::size_t kBirthFields = 3;   // kind, species, on
+constexpr std::size_t kWeightFields = 5;  // kind, table, species, other, value
 
 }  // namespace
 
 void encode(const Command& c, std::vector<double>& out) {
     if (c.kind == Command::Kind::Probe) {
         const auto& p = c.probe;
-        out.insert(out.end(), {double(int(c.kind)), p.active ? 1.0 : 0.0, p.position.x(), p.position.y(), p.position.z(),
-                               p.params.k0, p.params.k1});
+        out.insert(out.end(), {double(int(c.kind)), p.active ? 1.0 : 0.0, p.position.x(), p.position.y(),
+                               p.position.z(), p.params.k0, p.params.k1});
     } else if (c.kind == Command::Kind::Drag) {
         out.insert(out.end(), {double(int(c.kind)), double(c.species), c.dragV, c.dragW});
     } else if (c.kind == Command::Kind::Seed) {
@@ -38,8 +38,8 @@ std::vector<Command> decode(const std::vector<double>& in) {
         const double kind = in[k];
         const auto need = [&](std::size_t n, const char* what) {
             if (k + n > in.size())
-                throw std::invalid_argument(std::string("command array: a ") + what + " command needs " + std::to_string(n) +
-                                            " values at position " + std::to_string(k) + ", " +
+                throw std::invalid_argument(std::string("command array: a ") + what + " command needs " +
+                                            std::to_string(n) + " values at position " + std::to_string(k) + ", " +
                                             std::to_string(in.size() - k) + " left");
         };
         if (kind == double(int(Command::Kind::Probe))) {
@@ -74,15 +74,16 @@ std::vector<Command> decode(const std::vector<double>& in) {
             const double table = in[k + 1];
             if (table != 0 && table != 1 && table != 2)
                 throw std::invalid_argument("command array: weight table " + std::to_string(table) + " at position " +
-                                            std::to_string(k + 1) + ", expected 0 (LJ), 1 (co-normal) or 2 (co-planar)");
+                                            std::to_string(k + 1) +
+                                            ", expected 0 (LJ), 1 (co-normal) or 2 (co-planar)");
             c.table = Command::Table(int(table));
             c.species = int(in[k + 2]);
             c.other = int(in[k + 3]);
             c.value = in[k + 4];
             k += kWeightFields;
         } else {
-            throw std::invalid_argument("command array: unknown command kind " + std::to_string(kind) + " at position " +
-                                        std::to_string(k));
+            throw std::invalid_argument("command array: unknown command kind " + std::to_string(kind) +
+                                        " at position " + std::to_string(k));
         }
         out.push_back(c);
     }

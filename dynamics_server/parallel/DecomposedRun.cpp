@@ -3,11 +3,11 @@
 #include "DecomposedSimulation.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <iterator>
 #include <stdexcept>
 #include <string>
-#include <array>
-#include <cmath>
 
 namespace bop::parallel {
 
@@ -21,13 +21,17 @@ struct DecomposedRun::Impl {
     double carriedMigrations = 0, carriedRebuilds = 0, carriedExchange = 0, carriedRebalances = 0;
     std::optional<core::SoundSnapshot> sound;  // this rank's particles of the last sound state
     Impl(std::shared_ptr<const core::Model> m, const core::Particles& all, DecomposedOptions o)
-        : comm(MPI_COMM_WORLD, m->box), model(std::move(m)), options(o),
+        : comm(MPI_COMM_WORLD, m->box),
+          model(std::move(m)),
+          options(o),
           simPtr(std::make_unique<DecomposedSimulation>(comm, model, all, std::move(o))) {
         keepIfSound();
     }
     void keepIfSound() {  // collective
-        if (simPtr->soundEverywhere()) sound = core::SoundSnapshot{simPtr->particles(), simPtr->construction(), simPtr->stepCount()};
-        else sound.reset();  // not an older state of another start
+        if (simPtr->soundEverywhere())
+            sound = core::SoundSnapshot{simPtr->particles(), simPtr->construction(), simPtr->stepCount()};
+        else
+            sound.reset();  // not an older state of another start
     }
 };
 
@@ -48,12 +52,16 @@ std::optional<core::SoundSnapshot> DecomposedRun::lastSound() const {
     if (!impl_->comm.allTrue(s.has_value())) return std::nullopt;
     return core::SoundSnapshot{impl_->simPtr->gather(s->particles), s->construction, s->step};
 }
-void DecomposedRun::refreshForces() { impl_->simPtr->refreshForces(); }
+void DecomposedRun::refreshForces() {
+    impl_->simPtr->refreshForces();
+}
 void DecomposedRun::setEnergyEvery(long long n) {
     impl_->energyEvery = n;
     impl_->simPtr->setEnergyEvery(n);
 }
-const core::Construction& DecomposedRun::construction() const { return impl_->simPtr->construction(); }
+const core::Construction& DecomposedRun::construction() const {
+    return impl_->simPtr->construction();
+}
 
 void DecomposedRun::reseat(const core::Particles& all, const core::Construction& construction, long long step) {
     Impl& i = *impl_;
@@ -71,17 +79,31 @@ void DecomposedRun::reseat(const core::Particles& all, const core::Construction&
     i.simPtr->setEnergyEvery(i.energyEvery);
     i.keepIfSound();
 }
-void DecomposedRun::setProbe(const core::ProbeState& probe) { impl_->simPtr->probe() = probe; }
-Totals DecomposedRun::totals() const { return impl_->simPtr->totals(); }
-const std::vector<core::MapVolume>& DecomposedRun::frameVolumes() const { return impl_->simPtr->frameVolumes(); }
-core::Particles DecomposedRun::gather() const { return impl_->simPtr->gather(); }
-void DecomposedRun::submit(const Command& command) { impl_->simPtr->submit(command); }
-long long DecomposedRun::stepNumber() const { return impl_->simPtr->stepCount(); }
+void DecomposedRun::setProbe(const core::ProbeState& probe) {
+    impl_->simPtr->probe() = probe;
+}
+Totals DecomposedRun::totals() const {
+    return impl_->simPtr->totals();
+}
+const std::vector<core::MapVolume>& DecomposedRun::frameVolumes() const {
+    return impl_->simPtr->frameVolumes();
+}
+core::Particles DecomposedRun::gather() const {
+    return impl_->simPtr->gather();
+}
+void DecomposedRun::submit(const Command& command) {
+    impl_->simPtr->submit(command);
+}
+long long DecomposedRun::stepNumber() const {
+    return impl_->simPtr->stepCount();
+}
 
 DecomposedRun::Decision DecomposedRun::agree(const Decision& mine) {
-    std::vector<double> v{double(mine.stop), mine.step ? 1.0 : 0.0, mine.publish ? 1.0 : 0.0, mine.feedback ? 1.0 : 0.0};
+    std::vector<double> v{double(mine.stop), mine.step ? 1.0 : 0.0, mine.publish ? 1.0 : 0.0,
+                          mine.feedback ? 1.0 : 0.0};
     impl_->comm.broadcast(v);
-    if (v.size() != 4) throw std::runtime_error("run loop: rank 0's decision came with " + std::to_string(v.size()) + " values");
+    if (v.size() != 4)
+        throw std::runtime_error("run loop: rank 0's decision came with " + std::to_string(v.size()) + " values");
     return {int(v[0]), v[1] != 0, v[2] != 0, v[3] != 0};
 }
 
@@ -93,7 +115,8 @@ std::array<float, 3> framePosition(const core::Box& box, const Eigen::Vector3d& 
     const Eigen::Vector3d w = box.wrap(x);
     std::array<float, 3> f{float(w.x()), float(w.y()), float(w.z())};
     for (std::size_t a = 0; a < 3; ++a)
-        if (box.periodic[a] && f[a] >= float(box.hi[int(a)])) f[a] = std::nextafter(float(box.hi[int(a)]), float(box.lo[int(a)]));
+        if (box.periodic[a] && f[a] >= float(box.hi[int(a)]))
+            f[a] = std::nextafter(float(box.hi[int(a)]), float(box.lo[int(a)]));
     return f;
 }
 
@@ -125,10 +148,9 @@ void DecomposedRun::gatherFrame(FrameArrays& f) const {
     for (std::size_t i = 0; i < p.size(); ++i) {
         const std::uint64_t id = p.id[i];
         const std::array<float, 3> x = framePosition(box, p.pos[i]);
-        mine.insert(mine.end(), {x[0], x[1], x[2], float(p.normal[i].x()),
-                                 float(p.normal[i].y()), float(p.normal[i].z()), float(p.species[i]),
-                                 float(id & 0xffff), float((id >> 16) & 0xffff), float((id >> 32) & 0xffff),
-                                 float(id >> 48)});
+        mine.insert(mine.end(), {x[0], x[1], x[2], float(p.normal[i].x()), float(p.normal[i].y()),
+                                 float(p.normal[i].z()), float(p.species[i]), float(id & 0xffff),
+                                 float((id >> 16) & 0xffff), float((id >> 32) & 0xffff), float(id >> 48)});
     }
     const std::vector<float> all = impl_->comm.gatherV(mine);
     const std::size_t n = all.size() / kFields;
@@ -141,13 +163,20 @@ void DecomposedRun::gatherFrame(FrameArrays& f) const {
         std::copy_n(v, 3, &f.positions[3 * k]);
         std::copy_n(v + 3, 3, &f.normals[3 * k]);
         f.species[k] = std::uint8_t(v[6]);
-        f.ids[k] = std::uint64_t(v[7]) | std::uint64_t(v[8]) << 16 | std::uint64_t(v[9]) << 32 | std::uint64_t(v[10]) << 48;
+        f.ids[k] =
+            std::uint64_t(v[7]) | std::uint64_t(v[8]) << 16 | std::uint64_t(v[9]) << 32 | std::uint64_t(v[10]) << 48;
     }
 }
 
-int DecomposedRun::rank() const { return impl_->comm.rank(); }
-int DecomposedRun::size() const { return impl_->comm.size(); }
-Coords DecomposedRun::dims() const { return impl_->comm.dims(); }
+int DecomposedRun::rank() const {
+    return impl_->comm.rank();
+}
+int DecomposedRun::size() const {
+    return impl_->comm.size();
+}
+Coords DecomposedRun::dims() const {
+    return impl_->comm.dims();
+}
 
 RunCounters DecomposedRun::counters() const {
     const auto& s = *impl_->simPtr;
@@ -156,12 +185,15 @@ RunCounters DecomposedRun::counters() const {
     struct Share {
         double haloBytes, migrations, rebuilds, particles, exchangeSeconds, mapBytes;
     };
-    constexpr double Share::*kFields[] = {&Share::haloBytes,  &Share::migrations,      &Share::rebuilds,
+    constexpr double Share::*kFields[] = {&Share::haloBytes, &Share::migrations,      &Share::rebuilds,
                                           &Share::particles, &Share::exchangeSeconds, &Share::mapBytes};
     constexpr std::size_t kCount = std::size(kFields);
-    const Share mine{double(s.haloBytesPerStep()), double(s.migrations()) + i.carriedMigrations,
-                     double(s.rebuilds()) + i.carriedRebuilds, double(s.particles().size()),
-                     s.exchangeSeconds() + i.carriedExchange, double(s.mapBytes())};
+    const Share mine{double(s.haloBytesPerStep()),
+                     double(s.migrations()) + i.carriedMigrations,
+                     double(s.rebuilds()) + i.carriedRebuilds,
+                     double(s.particles().size()),
+                     s.exchangeSeconds() + i.carriedExchange,
+                     double(s.mapBytes())};
     std::vector<double> record;
     for (const auto f : kFields) record.push_back(mine.*f);
     const std::vector<double> all = impl_->comm.allGather(record);

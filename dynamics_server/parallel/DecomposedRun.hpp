@@ -25,11 +25,11 @@ struct FrameArrays {
     std::vector<std::uint64_t> ids;
 };
 
-struct RunCounters {         // summed over ranks, identical on every rank
-    double haloBytesPerStep = 0;  // bytes the ranks sent for the halo in the last step
-    double migrations = 0;        // particles that changed rank so far
-    double rebuilds = 0;          // halo and neighbour-list rebuilds so far (per rank)
-    double imbalance = 1;         // most particles on one rank over the mean
+struct RunCounters {                // summed over ranks, identical on every rank
+    double haloBytesPerStep = 0;    // bytes the ranks sent for the halo in the last step
+    double migrations = 0;          // particles that changed rank so far
+    double rebuilds = 0;            // halo and neighbour-list rebuilds so far (per rank)
+    double imbalance = 1;           // most particles on one rank over the mean
     double exchangeSecondsMax = 0;  // the most time one rank spent exchanging (halo, migration, votes)
     double initialImbalance = 1;    // imbalance with uniform cuts, before the first balancing
     double rebalances = 0;          // times the cut planes moved (start-up included)

@@ -36,18 +36,22 @@ public:
     const core::Construction& construction() const { return sim_.construction(); }
     std::size_t mapBytes() const { return sim_.mapBytes(); }  // this rank's window of the gradient map (every keyframe)
     std::size_t haloBytesPerStep() const { return exchange_.haloBytesPerStep(); }  // sent by this rank, last update
-    std::size_t migrations() const { return exchange_.migrations(); }             // particles this rank sent away
-    std::size_t rebuilds() const { return sim_.rebuilds(); }                      // halo and list rebuilds
+    std::size_t migrations() const { return exchange_.migrations(); }              // particles this rank sent away
+    std::size_t rebuilds() const { return sim_.rebuilds(); }                       // halo and list rebuilds
     double exchangeSeconds() const { return sim_.exchangeSeconds(); }  // in halo, migration and the rebuild vote
     std::size_t rebalances() const { return exchange_.rebalances(); }
-    double imbalanceNow() { return exchange_.imbalance(sim_.particles().size()); }  // most particles on one rank over the mean
+    double imbalanceNow() {
+        return exchange_.imbalance(sim_.particles().size());
+    }  // most particles on one rank over the mean
     double initialImbalance() const { return exchange_.initialImbalance(); }  // with uniform cuts, before balancing
     Totals totals() const { return sim_.totals(); }
     // Voxel counts of every keyframe's whole map (one entry for a static shape; none without a map).
     const std::vector<core::MapVolume>& frameVolumes() const { return sim_.frameVolumes(); }
     // Every particle, sorted by id, on every rank (for tests and snapshots).
     core::Particles gather() const { return sim_.gather(); }
-    core::Particles gather(const core::Particles& mine) const { return sim_.gather(mine); }  // the same of every rank's `mine`
+    core::Particles gather(const core::Particles& mine) const {
+        return sim_.gather(mine);
+    }  // the same of every rank's `mine`
     bool soundEverywhere() const { return sim_.soundEverywhere(); }
 
 private:

@@ -21,7 +21,8 @@ Decomposition::Decomposition(const core::Box& box, Coords dims, double minWidth)
         if (n > 1 && L < n * minWidth)
             throw std::invalid_argument(std::string("rank grid: ") + std::to_string(n) + " ranks along " + kAxis[a] +
                                         " need the box at least " + std::to_string(n * minWidth) +
-                                        " wide (one halo range each), it is " + std::to_string(L) + ": use fewer ranks");
+                                        " wide (one halo range each), it is " + std::to_string(L) +
+                                        ": use fewer ranks");
         auto& c = cuts_[std::size_t(a)];
         c.resize(std::size_t(n) + 1);
         for (int k = 0; k <= n; ++k) c[std::size_t(k)] = box.lo[a] + L * k / n;
@@ -89,7 +90,9 @@ double Decomposition::imbalance(const std::vector<double>& counts) {
     return sum > 0 ? most * double(counts.size()) / sum : 1.0;
 }
 
-int rankOf(const Coords& c, const Coords& dims) { return (c[0] * dims[1] + c[1]) * dims[2] + c[2]; }
+int rankOf(const Coords& c, const Coords& dims) {
+    return (c[0] * dims[1] + c[1]) * dims[2] + c[2];
+}
 
 Coords coordsOf(int rank, const Coords& dims) {
     return {rank / (dims[1] * dims[2]), (rank / dims[2]) % dims[1], rank % dims[2]};

@@ -69,7 +69,7 @@ private:
     core::Box box_;  // the whole box
     Decomposition dec_;
     std::vector<Stage> stages_;
-    std::size_t particlesAtBuild_ = 0;     // the sources' numbering of the plan
+    std::size_t particlesAtBuild_ = 0;    // the sources' numbering of the plan
     std::vector<double> out_[2], in_[2];  // message buffers, kept to avoid fresh pages every step
     std::size_t haloBytes_ = 0, migrations_ = 0, rebalances_ = 0;
     double initialImbalance_ = -1;  // the first imbalance() asked (start-up, uniform cuts)

@@ -1,7 +1,6 @@
 // The halo plan of a decomposed run (MpiExchange.hpp): copies of the neighbours' particles within
 // a range of this subdomain, built in staged passes and refreshed along the same send lists.
 #include "MpiExchange.hpp"
-
 #include "MpiMessages.hpp"
 
 #include <limits>
@@ -38,8 +37,8 @@ void MpiExchange::buildHalo(const core::Particles& p, double range, core::Halo& 
             for (std::uint32_t s : list) {
                 const bool own = s < p.size();
                 const std::size_t g = s - p.size();
-                GhostRecord{sourcePos(s) + shift, own ? p.normal[s] : halo.normal[g], own ? p.species[s] : halo.species[g],
-                            own ? p.id[s] : halo.id[g]}
+                GhostRecord{sourcePos(s) + shift, own ? p.normal[s] : halo.normal[g],
+                            own ? p.species[s] : halo.species[g], own ? p.id[s] : halo.id[g]}
                     .appendTo(out);
             }
             return out;
@@ -54,11 +53,13 @@ void MpiExchange::buildHalo(const core::Particles& p, double range, core::Halo& 
             }
         };
         std::vector<double> fromUpper, fromLower;
-        const std::vector<double> outLower = pack(st.toLower, st.lowerShift), outUpper = pack(st.toUpper, st.upperShift);
+        const std::vector<double> outLower = pack(st.toLower, st.lowerShift),
+                                  outUpper = pack(st.toUpper, st.upperShift);
         comm_.sendRecv(outLower, comm_.lower(a), fromUpper, comm_.upper(a), tag(HaloBuildTag::ToLower, a));
         comm_.sendRecv(outUpper, comm_.upper(a), fromLower, comm_.lower(a), tag(HaloBuildTag::ToUpper, a));
         haloBytes_ += ((comm_.lower(a) == MPI_PROC_NULL ? 0 : outLower.size()) +
-                       (comm_.upper(a) == MPI_PROC_NULL ? 0 : outUpper.size())) * sizeof(double);
+                       (comm_.upper(a) == MPI_PROC_NULL ? 0 : outUpper.size())) *
+                      sizeof(double);
         st.fromUpperAt = halo.size();
         st.fromUpperCount = fromUpper.size() / GhostRecord::kFields;
         append(fromUpper);
@@ -77,7 +78,8 @@ void MpiExchange::updateHalo(const core::Particles& p, core::Halo& halo) {
     haloBytes_ = 0;
     constexpr std::size_t kFields = GhostRefresh::kFields;
     for (const Stage& st : stages_) {
-        const auto pack = [&](const std::vector<std::uint32_t>& list, const Eigen::Vector3d& shift, std::vector<double>& out) {
+        const auto pack = [&](const std::vector<std::uint32_t>& list, const Eigen::Vector3d& shift,
+                              std::vector<double>& out) {
             out.resize(list.size() * kFields);
             double* o = out.data();
             for (std::uint32_t s : list) {
@@ -88,7 +90,8 @@ void MpiExchange::updateHalo(const core::Particles& p, core::Halo& halo) {
             }
         };
         const auto store = [&](const std::vector<double>& in, std::size_t at, std::size_t count) {
-            if (in.size() != count * kFields) throw std::runtime_error("halo refresh: a neighbour sent another ghost count");
+            if (in.size() != count * kFields)
+                throw std::runtime_error("halo refresh: a neighbour sent another ghost count");
             for (std::size_t k = 0; k < count; ++k) {
                 halo.pos[at + k] = Eigen::Vector3d(in[kFields * k], in[kFields * k + 1], in[kFields * k + 2]);
                 halo.normal[at + k] = Eigen::Vector3d(in[kFields * k + 3], in[kFields * k + 4], in[kFields * k + 5]);
@@ -96,8 +99,10 @@ void MpiExchange::updateHalo(const core::Particles& p, core::Halo& halo) {
         };
         pack(st.toLower, st.lowerShift, out_[0]);
         pack(st.toUpper, st.upperShift, out_[1]);
-        comm_.sendRecv(out_[0], comm_.lower(st.axis), in_[0], comm_.upper(st.axis), tag(HaloRefreshTag::ToLower, st.axis));
-        comm_.sendRecv(out_[1], comm_.upper(st.axis), in_[1], comm_.lower(st.axis), tag(HaloRefreshTag::ToUpper, st.axis));
+        comm_.sendRecv(out_[0], comm_.lower(st.axis), in_[0], comm_.upper(st.axis),
+                       tag(HaloRefreshTag::ToLower, st.axis));
+        comm_.sendRecv(out_[1], comm_.upper(st.axis), in_[1], comm_.lower(st.axis),
+                       tag(HaloRefreshTag::ToUpper, st.axis));
         haloBytes_ += (out_[0].size() + out_[1].size()) * sizeof(double);
         store(in_[0], st.fromUpperAt, st.fromUpperCount);
         store(in_[1], st.fromLowerAt, st.fromLowerCount);

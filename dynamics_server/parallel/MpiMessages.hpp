@@ -29,8 +29,8 @@ struct GhostRecord {
     int species = 0;
     std::uint64_t id = 0;
     void appendTo(std::vector<double>& out) const {
-        out.insert(out.end(), {pos.x(), pos.y(), pos.z(), normal.x(), normal.y(), normal.z(), double(species),
-                               core::idBits(id)});
+        out.insert(out.end(),
+                   {pos.x(), pos.y(), pos.z(), normal.x(), normal.y(), normal.z(), double(species), core::idBits(id)});
     }
     static GhostRecord at(const double* v) {
         return {Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector3d(v[3], v[4], v[5]), int(v[6]), core::idOf(v[7])};

@@ -11,7 +11,9 @@ MpiSession::MpiSession(int& argc, char**& argv) {
     check(MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN), "MPI_Comm_set_errhandler");
 }
 
-MpiSession::~MpiSession() { MPI_Finalize(); }
+MpiSession::~MpiSession() {
+    MPI_Finalize();
+}
 
 int MpiSession::worldSize() {
     int n = 1;
@@ -25,7 +27,9 @@ int MpiSession::worldRank() {
     return r;
 }
 
-void MpiSession::barrier() { check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier"); }
+void MpiSession::barrier() {
+    check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier");
+}
 
 bool MpiSession::allTrue(bool mine) {
     int in = mine ? 1 : 0, out = 0;

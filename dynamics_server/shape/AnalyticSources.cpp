@@ -23,16 +23,13 @@ void fill(const VoxelGrid& g, const Eigen::AlignedBox3d& box, Mask& out, Inside 
 #pragma omp parallel for schedule(static)
     for (int k = lo.z(); k < hi.z(); ++k)
         for (int j = lo.y(); j < hi.y(); ++j)
-            for (int i = lo.x(); i < hi.x(); ++i)
-                out(i, j, k) = inside(g.centreMm(i, j, k)) ? 1 : 0;
+            for (int i = lo.x(); i < hi.x(); ++i) out(i, j, k) = inside(g.centreMm(i, j, k)) ? 1 : 0;
 }
 
 class Superellipsoid final : public ModelSource {
 public:
     explicit Superellipsoid(const SuperellipsoidParams& p) : p_(p) {}
-    Eigen::AlignedBox3d boundsMm(int) const override {
-        return {p_.centreMm - p_.radiiMm, p_.centreMm + p_.radiiMm};
-    }
+    Eigen::AlignedBox3d boundsMm(int) const override { return {p_.centreMm - p_.radiiMm, p_.centreMm + p_.radiiMm}; }
     void rasterize(int, const VoxelGrid& g, Mask& out) const override {
         const double ex = 2.0 / p_.e2, ez = 2.0 / p_.e1, exy = p_.e2 / p_.e1;
         fill(g, boundsMm(0), out, [&](const Eigen::Vector3d& x) {
@@ -80,7 +77,9 @@ private:
 std::unique_ptr<ModelSource> makeSuperellipsoid(const SuperellipsoidParams& p) {
     return std::make_unique<Superellipsoid>(p);
 }
-std::unique_ptr<ModelSource> makeTorus(const TorusParams& p) { return std::make_unique<Torus>(p); }
+std::unique_ptr<ModelSource> makeTorus(const TorusParams& p) {
+    return std::make_unique<Torus>(p);
+}
 
 double superellipsoidVolume(const SuperellipsoidParams& p) {
     return 2.0 * p.radiiMm.prod() * p.e1 * p.e2 * std::beta(p.e1 / 2 + 1, p.e1) * std::beta(p.e2 / 2, p.e2 / 2);

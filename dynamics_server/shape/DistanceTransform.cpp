@@ -52,8 +52,8 @@ void rowPass(int n, const std::int32_t* labelIn, std::int32_t* dist2, std::int32
 }
 
 struct Envelope {
-    std::vector<int> v;            // parabola apexes (sample positions)
-    std::vector<std::int64_t> F;   // f[v] + v^2 of each apex
+    std::vector<int> v;                 // parabola apexes (sample positions)
+    std::vector<std::int64_t> F;        // f[v] + v^2 of each apex
     std::vector<std::int32_t> fv, lab;  // f and label of each apex
     explicit Envelope(int n) : v(n), F(n), fv(n), lab(n) {}
 };
@@ -70,8 +70,10 @@ void envelopePass(int n, Envelope& e, std::int32_t* f, std::int32_t* lab) {
         while (k >= 1) {
             // s(q, v_k) <= s(v_k, v_{k-1})  with  s(a, b) = (F_a - F_b) / (2 (a - b))
             const int vk = e.v[k], vp = e.v[k - 1];
-            if ((Fq - e.F[k]) * (vk - vp) <= (e.F[k] - e.F[k - 1]) * (q - vk)) --k;
-            else break;
+            if ((Fq - e.F[k]) * (vk - vp) <= (e.F[k] - e.F[k - 1]) * (q - vk))
+                --k;
+            else
+                break;
         }
         ++k;
         e.v[k] = q;
@@ -116,8 +118,7 @@ void axisPass(const Dims& dims, int axis, std::int32_t* dist2, std::int32_t* lab
                     bufL[std::size_t(b) * n + p] = label[row + b];
                 }
             }
-            for (int b = 0; b < bw; ++b)
-                envelopePass(n, env, &bufF[std::size_t(b) * n], &bufL[std::size_t(b) * n]);
+            for (int b = 0; b < bw; ++b) envelopePass(n, env, &bufF[std::size_t(b) * n], &bufL[std::size_t(b) * n]);
             for (int p = 0; p < n; ++p) {
                 const std::size_t row = base + std::size_t(p) * stride;
                 for (int b = 0; b < bw; ++b) {
@@ -131,8 +132,8 @@ void axisPass(const Dims& dims, int axis, std::int32_t* dist2, std::int32_t* lab
 
 }  // namespace
 
-void exactDistanceTransform(const Dims& dims, std::vector<std::int32_t>& feature,
-                            std::vector<std::int32_t>& dist2, int threads) {
+void exactDistanceTransform(const Dims& dims, std::vector<std::int32_t>& feature, std::vector<std::int32_t>& dist2,
+                            int threads) {
     if (feature.size() != dims.count()) throw std::invalid_argument("exactDistanceTransform: size");
     const long long maxD2 = 3LL * std::max({dims.nx, dims.ny, dims.nz}) * std::max({dims.nx, dims.ny, dims.nz});
     if (maxD2 >= kInf) throw std::invalid_argument("exactDistanceTransform: grid too large for int32 distances");

@@ -1,7 +1,7 @@
 #pragma once
 // Exact Euclidean distance transform with feature (nearest-site) output on an isotropic voxel
 // grid, in linear time: one scan per row along x, then the lower envelope of parabolas
-// (Felzenszwalb & Huttenlocher) along y and along z. physics.md §4.3(b).
+// (Felzenszwalb & Huttenlocher) along y and along z. docs/physics.md §4.3(b).
 #include "bop/common/Volume.hpp"
 
 #include <cstdint>
@@ -15,7 +15,7 @@ inline constexpr std::int32_t kNoSite = -1;
 //          out: the label of a nearest site (ties pick either), kNoSite if there are no sites.
 // dist2:   out: squared distance to that site, in voxels^2 (exact integers); INT32_MAX if none.
 // threads: 0 = OpenMP default; 1 = one core.
-void exactDistanceTransform(const Dims& dims, std::vector<std::int32_t>& feature,
-                            std::vector<std::int32_t>& dist2, int threads = 0);
+void exactDistanceTransform(const Dims& dims, std::vector<std::int32_t>& feature, std::vector<std::int32_t>& dist2,
+                            int threads = 0);
 
 }  // namespace bop::shape

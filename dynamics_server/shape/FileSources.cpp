@@ -42,8 +42,7 @@ private:
 
 }  // namespace
 
-std::unique_ptr<ModelSource> makeMeshSource(const std::string& path, double scaleMm,
-                                            const Eigen::Vector3d& offsetMm) {
+std::unique_ptr<ModelSource> makeMeshSource(const std::string& path, double scaleMm, const Eigen::Vector3d& offsetMm) {
     TriangleMesh mesh = loadMesh(path);
     requireClosed(mesh, path);
     for (auto& v : mesh.vertices) v = v * scaleMm + offsetMm;

@@ -1,7 +1,7 @@
 #include "GradientMapFileView.hpp"
-#include "bop/common/GradientMapFileFormat.hpp"
 
 #include "bop/common/Error.hpp"
+#include "bop/common/GradientMapFileFormat.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -35,7 +35,8 @@ public:
         if (std::size_t(in_.gcount()) != n) throw Error(path_, "cannot read the gradient-map file");
         read_ += n;
     }
-    template <class T> T get(std::uint64_t at) {
+    template <class T>
+    T get(std::uint64_t at) {
         T v;
         read(at, &v, sizeof v);
         return v;
@@ -47,7 +48,8 @@ private:
     std::uint64_t size_ = 0, read_ = 0;
 };
 
-template <class T> T load(const unsigned char* p, std::size_t& at) {
+template <class T>
+T load(const unsigned char* p, std::size_t& at) {
     T v;
     std::memcpy(&v, p + at, sizeof v);
     at += sizeof v;
@@ -105,7 +107,7 @@ std::optional<GradientMapFileView> GradientMapFileView::open(const std::string& 
         fr.surfaceCount = load<std::uint64_t>(raw, at);
         if (fr.surfaceCount == 0 || fr.surfaceCount > d.count()) throw Error(path, "implausible surface voxel count");
         fr.occAt = pos + kFrameHeaderBytes;
-        fr.nearestAt = fr.occAt + d.count();                           // u8 occ[N]
+        fr.nearestAt = fr.occAt + d.count();                              // u8 occ[N]
         fr.surfaceAt = fr.nearestAt + d.count() * sizeof(std::uint32_t);  // u32 nearest[N]
         pos = fr.surfaceAt + fr.surfaceCount * sizeof(SurfaceRecord);
         view.frames_.push_back(std::move(fr));
@@ -123,7 +125,9 @@ const GradientMapFileView::Frame& GradientMapFileView::frame(int f) const {
     return frames_[std::size_t(f)];
 }
 
-GradientMap GradientMapFileView::header(int f) const { return frame(f).header; }
+GradientMap GradientMapFileView::header(int f) const {
+    return frame(f).header;
+}
 
 // Bytes read per crop: 20 (identity check) + 5 per window voxel (u8 occ + u32 nearest, one read
 // per contiguous run: an x row, or whole slabs when the window spans the map in x and y) + 36
@@ -134,8 +138,8 @@ GradientMap GradientMapFileView::crop(int f, const VoxelWindow& w, std::uint64_t
     const Frame& fr = frame(f);
     const Dims& d = fr.header.dims();
     const Dims cd = w.dims();
-    if ((w.lo.array() < 0).any() || w.hi.x() > d.nx || w.hi.y() > d.ny || w.hi.z() > d.nz || cd.nx < 1 ||
-        cd.ny < 1 || cd.nz < 1)
+    if ((w.lo.array() < 0).any() || w.hi.x() > d.nx || w.hi.y() > d.ny || w.hi.z() > d.nz || cd.nx < 1 || cd.ny < 1 ||
+        cd.nz < 1)
         throw std::invalid_argument("GradientMapFileView::crop: window outside the map or empty");
     File file(path_);
     if (file.size() != size_ || file.get<std::uint64_t>(12) != key_)
@@ -179,8 +183,13 @@ GradientMap GradientMapFileView::crop(int f, const VoxelWindow& w, std::uint64_t
             if (const Eigen::Vector3i c = d.coords(x.voxel) - w.lo; ok && cd.contains(c.x(), c.y(), c.z()))
                 ok = out.occ[cd.index(c.x(), c.y(), c.z())] == x.species;
             if (!ok) throw Error(path_, "inconsistent surface record");
-            out.surface.push_back({x.voxel, x.species, {x.normal[0], x.normal[1], x.normal[2]}, x.meanCurvature,
-                                   x.gaussCurvature, x.kappa, x.cpWeight});
+            out.surface.push_back({x.voxel,
+                                   x.species,
+                                   {x.normal[0], x.normal[1], x.normal[2]},
+                                   x.meanCurvature,
+                                   x.gaussCurvature,
+                                   x.kappa,
+                                   x.cpWeight});
         }
     }
     for (auto& n : out.nearest) n = std::uint32_t(std::lower_bound(named.begin(), named.end(), n) - named.begin());

@@ -3,9 +3,8 @@
 // so that no rank ever holds the whole map: under MPI each rank keeps only its subdomain plus a
 // margin (docs/parallel.md, GradientMapCrop.hpp). The view keeps the path, the per-frame header
 // fields and the byte offsets of each frame's arrays; every crop opens the file afresh.
-#include "bop/common/GradientMapCrop.hpp"
-
 #include "bop/common/GradientMap.hpp"
+#include "bop/common/GradientMapCrop.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -38,7 +37,7 @@ public:
 
 private:
     struct Frame {
-        GradientMap header;                                     // arrays empty
+        GradientMap header;  // arrays empty
         std::uint64_t surfaceCount = 0;
         std::uint64_t occAt = 0, nearestAt = 0, surfaceAt = 0;  // byte offsets in the file
     };

@@ -10,8 +10,8 @@ namespace bop::shape {
 namespace {
 
 // For each grid index along one axis, the image index holding the grid voxel centre, or -1.
-std::vector<int> axisLookup(int gridCount, double gridOrigin, double voxelMm, int imageCount,
-                            double imageOrigin, double spacing) {
+std::vector<int> axisLookup(int gridCount, double gridOrigin, double voxelMm, int imageCount, double imageOrigin,
+                            double spacing) {
     std::vector<int> idx(std::size_t(std::max(gridCount, 0)), -1);
     for (int g = 0; g < gridCount; ++g) {
         const double c = gridOrigin + voxelMm * (g + 0.5);
@@ -35,8 +35,8 @@ Eigen::AlignedBox3d imageBounds(const ScalarImage& img) {
 
 void rasterizeImage(const ScalarImage& img, const ImageSelect& sel, const VoxelGrid& grid, Mask& out) {
     if (img.values.size() != img.dims.count())
-        throw Error("rasterizeImage", "image holds " + std::to_string(img.values.size()) +
-                                          " values, its dims need " + std::to_string(img.dims.count()));
+        throw Error("rasterizeImage", "image holds " + std::to_string(img.values.size()) + " values, its dims need " +
+                                          std::to_string(img.dims.count()));
     for (int a = 0; a < 3; ++a)
         if (!(img.spacingMm[a] > 0.0)) throw Error("rasterizeImage", "image spacing must be positive");
     if (!(grid.voxelMm > 0.0)) throw Error("rasterizeImage", "grid voxel size must be positive");
@@ -55,7 +55,8 @@ void rasterizeImage(const ScalarImage& img, const ImageSelect& sel, const VoxelG
             const std::size_t rowOut = g.index(0, j, k);
             for (int i = 0; i < g.nx; ++i) {
                 const int si = ix[std::size_t(i)];
-                if (si >= 0 && isSelected(img.values[rowImg + std::size_t(si)], sel)) out.data[rowOut + std::size_t(i)] = 1;
+                if (si >= 0 && isSelected(img.values[rowImg + std::size_t(si)], sel))
+                    out.data[rowOut + std::size_t(i)] = 1;
             }
         }
     }

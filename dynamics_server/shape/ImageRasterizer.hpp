@@ -4,10 +4,10 @@
 // centre. When the grid has the image's (isotropic) spacing and its origin is offset from the
 // image origin by a whole number of voxels, the mask is an exact copy of the selection, padded.
 #include "ScalarImage.hpp"
-
 #include "bop/common/Volume.hpp"
 
 #include <Eigen/Geometry>
+
 #include <cstddef>
 
 namespace bop::shape {

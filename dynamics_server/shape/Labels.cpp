@@ -24,8 +24,7 @@ std::vector<std::uint8_t> labelVoxels(const Volume<std::uint8_t>& depth) {
                 const int bag = depth(i, j, k);
                 if (bag == 0) continue;
                 const bool surface = touchesBelow(depth, i, j, k, bag);
-                occ[d.index(i, j, k)] =
-                    std::uint8_t(surface ? surfaceSpeciesOfBag(bag) : volumeSpeciesOfBag(bag));
+                occ[d.index(i, j, k)] = std::uint8_t(surface ? surfaceSpeciesOfBag(bag) : volumeSpeciesOfBag(bag));
             }
     return occ;
 }

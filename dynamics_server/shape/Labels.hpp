@@ -1,6 +1,6 @@
 #pragma once
 // Outside / surface / inside labels with the paper's 6-connectivity rule (§3.3), extended to
-// nested bags (§3.4, physics.md §4.1): a voxel of bag k (k bags contain it) that shares a face
+// nested bags (§3.4, docs/physics.md §4.1): a voxel of bag k (k bags contain it) that shares a face
 // with a voxel of fewer bags, or with the grid border, is a surface voxel of bag k.
 #include "bop/common/Volume.hpp"
 

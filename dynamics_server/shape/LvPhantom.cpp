@@ -14,29 +14,31 @@ double ramp(double s) {
 }
 
 // The truncated spheroid's volume is pi a b^2 k with k = (1 + c) - (1 + c^3) / 3.
-double shapeFactor(double c) { return (1 + c) - (1 + c * c * c) / 3; }
+double shapeFactor(double c) {
+    return (1 + c) - (1 + c * c * c) / 3;
+}
 
 }  // namespace
 
 double lvVolumeMl(const LvPhantomParams& p, double phase) {
     phase -= std::floor(phase);
     const double ed = p.edvMl, es = p.esvMl, fill = es + 0.7 * (ed - es), late = es + 0.78 * (ed - es);
-    if (phase < 0.05) return ed;                                                        // isovolumic contraction
-    if (phase < 0.375) return ed - (ed - es) * ramp((phase - 0.05) / 0.325);            // ejection
-    if (phase < 0.45) return es;                                                        // isovolumic relaxation
-    if (phase < 0.65) return es + (fill - es) * ramp((phase - 0.45) / 0.2);             // rapid filling
-    if (phase < 0.85) return fill + (late - fill) * ramp((phase - 0.65) / 0.2);         // diastasis
-    return late + (ed - late) * ramp((phase - 0.85) / 0.15);                            // atrial kick
+    if (phase < 0.05) return ed;                                                 // isovolumic contraction
+    if (phase < 0.375) return ed - (ed - es) * ramp((phase - 0.05) / 0.325);     // ejection
+    if (phase < 0.45) return es;                                                 // isovolumic relaxation
+    if (phase < 0.65) return es + (fill - es) * ramp((phase - 0.45) / 0.2);      // rapid filling
+    if (phase < 0.85) return fill + (late - fill) * ramp((phase - 0.65) / 0.2);  // diastasis
+    return late + (ed - late) * ramp((phase - 0.85) / 0.15);                     // atrial kick
 }
 
 double lvTypicalPressureMmHg(double phase) {
     phase -= std::floor(phase);
-    if (phase < 0.05) return 10 + 70 * ramp(phase / 0.05);                             // isovolumic contraction
-    if (phase < 0.18) return 80 + 40 * ramp((phase - 0.05) / 0.13);                    // ejection, rising
-    if (phase < 0.375) return 120 - 20 * ramp((phase - 0.18) / 0.195);                 // ejection, falling
-    if (phase < 0.45) return 100 - 95 * ramp((phase - 0.375) / 0.075);                 // isovolumic relaxation
-    if (phase < 0.85) return 5 + 3 * ramp((phase - 0.45) / 0.4);                       // filling
-    if (phase < 0.93) return 8 + 4 * ramp((phase - 0.85) / 0.08);                      // atrial kick
+    if (phase < 0.05) return 10 + 70 * ramp(phase / 0.05);              // isovolumic contraction
+    if (phase < 0.18) return 80 + 40 * ramp((phase - 0.05) / 0.13);     // ejection, rising
+    if (phase < 0.375) return 120 - 20 * ramp((phase - 0.18) / 0.195);  // ejection, falling
+    if (phase < 0.45) return 100 - 95 * ramp((phase - 0.375) / 0.075);  // isovolumic relaxation
+    if (phase < 0.85) return 5 + 3 * ramp((phase - 0.45) / 0.4);        // filling
+    if (phase < 0.93) return 8 + 4 * ramp((phase - 0.85) / 0.08);       // atrial kick
     return 12 - 2 * ramp((phase - 0.93) / 0.07);
 }
 
@@ -59,15 +61,21 @@ double ejectionFraction(const std::vector<double>& v) {
     return *hi > 0 ? (*hi - *lo) / *hi : 0;
 }
 
-double LvPhantom::ejectionFraction() const { return shape::ejectionFraction(volumeMl); }
-double LvPhantom::voxelEjectionFraction() const { return shape::ejectionFraction(voxelVolumeMl); }
+double LvPhantom::ejectionFraction() const {
+    return shape::ejectionFraction(volumeMl);
+}
+double LvPhantom::voxelEjectionFraction() const {
+    return shape::ejectionFraction(voxelVolumeMl);
+}
 
 LvPhantom makeLvPhantom(const LvPhantomParams& p) {
-    if (!(p.edvMl > p.esvMl && p.esvMl > 0)) throw std::invalid_argument("LV phantom: expected end-diastolic > end-systolic volume > 0 mL");
+    if (!(p.edvMl > p.esvMl && p.esvMl > 0))
+        throw std::invalid_argument("LV phantom: expected end-diastolic > end-systolic volume > 0 mL");
     if (p.frames < 2 || !(p.voxelMm > 0) || !(p.aspectEd > 0) || !(p.baseCut > -1 && p.baseCut < 1) ||
         !(p.axialShortening >= 0 && p.axialShortening < 1) || p.marginVoxels < 1)
-        throw std::invalid_argument("LV phantom: frames >= 2, voxel size > 0, aspect > 0, base cut in (-1, 1), "
-                                    "shortening in [0, 1) and margin >= 1 expected");
+        throw std::invalid_argument(
+            "LV phantom: frames >= 2, voxel size > 0, aspect > 0, base cut in (-1, 1), "
+            "shortening in [0, 1) and margin >= 1 expected");
     const LvShape ed = lvShapeFor(p, p.edvMl);
     const double h = p.voxelMm;
     Dims d;

@@ -13,14 +13,14 @@
 namespace bop::shape {
 
 struct LvPhantomParams {
-    double edvMl = 120;           // end-diastolic volume, mL
-    double esvMl = 50;            // end-systolic volume, mL
-    int frames = 8;               // gated frames over one cycle (frame k at phase k / frames)
-    double voxelMm = 2.0;         // voxel edge, mm
-    double aspectEd = 1.8;        // a / b at end-diastole
-    double baseCut = 0.5;         // c: the base plane lies c·a above the ellipsoid's centre
+    double edvMl = 120;             // end-diastolic volume, mL
+    double esvMl = 50;              // end-systolic volume, mL
+    int frames = 8;                 // gated frames over one cycle (frame k at phase k / frames)
+    double voxelMm = 2.0;           // voxel edge, mm
+    double aspectEd = 1.8;          // a / b at end-diastole
+    double baseCut = 0.5;           // c: the base plane lies c·a above the ellipsoid's centre
     double axialShortening = 0.12;  // fraction of a lost from end-diastole to end-systole
-    int marginVoxels = 4;         // empty voxels around the end-diastolic cavity
+    int marginVoxels = 4;           // empty voxels around the end-diastolic cavity
 };
 
 // The cavity volume over the cycle, mL (end-diastole edvMl at phase 0, end-systole esvMl at
@@ -28,10 +28,10 @@ struct LvPhantomParams {
 double lvVolumeMl(const LvPhantomParams& p, double phase);
 
 struct LvShape {
-    double a = 0, b = 0;     // semi-axes, mm
-    double centreZ = 0;      // the ellipsoid's centre above the apex, mm (= a)
-    double baseZ = 0;        // the base plane above the apex, mm
-    double volumeMl = 0;     // exact volume of the truncated spheroid, mL
+    double a = 0, b = 0;  // semi-axes, mm
+    double centreZ = 0;   // the ellipsoid's centre above the apex, mm (= a)
+    double baseZ = 0;     // the base plane above the apex, mm
+    double volumeMl = 0;  // exact volume of the truncated spheroid, mL
 };
 // The cavity of a given volume (mL).
 LvShape lvShapeFor(const LvPhantomParams& p, double volumeMl);

@@ -14,7 +14,7 @@ namespace {
 // that rays through grid-aligned mesh features (edges, vertices on voxel-centre lines) miss them.
 constexpr double kOffsetU = 0.41421356237309505e-6;  // (sqrt(2) - 1) * 1e-6 voxel
 constexpr double kOffsetV = 0.73205080756887729e-6;  // (sqrt(3) - 1) * 1e-6 voxel
-constexpr double kRowMargin = 1e-7;  // slack when choosing the rows a triangle's bounds cover, voxels
+constexpr double kRowMargin = 1e-7;                  // slack when choosing the rows a triangle's bounds cover, voxels
 
 // One ray direction: rays run along axis a (+a); rows are indexed by the other two axes u < v.
 struct RayAxis {
@@ -59,8 +59,8 @@ void rowRange(double low, double high, double origin, double h, double offset, i
 void collectCrossings(const TriangleMesh& mesh, const VoxelGrid& grid, const std::array<int, 3>& n, RayAxis axis,
                       std::vector<Crossing>& crossings) {
     const auto [a, u, v] = axis;
-    const double h = grid.voxelMm;                                         // mm
-    const double ou = grid.originMm[u], ov = grid.originMm[v];             // mm
+    const double h = grid.voxelMm;                              // mm
+    const double ou = grid.originMm[u], ov = grid.originMm[v];  // mm
     for (const auto& tri : mesh.triangles) {
         const Eigen::Vector3d& p0 = mesh.vertices[std::size_t(tri[0])];
         const Eigen::Vector3d& p1 = mesh.vertices[std::size_t(tri[1])];
@@ -71,7 +71,7 @@ void collectCrossings(const TriangleMesh& mesh, const VoxelGrid& grid, const std
         for (int iv = vLo; iv <= vHi; ++iv) {
             const double pv = ov + h * (double(iv) + (0.5 + kOffsetV));  // ray v coordinate, mm
             for (int iu = uLo; iu <= uHi; ++iu) {
-                const double pu = ou + h * (double(iu) + (0.5 + kOffsetU));  // ray u coordinate, mm
+                const double pu = ou + h * (double(iu) + (0.5 + kOffsetU));       // ray u coordinate, mm
                 const double w0 = edgeValue(mesh, tri[1], tri[2], u, v, pu, pv);  // weight of p0
                 const double w1 = edgeValue(mesh, tri[2], tri[0], u, v, pu, pv);  // weight of p1
                 const double w2 = edgeValue(mesh, tri[0], tri[1], u, v, pu, pv);  // weight of p2
@@ -102,8 +102,7 @@ int firstCentreAtOrAbove(double at, double origin, double h, int n) {
 
 void voxelizeMesh(const TriangleMesh& mesh, const VoxelGrid& grid, Mask& out) {
     const Dims& d = grid.dims;
-    if (d.nx < 0 || d.ny < 0 || d.nz < 0)
-        throw Error("voxelizeMesh", "grid dimensions must not be negative");
+    if (d.nx < 0 || d.ny < 0 || d.nz < 0) throw Error("voxelizeMesh", "grid dimensions must not be negative");
     if (!std::isfinite(grid.voxelMm) || grid.voxelMm <= 0.0 || !grid.originMm.allFinite())
         throw Error("voxelizeMesh", "voxel size must be finite and > 0 mm, origin finite; got voxel size " +
                                         std::to_string(grid.voxelMm) + " mm");
@@ -144,8 +143,8 @@ void voxelizeMesh(const TriangleMesh& mesh, const VoxelGrid& grid, Mask& out) {
             const auto end = sorted.begin() + std::ptrdiff_t(rowStart[row + 1]);
             if (end - begin < 2) continue;
             std::sort(begin, end);
-            std::uint8_t* base = out.data.data() + (row % nu) * stride[std::size_t(axis.u)] +
-                                 (row / nu) * stride[std::size_t(axis.v)];
+            std::uint8_t* base =
+                out.data.data() + (row % nu) * stride[std::size_t(axis.u)] + (row / nu) * stride[std::size_t(axis.v)];
             // Inside between crossings 2m and 2m+1; an unpaired last crossing (open mesh) is ignored.
             for (auto c = begin; c + 1 < end; c += 2) {
                 const int from = firstCentreAtOrAbove(*c, origin, grid.voxelMm, n[axis.a]);

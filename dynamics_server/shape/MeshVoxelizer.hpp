@@ -1,7 +1,6 @@
 #pragma once
 // Voxelization of a closed triangle mesh into an object mask by ray parity.
 #include "TriangleMesh.hpp"
-
 #include "bop/common/Volume.hpp"
 
 namespace bop::shape {

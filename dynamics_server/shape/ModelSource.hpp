@@ -5,6 +5,7 @@
 #include "bop/common/Volume.hpp"
 
 #include <Eigen/Geometry>
+
 #include <memory>
 #include <string>
 
@@ -27,8 +28,8 @@ public:
 // e1 (north-south) and e2 (east-west) exponents: 1 gives an ellipsoid, > 2 a star-like
 // concave shape, < 1 a rounded box.
 struct SuperellipsoidParams {
-    Eigen::Vector3d radiiMm{10, 10, 10};   // semi-axes a, b, c, mm
-    double e1 = 1.0, e2 = 1.0;             // exponents, dimensionless
+    Eigen::Vector3d radiiMm{10, 10, 10};  // semi-axes a, b, c, mm
+    double e1 = 1.0, e2 = 1.0;            // exponents, dimensionless
     Eigen::Vector3d centreMm = Eigen::Vector3d::Zero();
 };
 

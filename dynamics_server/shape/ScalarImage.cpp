@@ -22,15 +22,14 @@ namespace bop::shape {
 namespace {
 
 struct DtypeInfo {
-    const char* name;  // dtype name as used in RawLayout and writeNifti
-    int niftiCode;     // NIFTI_TYPE_* code
-    std::size_t bytes; // bytes per sample
+    const char* name;   // dtype name as used in RawLayout and writeNifti
+    int niftiCode;      // NIFTI_TYPE_* code
+    std::size_t bytes;  // bytes per sample
 };
 
 constexpr DtypeInfo kDtypes[] = {
-    {"uint8", NIFTI_TYPE_UINT8, 1},     {"int8", NIFTI_TYPE_INT8, 1},
-    {"uint16", NIFTI_TYPE_UINT16, 2},   {"int16", NIFTI_TYPE_INT16, 2},
-    {"uint32", NIFTI_TYPE_UINT32, 4},   {"int32", NIFTI_TYPE_INT32, 4},
+    {"uint8", NIFTI_TYPE_UINT8, 1},     {"int8", NIFTI_TYPE_INT8, 1},       {"uint16", NIFTI_TYPE_UINT16, 2},
+    {"int16", NIFTI_TYPE_INT16, 2},     {"uint32", NIFTI_TYPE_UINT32, 4},   {"int32", NIFTI_TYPE_INT32, 4},
     {"float32", NIFTI_TYPE_FLOAT32, 4}, {"float64", NIFTI_TYPE_FLOAT64, 8},
 };
 
@@ -59,14 +58,30 @@ using NimPtr = std::unique_ptr<nifti_image, NimDeleter>;
 template <class Fn>
 void visitDtype(int code, Fn&& fn) {
     switch (code) {
-        case NIFTI_TYPE_UINT8: fn(std::uint8_t{}); return;
-        case NIFTI_TYPE_INT8: fn(std::int8_t{}); return;
-        case NIFTI_TYPE_UINT16: fn(std::uint16_t{}); return;
-        case NIFTI_TYPE_INT16: fn(std::int16_t{}); return;
-        case NIFTI_TYPE_UINT32: fn(std::uint32_t{}); return;
-        case NIFTI_TYPE_INT32: fn(std::int32_t{}); return;
-        case NIFTI_TYPE_FLOAT32: fn(float{}); return;
-        default: fn(double{}); return;
+        case NIFTI_TYPE_UINT8:
+            fn(std::uint8_t{});
+            return;
+        case NIFTI_TYPE_INT8:
+            fn(std::int8_t{});
+            return;
+        case NIFTI_TYPE_UINT16:
+            fn(std::uint16_t{});
+            return;
+        case NIFTI_TYPE_INT16:
+            fn(std::int16_t{});
+            return;
+        case NIFTI_TYPE_UINT32:
+            fn(std::uint32_t{});
+            return;
+        case NIFTI_TYPE_INT32:
+            fn(std::int32_t{});
+            return;
+        case NIFTI_TYPE_FLOAT32:
+            fn(float{});
+            return;
+        default:
+            fn(double{});
+            return;
     }
 }
 
@@ -111,8 +126,7 @@ void checkSpacing(const std::string& where, const Eigen::Vector3d& s) {
     for (int a = 0; a < 3; ++a)
         if (!(s[a] > 0.0) || !std::isfinite(s[a])) {
             std::ostringstream os;
-            os << "voxel spacing must be positive and finite, got " << s[0] << " x " << s[1] << " x " << s[2]
-               << " mm";
+            os << "voxel spacing must be positive and finite, got " << s[0] << " x " << s[1] << " x " << s[2] << " mm";
             throw Error(where, os.str());
         }
 }
@@ -166,8 +180,7 @@ std::vector<unsigned char> readNiftiData(const std::string& path, nifti_image* n
 }
 
 // Writes `frames` as one NIfTI-1 image: 3D (dim[0] = 3, one frame) or 4D (dim[0] = 4).
-void writeFrames(const std::string& path, std::span<const ScalarImage> frames, const std::string& dtype,
-                 bool as4d) {
+void writeFrames(const std::string& path, std::span<const ScalarImage> frames, const std::string& dtype, bool as4d) {
     const DtypeInfo& d = dtypeByName(path, dtype);
     if (!endsWith(path, ".nii") && !endsWith(path, ".nii.gz"))
         throw Error(path, "output file name must end in .nii or .nii.gz");
@@ -225,8 +238,9 @@ std::vector<ScalarImage> loadNifti(const std::string& path) {
 
     NimPtr nim(nifti_image_read(path.c_str(), 0));  // header only; the data is read below
     if (!nim || !nim->fname || !nim->iname)
-        throw Error(path, "NIfTI header could not be interpreted (invalid dimensions or datatype, "
-                          "or the .img file of a .hdr/.img pair is missing)");
+        throw Error(path,
+                    "NIfTI header could not be interpreted (invalid dimensions or datatype, "
+                    "or the .img file of a .hdr/.img pair is missing)");
 
     const DtypeInfo* d = dtypeByCode(nim->datatype);
     if (!d)
@@ -238,7 +252,7 @@ std::vector<ScalarImage> loadNifti(const std::string& path) {
     float pixdim[8];
     for (int a = 0; a < 8; ++a) dim[a] = nim->dim[a], pixdim[a] = nim->pixdim[a];
     if (std::unique_ptr<nifti_1_header, decltype(&std::free)> hdr{nifti_read_header(nim->fname, nullptr, 0),
-                                                                 &std::free}) {
+                                                                  &std::free}) {
         for (int a = 0; a < 8; ++a) dim[a] = hdr->dim[a], pixdim[a] = hdr->pixdim[a];
     }
     const int ndim = dim[0];
@@ -248,7 +262,8 @@ std::vector<ScalarImage> loadNifti(const std::string& path) {
         if (dim[a] <= 0)
             throw Error(path, "dimension " + std::to_string(a) + " has size " + std::to_string(dim[a]) +
                                   "; all dimensions must be at least 1");
-        if (a <= 4) size[a] = dim[a];
+        if (a <= 4)
+            size[a] = dim[a];
         else if (dim[a] != 1)
             throw Error(path, "image has " + std::to_string(ndim) + " dimensions (dim[" + std::to_string(a) +
                                   "] = " + std::to_string(dim[a]) + "); only 3D and 4D images are supported");
@@ -258,8 +273,10 @@ std::vector<ScalarImage> loadNifti(const std::string& path) {
 
     double toMm = 1.0;
     const int units = XYZT_TO_SPACE(nim->xyz_units);
-    if (units == NIFTI_UNITS_METER) toMm = 1000.0;
-    else if (units == NIFTI_UNITS_MICRON) toMm = 0.001;
+    if (units == NIFTI_UNITS_METER)
+        toMm = 1000.0;
+    else if (units == NIFTI_UNITS_MICRON)
+        toMm = 0.001;
     Eigen::Vector3d spacing;
     for (int a = 0; a < 3; ++a) {
         double s = std::fabs(double(pixdim[a + 1]));
@@ -284,7 +301,8 @@ std::vector<ScalarImage> loadRaw(const std::string& path, const RawLayout& layou
     const DtypeInfo& d = dtypeByName(path, layout.dtype);
     if (layout.dims.nx <= 0 || layout.dims.ny <= 0 || layout.dims.nz <= 0)
         throw Error(path, "raw layout dims must be positive, got " + dimsText(layout.dims));
-    if (layout.frames < 1) throw Error(path, "raw layout frames must be at least 1, got " + std::to_string(layout.frames));
+    if (layout.frames < 1)
+        throw Error(path, "raw layout frames must be at least 1, got " + std::to_string(layout.frames));
     checkSpacing(path, layout.spacingMm);
     requireReadable(path);
 

@@ -14,6 +14,7 @@
 #include "bop/common/Volume.hpp"
 
 #include <Eigen/Core>
+
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -21,10 +22,10 @@
 namespace bop::shape {
 
 struct ScalarImage {
-    Dims dims;                   // voxels per axis
-    Eigen::Vector3d spacingMm;   // voxel spacing per axis, mm
-    Eigen::Vector3d originMm;    // corner of voxel (0,0,0), mm; 0 for loaded images
-    std::vector<float> values;   // one value per voxel (image units), x fastest, dims.count() long
+    Dims dims;                  // voxels per axis
+    Eigen::Vector3d spacingMm;  // voxel spacing per axis, mm
+    Eigen::Vector3d originMm;   // corner of voxel (0,0,0), mm; 0 for loaded images
+    std::vector<float> values;  // one value per voxel (image units), x fastest, dims.count() long
 };
 
 // Reads a NIfTI-1 image (.nii, .nii.gz, or an ANALYZE/NIfTI .hdr/.img pair) through niftiio.
@@ -40,12 +41,12 @@ std::vector<ScalarImage> loadNifti(const std::string& path);
 // Layout of a headerless raw file: optional header bytes, then `frames` volumes stored one
 // after another, each x fastest.
 struct RawLayout {
-    Dims dims;                     // voxels per axis
-    std::string dtype;             // "uint8","int8","uint16","int16","uint32","int32","float32","float64"
+    Dims dims;          // voxels per axis
+    std::string dtype;  // "uint8","int8","uint16","int16","uint32","int32","float32","float64"
     Eigen::Vector3d spacingMm = Eigen::Vector3d::Ones();  // voxel spacing per axis, mm
-    bool bigEndian = false;        // byte order of multi-byte samples (true = big-endian)
-    std::size_t headerBytes = 0;   // bytes skipped at the start, bytes
-    int frames = 1;                // time frames stored one after another, count
+    bool bigEndian = false;                               // byte order of multi-byte samples (true = big-endian)
+    std::size_t headerBytes = 0;                          // bytes skipped at the start, bytes
+    int frames = 1;                                       // time frames stored one after another, count
 };
 
 // Reads a raw file; its size must be exactly headerBytes + frames * dims.count() * sizeof(dtype).
@@ -60,7 +61,6 @@ void writeNifti(const std::string& path, const ScalarImage& img, const std::stri
 
 // Writes frames as one 4D NIfTI-1 image (dim[4] = frames.size(), even for one frame); all frames
 // must share dims and spacing.
-void writeNifti4d(const std::string& path, const std::vector<ScalarImage>& frames,
-                  const std::string& dtype = "uint8");
+void writeNifti4d(const std::string& path, const std::vector<ScalarImage>& frames, const std::string& dtype = "uint8");
 
 }  // namespace bop::shape

@@ -1,8 +1,8 @@
 #include "ShapeBuilder.hpp"
 
 #include "DistanceTransform.hpp"
-#include "bop/common/GradientMapFile.hpp"
 #include "Labels.hpp"
+#include "bop/common/GradientMapFile.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -12,12 +12,18 @@ namespace bop::shape {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 void addTiming(std::vector<StageTiming>* t, const std::string& stage, double s, std::size_t items) {
     if (!t) return;
     for (auto& e : *t)
-        if (e.stage == stage) { e.seconds += s; e.items += items; return; }
+        if (e.stage == stage) {
+            e.seconds += s;
+            e.items += items;
+            return;
+        }
     t->push_back({stage, s, items});
 }
 
@@ -55,8 +61,10 @@ Volume<std::uint8_t> nestBags(const ShapeSpec& spec, const std::vector<Mask>& ma
         for (std::size_t v = 0; v < d.count(); ++v) {
             if (!masks[b].data[v]) continue;
             ++count;
-            if (depth.data[v] != b) ++stray;  // not inside every outer bag
-            else depth.data[v] = std::uint8_t(b + 1);
+            if (depth.data[v] != b)
+                ++stray;  // not inside every outer bag
+            else
+                depth.data[v] = std::uint8_t(b + 1);
         }
         const std::string where = spec.sceneFile;
         if (count == 0)
@@ -75,8 +83,9 @@ Volume<std::uint8_t> nestBags(const ShapeSpec& spec, const std::vector<Mask>& ma
                 for (int i = 0; i < d.nx; ++i)
                     if (depth(i, j, k) == b + 1 && touchesBelow(depth, i, j, k, int(b))) ++touching;
         if (touching)
-            throw Error(spec.sceneFile, "key '" + spec.bags[b].key + "': bag '" + spec.bags[b].name + "' touches the outside of bag '" +
-                                            spec.bags[b - 1].name + "' at " + std::to_string(touching) + " voxels" + at +
+            throw Error(spec.sceneFile, "key '" + spec.bags[b].key + "': bag '" + spec.bags[b].name +
+                                            "' touches the outside of bag '" + spec.bags[b - 1].name + "' at " +
+                                            std::to_string(touching) + " voxels" + at +
                                             "; an inner bag must lie strictly inside the outer bag's surface");
     }
     return depth;
@@ -118,7 +127,9 @@ GradientMap buildGradientMap(const VoxelGrid& grid, const Volume<std::uint8_t>& 
 }
 
 ShapeBuild buildShape(const ShapeSpec& spec, const ProgressFn& progress, int threads) {
-    auto say = [&](const std::string& m) { if (progress) progress(m); };
+    auto say = [&](const std::string& m) {
+        if (progress) progress(m);
+    };
     int frames = 1;
     for (const auto& bag : spec.bags) frames = std::max(frames, bag.source->frameCount());
     for (const auto& bag : spec.bags)
@@ -130,8 +141,8 @@ ShapeBuild buildShape(const ShapeSpec& spec, const ProgressFn& progress, int thr
     const VoxelGrid grid = planGrid(spec);
     {
         std::ostringstream os;
-        os << "grid " << grid.dims.nx << " x " << grid.dims.ny << " x " << grid.dims.nz << " voxels of "
-           << grid.voxelMm << " mm (" << grid.dims.count() << " voxels), " << frames << " frame(s)";
+        os << "grid " << grid.dims.nx << " x " << grid.dims.ny << " x " << grid.dims.nz << " voxels of " << grid.voxelMm
+           << " mm (" << grid.dims.count() << " voxels), " << frames << " frame(s)";
         say(os.str());
     }
     for (int f = 0; f < frames; ++f) {
@@ -147,9 +158,8 @@ ShapeBuild buildShape(const ShapeSpec& spec, const ProgressFn& progress, int thr
         out.frames.push_back(buildGradientMap(grid, depth, spec.grid.r0Voxels, spec.geometry, &out.timings, threads));
         std::ostringstream os;
         os.precision(3);
-        os << "frame " << f + 1 << "/" << frames << " done: " << out.frames.back().surface.size()
-           << " surface voxels; " << std::fixed << since(t0) << " s ("
-           << grid.dims.count() / std::max(since(t0), 1e-9) / 1e6 << " Mvoxel/s)";
+        os << "frame " << f + 1 << "/" << frames << " done: " << out.frames.back().surface.size() << " surface voxels; "
+           << std::fixed << since(t0) << " s (" << grid.dims.count() / std::max(since(t0), 1e-9) / 1e6 << " Mvoxel/s)";
         say(os.str());
     }
     return out;

@@ -2,7 +2,6 @@
 // From a shape spec to gradient maps: plan the grid, rasterize each bag, nest the bags, label,
 // run the exact distance transform, and compute normals, curvature and co-planar weights.
 #include "ShapeSpec.hpp"
-
 #include "bop/common/GradientMap.hpp"
 
 #include <functional>
@@ -12,9 +11,9 @@
 namespace bop::shape {
 
 struct StageTiming {
-    std::string stage;       // "rasterize", "label", "distance", "geometry"
-    double seconds = 0;      // wall time, s
-    std::size_t items = 0;   // voxels (or surface voxels for "geometry") processed
+    std::string stage;      // "rasterize", "label", "distance", "geometry"
+    double seconds = 0;     // wall time, s
+    std::size_t items = 0;  // voxels (or surface voxels for "geometry") processed
 };
 
 struct ShapeBuild {

@@ -43,8 +43,7 @@ void requireSelected(const ConfigTable& t, const std::vector<ScalarImage>& frame
         os << "file '" << file << "' frame " << f << ": the "
            << (s.mode == ImageSelect::Mode::Label ? "label " + std::to_string(s.label)
                                                   : "threshold " + std::to_string(s.threshold))
-           << " selects no voxels (values range from " << *lo << " to " << *hi
-           << "); expected a non-empty object";
+           << " selects no voxels (values range from " << *lo << " to " << *hi << "); expected a non-empty object";
         t.fail(s.mode == ImageSelect::Mode::Label ? "label" : "threshold", os.str());
     }
 }
@@ -58,8 +57,7 @@ std::vector<std::string> imageFiles(const ConfigTable& t) {
 }
 
 std::shared_ptr<ModelSource> readSource(const ConfigTable& t, std::string& stamps) {
-    const std::string kind =
-        t.choice("source", {"superellipsoid", "sphere", "torus", "mesh", "nifti", "raw"}, "");
+    const std::string kind = t.choice("source", {"superellipsoid", "sphere", "torus", "mesh", "nifti", "raw"}, "");
     const Eigen::Vector3d centre = t.vec3("center_mm", Eigen::Vector3d::Zero());
     auto stamp = [&](const std::string& f) {
         stamps += f + ":" + std::to_string(fs::file_size(f)) + ":" +
@@ -108,7 +106,8 @@ std::shared_ptr<ModelSource> readSource(const ConfigTable& t, std::string& stamp
         if (n.size() != 3) t.fail("size_voxels", "expected 3 integers [nx, ny, nz]");
         layout.dims = {int(n[0]), int(n[1]), int(n[2])};
         if (layout.dims.count() == 0) t.fail("size_voxels", "every size must be at least 1");
-        layout.dtype = t.choice("dtype", {"uint8", "int8", "uint16", "int16", "uint32", "int32", "float32", "float64"}, "uint8");
+        layout.dtype =
+            t.choice("dtype", {"uint8", "int8", "uint16", "int16", "uint32", "int32", "float32", "float64"}, "uint8");
         layout.spacingMm = t.vec3("spacing_mm", Eigen::Vector3d::Ones());
         for (int a = 0; a < 3; ++a) positive(t, "spacing_mm", layout.spacingMm[a]);
         layout.bigEndian = t.boolean("big_endian", false);
@@ -122,9 +121,11 @@ std::shared_ptr<ModelSource> readSource(const ConfigTable& t, std::string& stamp
     for (auto& img : frames) img.originMm += centre;
     for (std::size_t f = 1; f < frames.size(); ++f)
         if (!(frames[f].dims == frames[0].dims) || frames[f].spacingMm != frames[0].spacingMm)
-            t.fail(t.has("files") ? "files" : "file", "every frame of a sequence must share one grid (size and spacing)");
+            t.fail(t.has("files") ? "files" : "file",
+                   "every frame of a sequence must share one grid (size and spacing)");
     requireSelected(t, frames, sel, files.front());
-    std::string what = kind + " " + files.front() + (files.size() > 1 ? " (+" + std::to_string(files.size() - 1) + " files)" : "");
+    std::string what =
+        kind + " " + files.front() + (files.size() > 1 ? " (+" + std::to_string(files.size() - 1) + " files)" : "");
     what += ", " + std::to_string(frames.size()) + " frame(s)";
     return makeImageSource(std::move(frames), sel, what);
 }
@@ -153,10 +154,12 @@ ShapeSpec readShapeSpec(const ConfigTable& root) {
     s.geometry.cpWeightC = shape.number("cp_weight_c", 4.0);
     if (s.geometry.cpWeightC < 0) shape.fail("cp_weight_c", "must be 0 or more");
     s.geometry.cpWeightForm = shape.choice("cp_weight_form", {"linear", "quadratic"}, "linear") == "linear"
-                                  ? CpWeightForm::Linear : CpWeightForm::Quadratic;
+                                  ? CpWeightForm::Linear
+                                  : CpWeightForm::Quadratic;
     const std::string interp = shape.choice("interpolation", {"mixed", "trilinear", "nearest"}, "mixed");
-    s.interpolation = interp == "mixed" ? core::Interpolation::Mixed
-                      : interp == "trilinear" ? core::Interpolation::Trilinear : core::Interpolation::Nearest;
+    s.interpolation = interp == "mixed"       ? core::Interpolation::Mixed
+                      : interp == "trilinear" ? core::Interpolation::Trilinear
+                                              : core::Interpolation::Nearest;
     std::string stamps;
     const std::vector<ConfigTable> bags = shape.tableArray("bag");
     if (bags.empty() || bags.size() > 127) shape.fail("bag", "expected 1 to 127 [[shape.bag]] tables, outer to inner");
@@ -175,7 +178,9 @@ ShapeSpec readShapeSpec(const ConfigTable& root) {
     }
     std::ostringstream os;
     os << "grid " << s.grid.voxelMm << " " << s.grid.paddingVoxels << " " << s.grid.r0Voxels << "\n"
-       << grid.raw() << "\n" << shape.raw() << "\n" << stamps;
+       << grid.raw() << "\n"
+       << shape.raw() << "\n"
+       << stamps;
     s.canonical = os.str();
     return s;
 }

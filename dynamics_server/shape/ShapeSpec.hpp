@@ -1,11 +1,10 @@
 #pragma once
 // The shape part of a scene: the voxel grid and the nested bags with their model sources, read
 // from the scene TOML's [grid] and [shape] tables (see config/scenes/*.toml for every key).
-#include "core/GmField.hpp"
 #include "ModelSource.hpp"
 #include "SurfaceGeometry.hpp"
-
 #include "bop/common/ConfigTable.hpp"
+#include "core/GmField.hpp"
 
 #include <memory>
 #include <optional>
@@ -15,10 +14,10 @@
 namespace bop::shape {
 
 struct GridSpec {
-    double voxelMm = 0;          // voxel edge, mm; 0 = take it from the outer bag's image
-    int paddingVoxels = 4;       // empty voxels between the objects' bounding box and the grid edge
-    double r0Voxels = 2.0;       // LJ equilibrium spacing r0 in voxels (Table 1: 2 or 1.4)
-    std::optional<Dims> size;    // fixed grid size in voxels, object centred (overrides padding)
+    double voxelMm = 0;        // voxel edge, mm; 0 = take it from the outer bag's image
+    int paddingVoxels = 4;     // empty voxels between the objects' bounding box and the grid edge
+    double r0Voxels = 2.0;     // LJ equilibrium spacing r0 in voxels (Table 1: 2 or 1.4)
+    std::optional<Dims> size;  // fixed grid size in voxels, object centred (overrides padding)
 };
 
 struct BagSpec {
@@ -28,12 +27,12 @@ struct BagSpec {
 };
 
 struct ShapeSpec {
-    std::string sceneFile;                // path of the scene file
+    std::string sceneFile;  // path of the scene file
     GridSpec grid;
-    std::vector<BagSpec> bags;            // outer to inner
+    std::vector<BagSpec> bags;  // outer to inner
     SurfaceGeometryParams geometry;
     core::Interpolation interpolation = core::Interpolation::Mixed;
-    std::string canonical;                // the shape tables as TOML text (for the cache key)
+    std::string canonical;  // the shape tables as TOML text (for the cache key)
 };
 
 // Reads [grid] and [shape] of a scene (other top-level tables are left to their readers) and
@@ -42,8 +41,8 @@ struct ShapeSpec {
 ShapeSpec readShapeSpec(const ConfigTable& root);
 
 // Top-level scene tables that other readers own (the server's); shape-only tools accept them.
-inline const std::vector<std::string> kOtherSceneTables = {"species", "interactions", "dynamics", "construction", "probe", "run",
-                                                          "keyframes", "pressure"};
+inline const std::vector<std::string> kOtherSceneTables = {"species", "interactions", "dynamics",  "construction",
+                                                           "probe",   "run",          "keyframes", "pressure"};
 
 // Convenience for tools that only need the shape: parse the file, read [grid]/[shape], and
 // reject unknown top-level tables other than those listed in `otherTables`.

@@ -1,6 +1,7 @@
 #include "SurfaceGeometry.hpp"
 
 #include <Eigen/Dense>
+
 #include <cmath>
 #include <vector>
 
@@ -16,7 +17,9 @@ struct Kernels {
     explicit Kernels(double sigma) {
         radius = int(std::ceil(3.0 * sigma));
         const int w = 2 * radius + 1;
-        g.resize(w); d.resize(w); dd.resize(w);
+        g.resize(w);
+        d.resize(w);
+        dd.resize(w);
         double sg = 0, sd = 0, s0 = 0, s2 = 0, s4 = 0;
         for (int t = -radius; t <= radius; ++t) {
             const double e = std::exp(-0.5 * t * t / (sigma * sigma));
@@ -27,8 +30,10 @@ struct Kernels {
             double& e = g[t + radius];
             e /= sg;
             d[t + radius] = t * e;
-            sd += t * t * e;                // sum of t * D(t) must be 1
-            s0 += e; s2 += t * t * e; s4 += double(t) * t * t * t * e;
+            sd += t * t * e;  // sum of t * D(t) must be 1
+            s0 += e;
+            s2 += t * t * e;
+            s4 += double(t) * t * t * t * e;
         }
         for (auto& x : d) x /= sd;
         // DD(t) = a t^2 g + b g with sum DD = 0 and sum (t^2 / 2) DD = 1.
@@ -38,18 +43,20 @@ struct Kernels {
     }
 };
 
-struct Derivatives { double fx, fy, fz, fxx, fyy, fzz, fxy, fxz, fyz; };
+struct Derivatives {
+    double fx, fy, fz, fxx, fyy, fzz, fxy, fxz, fyz;
+};
 
 // Gaussian derivatives of chi(u) = [depth(u) < level] at voxel (i, j, k); outside the grid
 // chi = 1. Separable: reduce along x, then y, then z.
-Derivatives derivativesAt(const Volume<std::uint8_t>& depth, int level, int i, int j, int k,
-                          const Kernels& K, std::vector<double>& scratch) {
+Derivatives derivativesAt(const Volume<std::uint8_t>& depth, int level, int i, int j, int k, const Kernels& K,
+                          std::vector<double>& scratch) {
     const int R = K.radius, W = 2 * R + 1;
     scratch.assign(std::size_t(3) * W * W + std::size_t(6) * W, 0.0);
-    double* xg = scratch.data();       // [z][y] after x reduction with G, D, DD
+    double* xg = scratch.data();  // [z][y] after x reduction with G, D, DD
     double* xd = xg + W * W;
     double* xdd = xd + W * W;
-    double* yz = xdd + W * W;          // 6 combos [c][z]
+    double* yz = xdd + W * W;  // 6 combos [c][z]
     const Dims& dm = depth.dims;
     for (int c = -R; c <= R; ++c)
         for (int b = -R; b <= R; ++b) {
@@ -61,18 +68,26 @@ Derivatives derivativesAt(const Volume<std::uint8_t>& depth, int level, int i, i
                 const bool in = rowIn && x >= 0 && x < dm.nx;
                 const double chi = (!in || depth(x, y, z) < level) ? 1.0 : 0.0;
                 if (chi == 0.0) continue;
-                sg += K.g[a + R]; sd += K.d[a + R]; sdd += K.dd[a + R];
+                sg += K.g[a + R];
+                sd += K.d[a + R];
+                sdd += K.dd[a + R];
             }
             const int o = (c + R) * W + (b + R);
-            xg[o] = sg; xd[o] = sd; xdd[o] = sdd;
+            xg[o] = sg;
+            xd[o] = sd;
+            xdd[o] = sdd;
         }
     // combos along y: 0 GG, 1 DG (x-deriv), 2 GD, 3 DDG, 4 GDD, 5 DD
     for (int c = 0; c < W; ++c) {
         double v[6] = {0, 0, 0, 0, 0, 0};
         for (int b = 0; b < W; ++b) {
             const int o = c * W + b;
-            v[0] += xg[o] * K.g[b];  v[1] += xd[o] * K.g[b];  v[2] += xg[o] * K.d[b];
-            v[3] += xdd[o] * K.g[b]; v[4] += xg[o] * K.dd[b]; v[5] += xd[o] * K.d[b];
+            v[0] += xg[o] * K.g[b];
+            v[1] += xd[o] * K.g[b];
+            v[2] += xg[o] * K.d[b];
+            v[3] += xdd[o] * K.g[b];
+            v[4] += xg[o] * K.dd[b];
+            v[5] += xd[o] * K.d[b];
         }
         for (int m = 0; m < 6; ++m) yz[m * W + c] = v[m];
     }
@@ -110,8 +125,7 @@ float cpWeight(double kappa, double r0Voxels, const SurfaceGeometryParams& p) {
     return float(p.cpWeightForm == CpWeightForm::Linear ? 1.0 / (1.0 + x) : 1.0 / (1.0 + x * x));
 }
 
-void computeSurfaceGeometry(const Volume<std::uint8_t>& depth, const SurfaceGeometryParams& p,
-                            GradientMap& map) {
+void computeSurfaceGeometry(const Volume<std::uint8_t>& depth, const SurfaceGeometryParams& p, GradientMap& map) {
     const Kernels K(p.sigmaVoxels);
     const long long n = (long long)map.surface.size();
 #pragma omp parallel
@@ -131,15 +145,16 @@ void computeSurfaceGeometry(const Volume<std::uint8_t>& depth, const SurfaceGeom
             } else {
                 sv.normal = g.normalized().cast<float>();
                 const double gn = std::sqrt(g2);
-                const double H = (f.fx * f.fx * (f.fyy + f.fzz) + f.fy * f.fy * (f.fxx + f.fzz) +
-                                  f.fz * f.fz * (f.fxx + f.fyy) - 2 * f.fx * f.fy * f.fxy -
-                                  2 * f.fx * f.fz * f.fxz - 2 * f.fy * f.fz * f.fyz) / (2 * g2 * gn);
-                const double K2 = (f.fx * f.fx * (f.fyy * f.fzz - f.fyz * f.fyz) +
-                                   f.fy * f.fy * (f.fxx * f.fzz - f.fxz * f.fxz) +
-                                   f.fz * f.fz * (f.fxx * f.fyy - f.fxy * f.fxy) +
-                                   2 * f.fy * f.fz * (f.fxy * f.fxz - f.fxx * f.fyz) +
-                                   2 * f.fx * f.fz * (f.fxy * f.fyz - f.fyy * f.fxz) +
-                                   2 * f.fx * f.fy * (f.fxz * f.fyz - f.fzz * f.fxy)) / (g2 * g2);
+                const double H =
+                    (f.fx * f.fx * (f.fyy + f.fzz) + f.fy * f.fy * (f.fxx + f.fzz) + f.fz * f.fz * (f.fxx + f.fyy) -
+                     2 * f.fx * f.fy * f.fxy - 2 * f.fx * f.fz * f.fxz - 2 * f.fy * f.fz * f.fyz) /
+                    (2 * g2 * gn);
+                const double K2 =
+                    (f.fx * f.fx * (f.fyy * f.fzz - f.fyz * f.fyz) + f.fy * f.fy * (f.fxx * f.fzz - f.fxz * f.fxz) +
+                     f.fz * f.fz * (f.fxx * f.fyy - f.fxy * f.fxy) + 2 * f.fy * f.fz * (f.fxy * f.fxz - f.fxx * f.fyz) +
+                     2 * f.fx * f.fz * (f.fxy * f.fyz - f.fyy * f.fxz) +
+                     2 * f.fx * f.fy * (f.fxz * f.fyz - f.fzz * f.fxy)) /
+                    (g2 * g2);
                 sv.meanCurvature = float(H);
                 sv.gaussCurvature = float(K2);
                 sv.kappa = float(std::sqrt(std::max(2 * H * H - K2, 0.0)));

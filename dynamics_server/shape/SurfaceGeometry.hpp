@@ -1,6 +1,6 @@
 #pragma once
 // Normals and curvature of the static surface at every surface voxel, from Gaussian-derivative
-// filters of the smoothed "outside" indicator (Thirion & Gourdon; physics.md §4.4, §5), and the
+// filters of the smoothed "outside" indicator (Thirion & Gourdon; docs/physics.md §4.4, §5), and the
 // co-planar weight map derived from the curvature (§5.3).
 #include "bop/common/GradientMap.hpp"
 
@@ -11,15 +11,14 @@ namespace bop::shape {
 enum class CpWeightForm { Linear, Quadratic };  // w = 1/(1 + c k r0)  or  1/(1 + (c k r0)^2)
 
 struct SurfaceGeometryParams {
-    double sigmaVoxels = 2.0;   // Gaussian width of the smoothing, voxels (>= 1.5 recommended)
-    double cpWeightC = 4.0;     // c in the co-planar weight, dimensionless
+    double sigmaVoxels = 2.0;  // Gaussian width of the smoothing, voxels (>= 1.5 recommended)
+    double cpWeightC = 4.0;    // c in the co-planar weight, dimensionless
     CpWeightForm cpWeightForm = CpWeightForm::Linear;
 };
 
 // Fills normal, curvatures and cpWeight of map.surface. depth: nested-bag count per voxel.
 // For the surface of bag k the indicator is "fewer than k bags contain the voxel".
-void computeSurfaceGeometry(const Volume<std::uint8_t>& depth, const SurfaceGeometryParams& p,
-                            GradientMap& map);
+void computeSurfaceGeometry(const Volume<std::uint8_t>& depth, const SurfaceGeometryParams& p, GradientMap& map);
 
 // The co-planar weight for a curvature kappa (1/voxel) and r0 (voxels).
 float cpWeight(double kappa, double r0Voxels, const SurfaceGeometryParams& p);

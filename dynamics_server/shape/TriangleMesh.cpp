@@ -207,8 +207,8 @@ Soup parseBinaryStl(const std::string& path, const std::string& bytes) {
         for (int c = 0; c < 9; ++c) {
             const float value = std::bit_cast<float>(readLittle32(bytes, 84 + 50 * t + 12 + 4 * std::size_t(c)));
             if (!std::isfinite(value))
-                throw Error(path, "cannot parse binary STL: triangle " + std::to_string(t) +
-                                      " has a non-finite coordinate");
+                throw Error(path,
+                            "cannot parse binary STL: triangle " + std::to_string(t) + " has a non-finite coordinate");
             soup[t][c] = value;
         }
     return soup;
@@ -251,10 +251,10 @@ TriangleMesh loadStl(const std::string& path, const std::string& bytes) {
                                 std::to_string(84 + 50 * std::size_t(readLittle32(bytes, 80))) +
                                 " bytes, but the file has " + std::to_string(bytes.size()) + " bytes";
     if (looksAscii)
-        throw Error(path, "cannot parse ASCII STL: " + asciiProblem + " (nor is it a binary STL: it " +
-                              binaryProblem + ")");
-    throw Error(path, "not an STL file: it does not start with 'solid' (ASCII STL), and as binary STL it " +
-                          binaryProblem);
+        throw Error(path,
+                    "cannot parse ASCII STL: " + asciiProblem + " (nor is it a binary STL: it " + binaryProblem + ")");
+    throw Error(path,
+                "not an STL file: it does not start with 'solid' (ASCII STL), and as binary STL it " + binaryProblem);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // voxelization by ray parity relies on (a closed, consistently oriented surface).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
 #include <array>
 #include <string>
 #include <vector>

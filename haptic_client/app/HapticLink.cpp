@@ -7,7 +7,9 @@ namespace bop::haptic {
 using namespace std::chrono_literals;
 
 HapticLink::HapticLink(protocol::ClientOptions options, std::string endpoint, double lostAfterS)
-    : options_(std::move(options)), endpoint_(std::move(endpoint)), lostAfterS_(lostAfterS),
+    : options_(std::move(options)),
+      endpoint_(std::move(endpoint)),
+      lostAfterS_(lostAfterS),
       session_(std::make_unique<protocol::ClientSession>(options_)) {
     if (lostAfterS_ > 0) helper_ = std::thread([this] { helperLoop(); });
 }
@@ -21,7 +23,9 @@ HapticLink::~HapticLink() {
     if (helper_.joinable()) helper_.join();
 }
 
-protocol::SceneInfo HapticLink::connect(std::chrono::milliseconds timeout) { return session_->connect(endpoint_, timeout); }
+protocol::SceneInfo HapticLink::connect(std::chrono::milliseconds timeout) {
+    return session_->connect(endpoint_, timeout);
+}
 
 // The loop's side: only try_lock, never a wait; what is to be said is said by the helper.
 bool HapticLink::tick(double nowS, bool fed) {

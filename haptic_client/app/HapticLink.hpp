@@ -47,9 +47,9 @@ private:
     unsigned reconnections_ = 0;
 
     // Under m_:
-    bool wanted_ = false;   // a reconnection was asked of the helper and not yet taken over or called off
-    double silentS_ = 0;    // how long the silence was when it was asked (to print)
-    unsigned taken_ = 0;    // a new session was taken over: its connection count less one (to print)
+    bool wanted_ = false;  // a reconnection was asked of the helper and not yet taken over or called off
+    double silentS_ = 0;   // how long the silence was when it was asked (to print)
+    unsigned taken_ = 0;   // a new session was taken over: its connection count less one (to print)
     std::mutex m_;
     std::condition_variable wake_;
     bool want_ = false, stop_ = false;  // want_: the helper is to connect

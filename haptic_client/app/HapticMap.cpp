@@ -17,8 +17,8 @@ std::optional<FieldForce> downloadField(protocol::ClientSession& session, const 
     }
     const auto t0 = std::chrono::steady_clock::now();
     int shown = -1;
-    const std::vector<std::uint8_t> bytes =
-        session.downloadMap(std::uint64_t(maxMb * 1e6), std::chrono::seconds(10), [&](std::uint64_t done, std::uint64_t total) {
+    const std::vector<std::uint8_t> bytes = session.downloadMap(
+        std::uint64_t(maxMb * 1e6), std::chrono::seconds(10), [&](std::uint64_t done, std::uint64_t total) {
             const int percent = int(100 * done / std::max<std::uint64_t>(total, 1));
             if (percent / 25 != shown / 25 || done == total) {
                 shown = percent;
@@ -29,8 +29,10 @@ std::optional<FieldForce> downloadField(protocol::ClientSession& session, const 
         });
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // The file's reader checks magic, version, key and checksum, here on the bytes in memory.
-    const std::optional<std::vector<GradientMap>> maps = readGradientMaps(bytes, scene.mapKey, "the downloaded gradient map");
-    if (!maps || maps->empty()) throw Error("bop-haptic", "the downloaded gradient map is not the scene's (key mismatch)");
+    const std::optional<std::vector<GradientMap>> maps =
+        readGradientMaps(bytes, scene.mapKey, "the downloaded gradient map");
+    if (!maps || maps->empty())
+        throw Error("bop-haptic", "the downloaded gradient map is not the scene's (key mismatch)");
     const Dims& d = maps->front().dims();
     std::printf("bop-haptic: gradient map %dx%dx%d voxels (%.2f MB in %.2f s)\n", d.nx, d.ny, d.nz,
                 double(bytes.size()) / 1e6, s);

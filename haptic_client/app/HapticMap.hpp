@@ -1,9 +1,8 @@
 #pragma once
 // The gradient map a haptic client renders as a force field: downloaded from the server at
 // connect (MapRequest, protocol/client/ClientSession.hpp), read as a .bopgm file.
-#include "control/FieldForce.hpp"
-
 #include "client/ClientSession.hpp"
+#include "control/FieldForce.hpp"
 
 #include <optional>
 

@@ -3,28 +3,30 @@
 #include "app/HapticLink.hpp"
 #include "app/HapticMap.hpp"
 #include "app/Traces.hpp"
-#include "control/RateLoop.hpp"
-
+#include "bop/common/Error.hpp"
 #include "client/ClientSession.hpp"
 #include "client/RoundTrip.hpp"
-
-#include "bop/common/Error.hpp"
+#include "control/RateLoop.hpp"
 
 #include <chrono>
 #include <cmath>
-#include <functional>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 
 namespace bop::haptic {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 volatile std::sig_atomic_t gStop = 0;
-void onSignal(int) { gStop = 1; }
+void onSignal(int) {
+    gStop = 1;
+}
 
-double wallS() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
+double wallS() {
+    return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+}
 std::int64_t wallNs() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
 }
@@ -38,13 +40,16 @@ Eigen::Vector3d clampNorm(const Eigen::Vector3d& f, double max) {
 
 void printLoop(const RateLoop& loop, bool realtime) {
     const PeriodStats s = loop.whole();
-    std::printf("loop: %llu ticks at %.1f Hz; period error p50 %.1f us, p99 %.1f us, max %.1f us; %llu missed "
-                "deadlines; %llu ticks a period or more late; real-time priority: %s\n",
-                (unsigned long long)s.ticks, s.rateHz, s.p50Us, s.p99Us, s.maxUs, (unsigned long long)s.missed,
-                (unsigned long long)s.late, realtime ? "yes" : "no (not permitted)");
+    std::printf(
+        "loop: %llu ticks at %.1f Hz; period error p50 %.1f us, p99 %.1f us, max %.1f us; %llu missed "
+        "deadlines; %llu ticks a period or more late; real-time priority: %s\n",
+        (unsigned long long)s.ticks, s.rateHz, s.p50Us, s.p99Us, s.maxUs, (unsigned long long)s.missed,
+        (unsigned long long)s.late, realtime ? "yes" : "no (not permitted)");
 }
 
-bool scripted(const std::string& device) { return device.rfind("sim:", 0) == 0; }
+bool scripted(const std::string& device) {
+    return device.rfind("sim:", 0) == 0;
+}
 
 }  // namespace
 
@@ -61,7 +66,8 @@ int runLoopOnly(const RunOptions& o) {
     TraceCsv trace(o.outDir + "/haptic-trace.csv");
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
-    std::printf("bop-haptic: the device loop alone, %s at %.0f Hz for %.1f s\n", device->name().c_str(), o.rateHz, seconds);
+    std::printf("bop-haptic: the device loop alone, %s at %.0f Hz for %.1f s\n", device->name().c_str(), o.rateHz,
+                seconds);
     std::fflush(stdout);
     loop.run([&](const LoopTick& t) {
         const Eigen::Vector3d x = w.toScene(device->read(t.tS).positionMm);
@@ -89,7 +95,8 @@ int runHaptic(const RunOptions& o) {
     const std::optional<FieldForce> field = downloadField(link.session(), scene, o.fieldStiffness, o.mapMaxMb);
     DeviceOptions script = o.script;
     script.target = o.target ? *o.target : topOfBag(field, scene);
-    Workspace w = Workspace::fit(o.limits.workspaceMm, Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), o.newtonsPerForce);
+    Workspace w =
+        Workspace::fit(o.limits.workspaceMm, Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), o.newtonsPerForce);
     if (o.workspaceScale > 0) w.scale = o.workspaceScale;
     if (o.workspaceCentre) w.sceneCentre = *o.workspaceCentre;
     std::unique_ptr<Device> device = makeDevice(o.device, script, w, o.limits);
@@ -102,8 +109,8 @@ int runHaptic(const RunOptions& o) {
                     params.stiffness, device->limits().maxStiffnessNPerMm);
     }
     ForceModel model(params, field && o.fieldStiffness > 0
-                                  ? std::function<Eigen::Vector3d(const Eigen::Vector3d&)>(std::cref(*field))
-                                  : std::function<Eigen::Vector3d(const Eigen::Vector3d&)>());
+                                 ? std::function<Eigen::Vector3d(const Eigen::Vector3d&)>(std::cref(*field))
+                                 : std::function<Eigen::Vector3d(const Eigen::Vector3d&)>());
     const double k0 = o.k0 > 0 ? o.k0 : scene.tunables.k0, k1 = o.k1 > 0 ? o.k1 : scene.tunables.k1;
     std::filesystem::create_directories(o.outDir);
     TraceCsv trace(o.outDir + "/haptic-trace.csv");
@@ -113,10 +120,11 @@ int runHaptic(const RunOptions& o) {
     const bool realtime = RateLoop::requestRealtime();
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
-    std::printf("bop-haptic: %s at %.0f Hz; target %.3f,%.3f,%.3f; %.4g length per mm, %.3g N per force unit; "
-                "coupling %.3g force/length, field %.3g force/length\n",
-                device->name().c_str(), o.rateHz, script.target.x(), script.target.y(), script.target.z(), w.scale,
-                w.newtonsPerForce, params.stiffness, field ? o.fieldStiffness : 0.0);
+    std::printf(
+        "bop-haptic: %s at %.0f Hz; target %.3f,%.3f,%.3f; %.4g length per mm, %.3g N per force unit; "
+        "coupling %.3g force/length, field %.3g force/length\n",
+        device->name().c_str(), o.rateHz, script.target.x(), script.target.y(), script.target.z(), w.scale,
+        w.newtonsPerForce, params.stiffness, field ? o.fieldStiffness : 0.0);
     std::fflush(stdout);
     std::uint64_t seq = 0, feedbacks = 0;
     double largestN = 0;
@@ -130,8 +138,8 @@ int runHaptic(const RunOptions& o) {
     } letGo{[&] {
         device->render(Eigen::Vector3d::Zero(), 0);
         try {
-            link.session().sendProbe({++seq, wallNs(), lastProxy.allFinite() ? lastProxy : script.target, false, k0, k1, stats,
-                               {0, 0, 0}});
+            link.session().sendProbe(
+                {++seq, wallNs(), lastProxy.allFinite() ? lastProxy : script.target, false, k0, k1, stats, {0, 0, 0}});
             link.session().waitFeedback(Clock::now() + std::chrono::milliseconds(50));
         } catch (const std::exception&) {  // the server is gone: nothing to switch off
         }

@@ -14,21 +14,21 @@ struct RunOptions {
     std::string endpoint;
     std::string device = "sim:poke";
     bool loopOnly = false;
-    double seconds = 0;                     // 0: until the device's script ends (loop only: 10 s)
+    double seconds = 0;  // 0: until the device's script ends (loop only: 10 s)
     double rateHz = 1000;
     std::string outDir = "out/haptic";
     std::optional<Eigen::Vector3d> target;  // scripted devices' surface point; default: the top of the bag
     DeviceOptions script;
     ForceModelParams model;
-    double fieldStiffness = 5;              // force / length; 0: no field
+    double fieldStiffness = 5;  // force / length; 0: no field
     DeviceLimits limits;
-    double newtonsPerForce = 0.5;           // N per simulation force unit
-    double workspaceScale = 0;              // length per mm; 0: the device's workspace spans the scene's box
+    double newtonsPerForce = 0.5;                    // N per simulation force unit
+    double workspaceScale = 0;                       // length per mm; 0: the device's workspace spans the scene's box
     std::optional<Eigen::Vector3d> workspaceCentre;  // the scene point at the workspace's centre; default: the box's
-    double k0 = 0, k1 = 0;                  // 0: the server's
+    double k0 = 0, k1 = 0;                           // 0: the server's
     bool udp = false;
     double mapMaxMb = 512;
-    double reconnectAfterS = 2;             // no feedback for this long: connect again (0: never)
+    double reconnectAfterS = 2;                  // no feedback for this long: connect again (0: never)
     std::string serverKeyFile, clientKeyPrefix;  // CURVE: the server's public key file, this client's pair prefix
 };
 

@@ -18,11 +18,11 @@ TraceCsv::TraceCsv(const std::string& path) : out_(path), path_(path) {
 void TraceCsv::row(const LoopTick& t, const Eigen::Vector3d& d, const ForceOutput& o, const Eigen::Vector3d& n) {
     char line[512];
     const double age = std::min(o.feedbackAgeS, 1e6) * 1000;
-    std::snprintf(line, sizeof line,
-                  "%.6f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.4f,%.3f,%.1f\n",
-                  t.tS, d.x(), d.y(), d.z(), o.proxy.x(), o.proxy.y(), o.proxy.z(), o.server.x(), o.server.y(),
-                  o.server.z(), o.field.x(), o.field.y(), o.field.z(), o.force.x(), o.force.y(), o.force.z(), n.norm(),
-                  o.gain, age, t.lateUs);
+    std::snprintf(
+        line, sizeof line,
+        "%.6f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%.4f,%.3f,%.1f\n", t.tS,
+        d.x(), d.y(), d.z(), o.proxy.x(), o.proxy.y(), o.proxy.z(), o.server.x(), o.server.y(), o.server.z(),
+        o.field.x(), o.field.y(), o.field.z(), o.force.x(), o.force.y(), o.force.z(), n.norm(), o.gain, age, t.lateUs);
     out_ << line;
     if (t.index % 100 == 0) out_.flush();  // whoever follows the file sees it grow
 }
@@ -62,7 +62,9 @@ void StiffnessCurve::writePng(const std::string& path) const {
         maxDepth = std::max(maxDepth, q.depth + bin_ / 2), maxForce = std::max(maxForce, q.force),
         minForce = std::min(minForce, q.force);
     const auto X = [&](double d) { return left + int(std::lround(d / maxDepth * (w - left - right))); };
-    const auto Y = [&](double f) { return h - bottom - int(std::lround((f - minForce) / (maxForce - minForce) * (h - top - bottom))); };
+    const auto Y = [&](double f) {
+        return h - bottom - int(std::lround((f - minForce) / (maxForce - minForce) * (h - top - bottom)));
+    };
     const Rgb axis{60, 60, 60}, curve{200, 60, 30};
     c.drawLine(left, Y(minForce), left, top, axis);
     c.drawLine(left, Y(0), w - right, Y(0), axis);

@@ -15,7 +15,8 @@ class TraceCsv {
 public:
     explicit TraceCsv(const std::string& path);  // bop::Error naming the file if it cannot be made
     // Device and forces in scene units; forceN: the force sent to the device, N.
-    void row(const LoopTick& tick, const Eigen::Vector3d& device, const ForceOutput& out, const Eigen::Vector3d& forceN);
+    void row(const LoopTick& tick, const Eigen::Vector3d& device, const ForceOutput& out,
+             const Eigen::Vector3d& forceN);
 
 private:
     std::ofstream out_;
@@ -23,8 +24,8 @@ private:
 };
 
 struct StiffnessPoint {
-    double depth = 0;   // past the surface along the poke, length
-    double force = 0;   // felt against the poke direction, force (mean over the bin)
+    double depth = 0;  // past the surface along the poke, length
+    double force = 0;  // felt against the poke direction, force (mean over the bin)
     std::size_t samples = 0;
 };
 

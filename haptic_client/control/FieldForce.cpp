@@ -37,13 +37,15 @@ double FieldForce::sample(const Eigen::Vector3d& x, Eigen::Vector3d* gradient) c
     return s;
 }
 
-double FieldForce::signedDistance(const Eigen::Vector3d& x) const { return sample(x, nullptr); }
+double FieldForce::signedDistance(const Eigen::Vector3d& x) const {
+    return sample(x, nullptr);
+}
 
 Eigen::Vector3d FieldForce::normal(const Eigen::Vector3d& x) const {
     const Dims& d = map_.dims();
     const Eigen::Vector3i c = (x / h_).array().floor().cast<int>().matrix();
-    const std::size_t v = d.index(std::clamp(c.x(), 0, d.nx - 1), std::clamp(c.y(), 0, d.ny - 1),
-                                  std::clamp(c.z(), 0, d.nz - 1));
+    const std::size_t v =
+        d.index(std::clamp(c.x(), 0, d.nx - 1), std::clamp(c.y(), 0, d.ny - 1), std::clamp(c.z(), 0, d.nz - 1));
     return map_.nearestSurface(v).normal.cast<double>();
 }
 

@@ -16,7 +16,7 @@ class FieldForce {
 public:
     FieldForce(GradientMap map, double stiffness);  // stiffness: force / length
 
-    double signedDistance(const Eigen::Vector3d& x) const;  // length; > 0 outside every bag
+    double signedDistance(const Eigen::Vector3d& x) const;   // length; > 0 outside every bag
     Eigen::Vector3d normal(const Eigen::Vector3d& x) const;  // outward, of the nearest surface
     Eigen::Vector3d operator()(const Eigen::Vector3d& x) const;
     double voxelSize() const { return h_; }  // length
@@ -26,7 +26,7 @@ public:
 
 private:
     double sample(const Eigen::Vector3d& x, Eigen::Vector3d* gradient) const;  // distance and its gradient
-    double distanceAtVoxel(int i, int j, int k) const;  // length, clamped into the grid
+    double distanceAtVoxel(int i, int j, int k) const;                         // length, clamped into the grid
     GradientMap map_;
     double stiffness_, h_;
 };

@@ -16,12 +16,12 @@
 namespace bop::haptic {
 
 struct ForceModelParams {
-    double stiffness = 10;   // coupling spring, force / length
-    double damping = 0.1;    // coupling damper, force * s / length
-    double proxyMass = 1e-3; // mass; with the defaults the proxy follows the hand within ~10 ms
-    double silenceS = 0.03;  // no feedback for this long: the server is taken as gone...
-    double rampDownS = 0.015;// ...and the output falls to 0 over this long (0.045 s after the last feedback)
-    double rampUpS = 0.5;    // feedback back: the output rises from 0 over this long
+    double stiffness = 10;     // coupling spring, force / length
+    double damping = 0.1;      // coupling damper, force * s / length
+    double proxyMass = 1e-3;   // mass; with the defaults the proxy follows the hand within ~10 ms
+    double silenceS = 0.03;    // no feedback for this long: the server is taken as gone...
+    double rampDownS = 0.015;  // ...and the output falls to 0 over this long (0.045 s after the last feedback)
+    double rampUpS = 0.5;      // feedback back: the output rises from 0 over this long
 };
 
 struct ForceOutput {

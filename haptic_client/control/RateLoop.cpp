@@ -1,11 +1,12 @@
 #include "control/RateLoop.hpp"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <ctime>
-#include <pthread.h>
-#include <sched.h>
 
 namespace bop::haptic {
 namespace {
@@ -23,7 +24,8 @@ std::int64_t nowNs() {
 
 void sleepUntil(std::int64_t ns) {
     timespec ts{time_t(ns / kNsPerS), long(ns % kNsPerS)};
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {}
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    }
 }
 
 }  // namespace
@@ -59,7 +61,7 @@ void RateLoop::run(const std::function<bool(const LoopTick&)>& body) {
         const std::int64_t due = start + k * period;
         sleepUntil(due);
         const std::int64_t woke = nowNs();
-        if (woke - due >= period) ++late_;  // started a whole period or more late
+        if (woke - due >= period) ++late_;             // started a whole period or more late
         if (woke - due >= kCatchUpPeriods * period) {  // a stall: skip to the newest deadline
             const std::int64_t skip = (woke - due) / period;
             missed_ += std::uint64_t(skip);
@@ -69,7 +71,8 @@ void RateLoop::run(const std::function<bool(const LoopTick&)>& body) {
             sleepUntil(nowNs() + period / 10);
         }
         const std::int64_t deadline = start + k * period;
-        LoopTick t{ticks_, 1e-9 * double(deadline - start), 1e-9 * double(deadline - previous), 1e-3 * double(woke - deadline)};
+        LoopTick t{ticks_, 1e-9 * double(deadline - start), 1e-9 * double(deadline - previous),
+                   1e-3 * double(woke - deadline)};
         previous = deadline;
         histogram_.add(t.lateUs);
         recentUs_.push_back(t.lateUs);

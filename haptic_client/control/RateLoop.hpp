@@ -21,11 +21,11 @@ struct LoopTick {
 };
 
 struct PeriodStats {
-    double rateHz = 0;                        // ticks per second
-    double p50Us = 0, p99Us = 0, maxUs = 0;   // period error (lateness), microseconds
-    std::uint64_t ticks = 0;                  // ticks run
-    std::uint64_t late = 0;                   // ticks that started a whole period or more late
-    std::uint64_t missed = 0;                 // deadlines skipped after stalls (no tick ran for them)
+    double rateHz = 0;                       // ticks per second
+    double p50Us = 0, p99Us = 0, maxUs = 0;  // period error (lateness), microseconds
+    std::uint64_t ticks = 0;                 // ticks run
+    std::uint64_t late = 0;                  // ticks that started a whole period or more late
+    std::uint64_t missed = 0;                // deadlines skipped after stalls (no tick ran for them)
 };
 
 // Period errors in microsecond bins up to 100 ms (later ones in the last bin), for percentiles

@@ -1,9 +1,8 @@
 #include "device/DeviceFactory.hpp"
 
+#include "bop/common/Error.hpp"
 #include "device/ReplayDevice.hpp"
 #include "device/SpnavDevice.hpp"
-
-#include "bop/common/Error.hpp"
 
 namespace bop::haptic {
 
@@ -25,8 +24,9 @@ std::unique_ptr<Device> makeDevice(const std::string& spec, const DeviceOptions&
     if (spec == "sim:finger") return makeFingerDevice(p, o.finger, limits);
     if (spec.rfind("replay:", 0) == 0) return makeReplayDevice(spec.substr(7), w, limits);
     if (spec == "spnav") return makeSpnavDevice(o.spnavGain, limits);
-    throw Error("--device", "unknown device '" + spec + "'; expected sim:poke, sim:stroke, sim:circle, sim:finger, "
-                            "replay:FILE or spnav");
+    throw Error("--device", "unknown device '" + spec +
+                                "'; expected sim:poke, sim:stroke, sim:circle, sim:finger, "
+                                "replay:FILE or spnav");
 }
 
 }  // namespace bop::haptic

@@ -14,12 +14,12 @@ namespace bop::haptic {
 struct DeviceOptions {
     Eigen::Vector3d target = Eigen::Vector3d::Zero();    // the surface point, length
     Eigen::Vector3d inward = -Eigen::Vector3d::UnitZ();  // into the object
-    double standoff = 4;     // start this far outside, length
-    double depth = 2;        // go this far in, length
-    double speed = 1;        // length / s
-    double holdS = 1;        // s at depth
-    double strokeLength = 6; // length
-    double circleRadius = 2; // length
+    double standoff = 4;                                 // start this far outside, length
+    double depth = 2;                                    // go this far in, length
+    double speed = 1;                                    // length / s
+    double holdS = 1;                                    // s at depth
+    double strokeLength = 6;                             // length
+    double circleRadius = 2;                             // length
     double turns = 1;
     FingerParams finger;
     double spnavGain = 0.2;  // mm/s per unit of deflection

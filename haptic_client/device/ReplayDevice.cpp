@@ -1,8 +1,7 @@
 #include "device/ReplayDevice.hpp"
 
-#include "recording/SessionReader.hpp"
-
 #include "bop/common/Error.hpp"
+#include "recording/SessionReader.hpp"
 
 #include <algorithm>
 #include <vector>

@@ -11,6 +11,7 @@
 namespace bop::haptic {
 
 // bop::Error naming the file when it cannot be read or holds no probes.
-std::unique_ptr<Device> makeReplayDevice(const std::string& path, const Workspace& workspace, const DeviceLimits& limits);
+std::unique_ptr<Device> makeReplayDevice(const std::string& path, const Workspace& workspace,
+                                         const DeviceLimits& limits);
 
 }  // namespace bop::haptic

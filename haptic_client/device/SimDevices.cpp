@@ -18,9 +18,12 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> across(const Eigen::Vector3d& n) {
 // Seconds of the middle part: at depth, holding and then stroking or circling.
 double middle(const PathScript& p) {
     switch (p.kind) {
-    case PathKind::Poke: return p.holdS;
-    case PathKind::Stroke: return p.holdS + 2 * p.lengthMm / p.speedMmPerS;
-    case PathKind::Circle: return p.holdS + p.turns * 2 * kPi * p.radiusMm / p.speedMmPerS;
+        case PathKind::Poke:
+            return p.holdS;
+        case PathKind::Stroke:
+            return p.holdS + 2 * p.lengthMm / p.speedMmPerS;
+        case PathKind::Circle:
+            return p.holdS + p.turns * 2 * kPi * p.radiusMm / p.speedMmPerS;
     }
     return 0;
 }
@@ -29,7 +32,9 @@ class PathDevice final : public Device {
 public:
     PathDevice(const PathScript& s, const DeviceLimits& l) : script_(s), limits_(l) {}
     std::string name() const override {
-        return script_.kind == PathKind::Poke ? "sim:poke" : script_.kind == PathKind::Stroke ? "sim:stroke" : "sim:circle";
+        return script_.kind == PathKind::Poke     ? "sim:poke"
+               : script_.kind == PathKind::Stroke ? "sim:stroke"
+                                                  : "sim:circle";
     }
     DeviceLimits limits() const override { return limits_; }
     DeviceState read(double t) override {
@@ -47,7 +52,8 @@ private:
 
 class FingerDevice final : public Device {
 public:
-    FingerDevice(const PathScript& s, const FingerParams& f, const DeviceLimits& l) : script_(s), finger_(f), limits_(l) {
+    FingerDevice(const PathScript& s, const FingerParams& f, const DeviceLimits& l)
+        : script_(s), finger_(f), limits_(l) {
         x_ = pathAt(s, 0);
     }
     std::string name() const override { return "sim:finger"; }

@@ -19,13 +19,13 @@ struct PathScript {
     PathKind kind = PathKind::Poke;
     Eigen::Vector3d surfaceMm = Eigen::Vector3d::Zero();  // the point on the surface
     Eigen::Vector3d inward = -Eigen::Vector3d::UnitZ();   // into the object (normalised on use)
-    double standoffMm = 10;  // start this far outside
-    double depthMm = 5;      // go this far in
+    double standoffMm = 10;                               // start this far outside
+    double depthMm = 5;                                   // go this far in
     double speedMmPerS = 10;
-    double holdS = 1;        // at depth before stroking, circling or coming out
-    double lengthMm = 20;    // stroke
-    double radiusMm = 5;     // circle
-    double turns = 1;        // circle
+    double holdS = 1;      // at depth before stroking, circling or coming out
+    double lengthMm = 20;  // stroke
+    double radiusMm = 5;   // circle
+    double turns = 1;      // circle
 };
 
 // Where the path is at time t (mm), and whether it has ended.
@@ -41,6 +41,7 @@ struct FingerParams {
 };
 
 std::unique_ptr<Device> makePathDevice(const PathScript& script, const DeviceLimits& limits);
-std::unique_ptr<Device> makeFingerDevice(const PathScript& script, const FingerParams& finger, const DeviceLimits& limits);
+std::unique_ptr<Device> makeFingerDevice(const PathScript& script, const FingerParams& finger,
+                                         const DeviceLimits& limits);
 
 }  // namespace bop::haptic

@@ -24,8 +24,10 @@ public:
     DeviceState read(double t) override {
         spnav_event e;
         while (spnav_poll_event(&e) != 0) {
-            if (e.type == SPNAV_EVENT_MOTION) velocity_ = Eigen::Vector3d(e.motion.x, e.motion.y, e.motion.z);
-            else if (e.type == SPNAV_EVENT_BUTTON) buttons_ = e.button.press ? buttons_ | (1u << e.button.bnum) : buttons_ & ~(1u << e.button.bnum);
+            if (e.type == SPNAV_EVENT_MOTION)
+                velocity_ = Eigen::Vector3d(e.motion.x, e.motion.y, e.motion.z);
+            else if (e.type == SPNAV_EVENT_BUTTON)
+                buttons_ = e.button.press ? buttons_ | (1u << e.button.bnum) : buttons_ & ~(1u << e.button.bnum);
         }
         const double dt = std::clamp(t - t_, 0.0, 0.01);
         t_ = t;
@@ -50,7 +52,8 @@ private:
 
 std::unique_ptr<Device> makeSpnavDevice(double gain, const DeviceLimits& limits) {
     if (spnav_open() == -1)
-        throw Error("spnav", "cannot reach spacenavd (is it installed and running, and a 3Dconnexion device plugged in?)");
+        throw Error("spnav",
+                    "cannot reach spacenavd (is it installed and running, and a 3Dconnexion device plugged in?)");
     return std::make_unique<SpnavDevice>(gain, limits);
 }
 

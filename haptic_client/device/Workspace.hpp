@@ -10,15 +10,19 @@ namespace bop::haptic {
 struct Workspace {
     Eigen::Vector3d deviceCentreMm = Eigen::Vector3d::Zero();
     Eigen::Vector3d sceneCentre = Eigen::Vector3d::Zero();         // length
-    double scale = 0.1;                                             // scene length per mm
+    double scale = 0.1;                                            // scene length per mm
     Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();  // device axes to scene axes
     double newtonsPerForce = 0.5;                                  // N per simulation force unit
 
-    Eigen::Vector3d toScene(const Eigen::Vector3d& mm) const { return sceneCentre + scale * (rotation * (mm - deviceCentreMm)); }
+    Eigen::Vector3d toScene(const Eigen::Vector3d& mm) const {
+        return sceneCentre + scale * (rotation * (mm - deviceCentreMm));
+    }
     Eigen::Vector3d toDevice(const Eigen::Vector3d& scene) const {
         return deviceCentreMm + rotation.conjugate() * ((scene - sceneCentre) / scale);
     }
-    Eigen::Vector3d forceToDevice(const Eigen::Vector3d& f) const { return newtonsPerForce * (rotation.conjugate() * f); }
+    Eigen::Vector3d forceToDevice(const Eigen::Vector3d& f) const {
+        return newtonsPerForce * (rotation.conjugate() * f);
+    }
     Eigen::Vector3d forceToScene(const Eigen::Vector3d& n) const { return (rotation * n) / newtonsPerForce; }
 
     // The device's workspace box onto the scene's box: centres matched, and the smallest scale

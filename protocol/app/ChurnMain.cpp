@@ -10,7 +10,6 @@
 #include "client/ClientSession.hpp"
 #include "codec/Codec.hpp"
 #include "codec/MessageKind.hpp"
-
 #include "command_generated.h"
 #include "probe_generated.h"
 
@@ -31,7 +30,9 @@ using namespace std::chrono_literals;
 
 namespace {
 
-double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+double seconds(Clock::duration d) {
+    return std::chrono::duration<double>(d).count();
+}
 
 double median(std::vector<double> v) {
     if (v.empty()) return 0;
@@ -99,59 +100,62 @@ Buffer finished(flatbuffers::FlatBufferBuilder& fbb) {
 // One message of a misbehaving client's burst: about a third valid, the rest refused.
 Buffer burstMessage(std::mt19937& rng, const SceneInfo& scene, std::uint64_t seq) {
     std::uniform_real_distribution<double> u(0, 1);
-    const Eigen::Vector3d at = scene.boxLo + (scene.boxHi - scene.boxLo).cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    const double huge[] = {1e300, -1e300, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
-                           -1e-3, 1e7};
+    const Eigen::Vector3d at =
+        scene.boxLo + (scene.boxHi - scene.boxLo).cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    const double huge[] = {
+        1e300, -1e300, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(), -1e-3, 1e7};
     const double bad = huge[rng() % 6];
     flatbuffers::FlatBufferBuilder fbb;
     switch (rng() % 9) {
-    case 0: {  // a valid probe, away from the bag (inactive)
-        Probe p;
-        p.seq = seq;
-        p.position = at;
-        return encodeProbe(p);
-    }
-    case 1: {  // a valid command that changes nothing: resume a running server
-        Command c;
-        c.requestId = seq;
-        c.body = RunControl{RunAction::Resume, 1};
-        return encodeCommand(c);
-    }
-    case 2: {  // a probe with one number out of range
-        const bop::wire::Vec3 p(at.x(), rng() % 2 ? bad : at.y(), at.z());
-        const double k0 = rng() % 2 ? bad : 1.0, k1 = rng() % 2 ? bad : 1.0;
-        bop::wire::FinishProbeBuffer(fbb, bop::wire::CreateProbe(fbb, seq, 0, &p, true, k0, k1));
-        return finished(fbb);
-    }
-    case 3: {  // a parameter out of range
-        const char* names[] = {"lj", "co_normal", "co_planar", "drag_v", "drag_w", "k0", "k1"};
-        const auto body = bop::wire::CreateSetParameterDirect(fbb, names[rng() % 7], 1, 1, bad).Union();
-        bop::wire::FinishCommandBuffer(fbb, bop::wire::CreateCommand(fbb, seq, bop::wire::CommandBody::SetParameter, body));
-        return finished(fbb);
-    }
-    case 4: {  // a seed far outside the box
-        const bop::wire::Vec3 p(at.x(), at.y(), scene.boxHi.z() + 1e3);
-        const auto body = bop::wire::CreateSeedParticle(fbb, 1, &p).Union();
-        bop::wire::FinishCommandBuffer(fbb, bop::wire::CreateCommand(fbb, seq, bop::wire::CommandBody::SeedParticle, body));
-        return finished(fbb);
-    }
-    case 5: {  // garbage
-        Buffer b(1 + rng() % 300);
-        for (auto& x : b) x = std::uint8_t(rng());
-        return b;
-    }
-    case 6: {  // a valid probe cut short
-        Buffer b = encodeProbe(Probe{});
-        b.resize(rng() % b.size());
-        return b;
-    }
-    case 7: {  // a valid message with one byte flipped
-        Buffer b = encodeHello({});
-        b[rng() % b.size()] ^= std::uint8_t(1 + rng() % 255);
-        return b;
-    }
-    default:  // a message only a server sends
-        return encodeFeedback(Feedback{});
+        case 0: {  // a valid probe, away from the bag (inactive)
+            Probe p;
+            p.seq = seq;
+            p.position = at;
+            return encodeProbe(p);
+        }
+        case 1: {  // a valid command that changes nothing: resume a running server
+            Command c;
+            c.requestId = seq;
+            c.body = RunControl{RunAction::Resume, 1};
+            return encodeCommand(c);
+        }
+        case 2: {  // a probe with one number out of range
+            const bop::wire::Vec3 p(at.x(), rng() % 2 ? bad : at.y(), at.z());
+            const double k0 = rng() % 2 ? bad : 1.0, k1 = rng() % 2 ? bad : 1.0;
+            bop::wire::FinishProbeBuffer(fbb, bop::wire::CreateProbe(fbb, seq, 0, &p, true, k0, k1));
+            return finished(fbb);
+        }
+        case 3: {  // a parameter out of range
+            const char* names[] = {"lj", "co_normal", "co_planar", "drag_v", "drag_w", "k0", "k1"};
+            const auto body = bop::wire::CreateSetParameterDirect(fbb, names[rng() % 7], 1, 1, bad).Union();
+            bop::wire::FinishCommandBuffer(
+                fbb, bop::wire::CreateCommand(fbb, seq, bop::wire::CommandBody::SetParameter, body));
+            return finished(fbb);
+        }
+        case 4: {  // a seed far outside the box
+            const bop::wire::Vec3 p(at.x(), at.y(), scene.boxHi.z() + 1e3);
+            const auto body = bop::wire::CreateSeedParticle(fbb, 1, &p).Union();
+            bop::wire::FinishCommandBuffer(
+                fbb, bop::wire::CreateCommand(fbb, seq, bop::wire::CommandBody::SeedParticle, body));
+            return finished(fbb);
+        }
+        case 5: {  // garbage
+            Buffer b(1 + rng() % 300);
+            for (auto& x : b) x = std::uint8_t(rng());
+            return b;
+        }
+        case 6: {  // a valid probe cut short
+            Buffer b = encodeProbe(Probe{});
+            b.resize(rng() % b.size());
+            return b;
+        }
+        case 7: {  // a valid message with one byte flipped
+            Buffer b = encodeHello({});
+            b[rng() % b.size()] ^= std::uint8_t(1 + rng() % 255);
+            return b;
+        }
+        default:  // a message only a server sends
+            return encodeFeedback(Feedback{});
     }
 }
 
@@ -187,9 +191,10 @@ void churnOne(zmq::context_t& ctx, const std::string& endpoint, const SceneInfo&
 }
 
 int run(int argc, char** argv) {
-    CLI::App app{"bop-churn: clients that connect, send a burst of mixed valid and invalid messages and leave, "
-                 "against a served run, while a viewer watches; prints the step rate, the server's memory and the "
-                 "refusals"};
+    CLI::App app{
+        "bop-churn: clients that connect, send a burst of mixed valid and invalid messages and leave, "
+        "against a served run, while a viewer watches; prints the step rate, the server's memory and the "
+        "refusals"};
     std::string endpoint;
     int clients = 1000, concurrency = 8, burst = 20, pid = 0;
     double baseline = 3, settle = 5;
@@ -199,8 +204,10 @@ int run(int argc, char** argv) {
     app.add_option("--concurrency", concurrency, "clients at a time")->check(CLI::Range(1, 256));
     app.add_option("--burst", burst, "messages each client sends")->check(CLI::Range(0, 10000));
     app.add_option("--baseline", baseline, "seconds of watching before the churn, s")->check(CLI::Range(0.5, 600.0));
-    app.add_option("--settle", settle, "seconds after the churn before memory is read again (longer than the "
-                                       "server's --session-timeout), s")->check(CLI::Range(0.0, 600.0));
+    app.add_option("--settle", settle,
+                   "seconds after the churn before memory is read again (longer than the "
+                   "server's --session-timeout), s")
+        ->check(CLI::Range(0.0, 600.0));
     app.add_option("--server-pid", pid, "the server's process, for its resident memory (VmRSS)");
     app.add_option("--seed", seed, "random seed of the bursts");
     CLI11_PARSE(app, argc, argv);
@@ -220,7 +227,8 @@ int run(int argc, char** argv) {
             std::mt19937 rng(seed * 7919u + unsigned(w));
             for (int k = next++; k < clients; k = next++) {
                 churnOne(ctx, endpoint, scene, burst, rng, counts);
-                if (counts.clients % 100 == 0) std::fprintf(stderr, "bop-churn: %llu clients\n", (unsigned long long)counts.clients.load());
+                if (counts.clients % 100 == 0)
+                    std::fprintf(stderr, "bop-churn: %llu clients\n", (unsigned long long)counts.clients.load());
             }
         });
     for (auto& w : workers) w.join();
@@ -232,23 +240,25 @@ int run(int argc, char** argv) {
     const auto [during, gapDuring] = watcher.between(t1, t2);
     const auto [after, gapAfter] = watcher.between(t2, t3);
     const double churnS = seconds(t2 - t1);
-    std::printf("clients=%llu seconds=%.2f clients_per_s=%.1f messages=%llu refusals_received=%llu replies=%llu "
-                "no_scene=%llu steps_per_s_before=%.1f steps_per_s_during=%.1f steps_per_s_after=%.1f "
-                "frames_during=%zu longest_frame_gap_s=%.3f rss_before_mb=%.2f rss_after_mb=%.2f\n",
-                (unsigned long long)counts.clients.load(), churnS, double(counts.clients) / churnS,
-                (unsigned long long)counts.sent.load(), (unsigned long long)counts.refusals.load(),
-                (unsigned long long)counts.replies.load(), (unsigned long long)counts.failed.load(), median(before),
-                median(during), median(after), during.size(), std::max({gapBefore, gapDuring, gapAfter}), rssBefore,
-                rssAfter);
-    std::printf("bop-churn: %llu clients in %.1f s sent %llu messages; the watching viewer took %zu frames meanwhile "
-                "(longest gap %.3f s); the server's step rate %.0f before, %.0f during, %.0f after; its memory %.1f MB "
-                "before, %.1f MB after\n",
-                (unsigned long long)counts.clients.load(), churnS, (unsigned long long)counts.sent.load(), during.size(),
-                std::max({gapBefore, gapDuring, gapAfter}), median(before), median(during), median(after), rssBefore,
-                rssAfter);
+    std::printf(
+        "clients=%llu seconds=%.2f clients_per_s=%.1f messages=%llu refusals_received=%llu replies=%llu "
+        "no_scene=%llu steps_per_s_before=%.1f steps_per_s_during=%.1f steps_per_s_after=%.1f "
+        "frames_during=%zu longest_frame_gap_s=%.3f rss_before_mb=%.2f rss_after_mb=%.2f\n",
+        (unsigned long long)counts.clients.load(), churnS, double(counts.clients) / churnS,
+        (unsigned long long)counts.sent.load(), (unsigned long long)counts.refusals.load(),
+        (unsigned long long)counts.replies.load(), (unsigned long long)counts.failed.load(), median(before),
+        median(during), median(after), during.size(), std::max({gapBefore, gapDuring, gapAfter}), rssBefore, rssAfter);
+    std::printf(
+        "bop-churn: %llu clients in %.1f s sent %llu messages; the watching viewer took %zu frames meanwhile "
+        "(longest gap %.3f s); the server's step rate %.0f before, %.0f during, %.0f after; its memory %.1f MB "
+        "before, %.1f MB after\n",
+        (unsigned long long)counts.clients.load(), churnS, (unsigned long long)counts.sent.load(), during.size(),
+        std::max({gapBefore, gapDuring, gapAfter}), median(before), median(during), median(after), rssBefore, rssAfter);
     return 0;
 }
 
 }  // namespace
 
-int main(int argc, char** argv) { return bop::runTool("bop-churn", [&] { return run(argc, argv); }); }
+int main(int argc, char** argv) {
+    return bop::runTool("bop-churn", [&] { return run(argc, argv); });
+}

@@ -11,15 +11,15 @@
 
 #include <CLI/CLI.hpp>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 using namespace bop;
 using namespace bop::protocol;
@@ -28,7 +28,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-template <class T> bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+template <class T>
+bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
     return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
@@ -63,8 +64,8 @@ int compare(const std::string& a, const std::string& b) {
                       << " vs " << g.count() << " particles)\n";
         }
     }
-    std::cout << same << " of " << fa.size() << " frame chunks identical bit for bit, " << differ << " differ, " << missing
-              << " missing from " << b << "\n";
+    std::cout << same << " of " << fa.size() << " frame chunks identical bit for bit, " << differ << " differ, "
+              << missing << " missing from " << b << "\n";
     return same == fa.size() && !fa.empty() ? 0 : 1;
 }
 
@@ -89,7 +90,10 @@ int runProcess(const std::vector<std::string>& args) {
 
 int check(const std::string& file, std::string server, int ranks, const std::string& outDir) {
     const RecordedSession s = readSession(file);
-    const auto meta = [&](const std::string& k) { const auto it = s.meta.find(k); return it == s.meta.end() ? std::string() : it->second; };
+    const auto meta = [&](const std::string& k) {
+        const auto it = s.meta.find(k);
+        return it == s.meta.end() ? std::string() : it->second;
+    };
     if (meta("scene").empty()) throw Error(file, "the recording does not name its scene file");
     if (ranks <= 0) ranks = meta("ranks").empty() ? 1 : std::stoi(meta("ranks"));
     if (server.empty()) {
@@ -100,11 +104,13 @@ int check(const std::string& file, std::string server, int ranks, const std::str
     const std::string replayed = outDir + "/replayed.mcap";
     std::vector<std::string> args;
     if (ranks > 1) args = {"mpirun", "-np", std::to_string(ranks), "--oversubscribe"};
-    for (const std::string& a : {server, meta("scene"), std::string("--port"), std::string("0"), std::string("--replay-inputs"),
-                                file, std::string("--record"), replayed, std::string("-o"), outDir})
+    for (const std::string& a :
+         {server, meta("scene"), std::string("--port"), std::string("0"), std::string("--replay-inputs"), file,
+          std::string("--record"), replayed, std::string("-o"), outDir})
         args.push_back(a);
     if (!meta("restart").empty()) args.insert(args.end(), {"--restart", meta("restart")});
-    if (const int rc = runProcess(args); rc != 0) throw Error(server, "the replaying server exited with " + std::to_string(rc));
+    if (const int rc = runProcess(args); rc != 0)
+        throw Error(server, "the replaying server exited with " + std::to_string(rc));
     return compare(file, replayed);
 }
 
@@ -114,7 +120,8 @@ int serve(const std::string& file, FrontOptions front, double speed, bool wait) 
     ServerFront f(front, s.scene);
     std::cout << "listening on " << f.controlEndpoint() << " (frames on port " << f.framePort() << ")" << std::endl;
     if (wait)
-        while (!f.waitForClient(std::chrono::milliseconds(200))) {}
+        while (!f.waitForClient(std::chrono::milliseconds(200))) {
+        }
     std::map<std::uint64_t, std::vector<const RecordedChunk*>> frames;  // by frame sequence, in order
     for (const auto& c : s.chunks) frames[c.frame.frameSeq].push_back(&c);
     const auto t0 = Clock::now();
@@ -122,7 +129,8 @@ int serve(const std::string& file, FrontOptions front, double speed, bool wait) 
     std::size_t sent = 0;
     for (const auto& [seq, chunks] : frames) {
         const double at = double(chunks.front()->logTimeNs - first) * 1e-9 / speed;
-        std::this_thread::sleep_until(t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(at)));
+        std::this_thread::sleep_until(t0 +
+                                      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(at)));
         std::vector<Buffer> bytes;
         for (const auto* c : chunks) bytes.push_back(c->bytes);
         f.offerEncodedFrame(std::move(bytes));

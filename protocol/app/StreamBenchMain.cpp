@@ -21,7 +21,9 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+double seconds(Clock::duration d) {
+    return std::chrono::duration<double>(d).count();
+}
 
 double percentile(std::vector<double> v, double q) {
     if (v.empty()) return 0;
@@ -95,7 +97,8 @@ int rate(ClientSession& c, double secs) {
     std::vector<double> r;
     const auto t0 = Clock::now();
     while (seconds(Clock::now() - t0) < secs)
-        if (auto f = c.receiveFrame(std::chrono::milliseconds(100)); f && f->stats.stepRateHz > 0 && seconds(Clock::now() - t0) > 1)
+        if (auto f = c.receiveFrame(std::chrono::milliseconds(100));
+            f && f->stats.stepRateHz > 0 && seconds(Clock::now() - t0) > 1)
             r.push_back(f->stats.stepRateHz);
     std::printf("steps_per_s %.1f samples %zu\n", percentile(r, 0.5), r.size());
     return 0;
@@ -120,7 +123,9 @@ int main(int argc, char** argv) {
         std::string mode, endpoint;
         double secs = 5, hz = 1000;
         bool pause = false;
-        app.add_option("mode", mode, "frames, probe, rate or stuck")->required()->check(CLI::IsMember({"frames", "probe", "rate", "stuck"}));
+        app.add_option("mode", mode, "frames, probe, rate or stuck")
+            ->required()
+            ->check(CLI::IsMember({"frames", "probe", "rate", "stuck"}));
         app.add_option("endpoint", endpoint, "the server's control endpoint, tcp://HOST:PORT")->required();
         app.add_option("--seconds", secs, "how long to measure, s")->check(CLI::PositiveNumber);
         app.add_option("--hz", hz, "probe rate, Hz")->check(CLI::Range(1.0, 10000.0));

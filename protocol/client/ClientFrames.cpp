@@ -1,7 +1,6 @@
 // ClientSession's frame side: the SUB socket, chunk decoding and reassembly, and the receiver
 // thread that keeps the newest whole frame for a renderer.
 #include "client/ClientSessionImpl.hpp"
-
 #include "codec/Codec.hpp"
 
 #include <algorithm>
@@ -97,7 +96,9 @@ std::optional<StateFrame> ClientSession::Impl::drainUdp() {
 
 // Frames come over UDP when a UDP frame port is set (the SUB socket then subscribes to nothing),
 // else over the SUB socket.
-std::optional<StateFrame> ClientSession::Impl::drainFrames() { return udpFrames ? drainUdp() : drainSub(); }
+std::optional<StateFrame> ClientSession::Impl::drainFrames() {
+    return udpFrames ? drainUdp() : drainSub();
+}
 
 std::optional<StateFrame> ClientSession::receiveFrame(std::chrono::milliseconds timeout) {
     Impl& d = *impl_;
@@ -170,9 +171,13 @@ void ClientSession::recycle(StateFrame&& frame) {
     if (!impl_->running) impl_->assembler.recycle(std::move(frame));
 }
 
-void ClientSession::stopReceiver() { impl_->joinReceiver(); }
+void ClientSession::stopReceiver() {
+    impl_->joinReceiver();
+}
 
-bool ClientSession::receiving() const { return impl_->running; }
+bool ClientSession::receiving() const {
+    return impl_->running;
+}
 
 LatestFrame ClientSession::latestFrame() const {
     std::lock_guard lock(impl_->m);

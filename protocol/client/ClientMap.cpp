@@ -1,15 +1,15 @@
 // The gradient-map download of a haptic client (MapRequest -> MapChunk, docs/protocol.md).
+#include "bop/common/Error.hpp"
 #include "client/ClientSessionImpl.hpp"
 #include "codec/Codec.hpp"
-
-#include "bop/common/Error.hpp"
 
 #include <thread>
 
 namespace bop::protocol {
 
-std::vector<std::uint8_t> ClientSession::downloadMap(std::uint64_t maxBytes, std::chrono::milliseconds timeout,
-                                                     const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
+std::vector<std::uint8_t> ClientSession::downloadMap(
+    std::uint64_t maxBytes, std::chrono::milliseconds timeout,
+    const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
     Impl& d = *impl_;
     if (!d.dealer) throw std::logic_error("ClientSession::downloadMap before connect");
     const std::uint64_t announced = d.scene.mapBytes;
@@ -23,7 +23,8 @@ std::vector<std::uint8_t> ClientSession::downloadMap(std::uint64_t maxBytes, std
     while (file.size() < total) {
         if (idle > 5000)  // 10 s of empty answers (2 ms apart), or a file that keeps changing
             throw Error(d.controlEndpoint, "the gradient-map download makes no progress");
-        const MapRequest want{file.size(), std::uint32_t(std::min<std::uint64_t>(kMaxMapPieceBytes, total - file.size()))};
+        const MapRequest want{file.size(),
+                              std::uint32_t(std::min<std::uint64_t>(kMaxMapPieceBytes, total - file.size()))};
         const Buffer b = encodeMapRequest(want);
         if (!d.dealer->send(zmq::buffer(b), zmq::send_flags::dontwait))
             throw Error(d.controlEndpoint, "cannot queue a map request (send queue full)");
@@ -43,8 +44,9 @@ std::vector<std::uint8_t> ClientSession::downloadMap(std::uint64_t maxBytes, std
             piece = std::move(c.value);
             return true;
         });
-        if (!piece) throw Error(d.controlEndpoint, "no gradient-map piece at byte " + std::to_string(want.offset) +
-                                                       " within " + std::to_string(timeout.count()) + " ms");
+        if (!piece)
+            throw Error(d.controlEndpoint, "no gradient-map piece at byte " + std::to_string(want.offset) + " within " +
+                                               std::to_string(timeout.count()) + " ms");
         if (piece->total == 0) throw Error(d.controlEndpoint, "the server has no gradient map to give");
         if (piece->total > maxBytes)
             throw Error(d.controlEndpoint, "the gradient map grew to " + std::to_string(piece->total) + " bytes");

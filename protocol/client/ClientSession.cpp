@@ -1,9 +1,8 @@
-#include "client/ClientSessionImpl.hpp"
-
 #include "bop/common/Error.hpp"
-#include "security/CurveKeys.hpp"
+#include "client/ClientSessionImpl.hpp"
 #include "codec/Codec.hpp"
 #include "codec/MessageKind.hpp"
+#include "security/CurveKeys.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -19,7 +18,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using std::chrono::milliseconds;
 
-std::string inMs(milliseconds t) { return std::to_string(t.count()) + " ms"; }
+std::string inMs(milliseconds t) {
+    return std::to_string(t.count()) + " ms";
+}
 
 // "tcp://HOST:PORT" -> HOST; empty for anything else.
 std::string tcpHost(const std::string& endpoint) {
@@ -149,9 +150,13 @@ void ClientSession::Impl::connectSub() {
 
 ClientSession::ClientSession(ClientOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
 
-ClientSession::~ClientSession() { impl_->joinReceiver(); }
+ClientSession::~ClientSession() {
+    impl_->joinReceiver();
+}
 
-SceneInfo ClientSession::connect(const std::string& endpoint) { return connect(endpoint, impl_->opt.receiveTimeout); }
+SceneInfo ClientSession::connect(const std::string& endpoint) {
+    return connect(endpoint, impl_->opt.receiveTimeout);
+}
 
 SceneInfo ClientSession::connect(const std::string& endpoint, milliseconds timeout) {
     Impl& d = *impl_;
@@ -200,7 +205,8 @@ SceneInfo ClientSession::connect(const std::string& endpoint, milliseconds timeo
             const MessageKind k = d.takeControl(msg, nullptr);
             return k == MessageKind::SceneInfo || (k == MessageKind::Refusal && d.refusal->kind == "Hello");
         });
-        if (d.refusal && d.refusal->kind == "Hello") throw Error(endpoint, "the server refused our Hello: " + d.refusal->reason);
+        if (d.refusal && d.refusal->kind == "Hello")
+            throw Error(endpoint, "the server refused our Hello: " + d.refusal->reason);
         if (!got)
             throw Error(endpoint, "no SceneInfo within " + inMs(timeout) +
                                       (d.opt.curveServerKey.empty()
@@ -227,10 +233,18 @@ SceneInfo ClientSession::connect(const std::string& endpoint, milliseconds timeo
     return d.scene;
 }
 
-const SceneInfo& ClientSession::scene() const { return impl_->scene; }
-bool ClientSession::connected() const { return impl_->sub.has_value(); }
-int ClientSession::frameTier() const { return impl_->tier; }
-std::string ClientSession::frameEndpoint() const { return impl_->frameEndpoint; }
+const SceneInfo& ClientSession::scene() const {
+    return impl_->scene;
+}
+bool ClientSession::connected() const {
+    return impl_->sub.has_value();
+}
+int ClientSession::frameTier() const {
+    return impl_->tier;
+}
+std::string ClientSession::frameEndpoint() const {
+    return impl_->frameEndpoint;
+}
 
 bool ClientSession::sendProbe(const Probe& probe) {
     if (!impl_->dealer) throw std::logic_error("ClientSession::sendProbe before connect");
@@ -246,8 +260,10 @@ void ClientSession::Impl::takeUdpFeedback() {
     while (auto d = probeSocket->receive(0)) {
         if (d->sender == probeTo && messageKind(d->bytes.data(), d->bytes.size()) == MessageKind::Refusal) {
             auto r = decodeRefusal(d->bytes.data(), d->bytes.size());
-            if (r.ok()) takeRefusal(std::move(r.value));
-            else countMalformed();
+            if (r.ok())
+                takeRefusal(std::move(r.value));
+            else
+                countMalformed();
             continue;
         }
         const auto f = decodeFeedback(d->bytes.data(), d->bytes.size());
@@ -259,7 +275,9 @@ void ClientSession::Impl::takeUdpFeedback() {
     }
 }
 
-CommandReply ClientSession::sendCommand(const Command& command) { return sendCommand(command, impl_->opt.receiveTimeout); }
+CommandReply ClientSession::sendCommand(const Command& command) {
+    return sendCommand(command, impl_->opt.receiveTimeout);
+}
 
 CommandReply ClientSession::sendCommand(const Command& command, milliseconds timeout) {
     Impl& d = *impl_;
@@ -281,8 +299,8 @@ CommandReply ClientSession::sendCommand(const Command& command, milliseconds tim
         return false;
     });
     if (!answer && d.refusal && d.refusal->kind == "Command")
-        throw Error(d.controlEndpoint, "the server refused command " + std::to_string(command.requestId) + ": " +
-                                           d.refusal->reason);
+        throw Error(d.controlEndpoint,
+                    "the server refused command " + std::to_string(command.requestId) + ": " + d.refusal->reason);
     if (!answer)
         throw Error(d.controlEndpoint,
                     "no reply to command " + std::to_string(command.requestId) + " within " + inMs(timeout));

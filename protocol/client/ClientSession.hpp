@@ -23,8 +23,8 @@ namespace bop::protocol {
 
 struct ClientOptions {
     Role role = Role::Viewer;
-    float frameRateHz = 0;  // wanted state-frame rate, wall Hz; 0 = every frame the server publishes
-    bool readOnly = false;  // asks for a session that may not send commands
+    float frameRateHz = 0;                  // wanted state-frame rate, wall Hz; 0 = every frame the server publishes
+    bool readOnly = false;                  // asks for a session that may not send commands
     std::string clientName = "bop-client";  // for the server's logs, at most kMaxNameBytes
     // How long connect() waits for SceneInfo and sendCommand() for its reply when called without
     // a timeout, ms. A few seconds: a loaded server answers within a step or two.

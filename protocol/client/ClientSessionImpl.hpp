@@ -24,10 +24,10 @@ struct ClientSession::Impl {
     std::string controlEndpoint, frameEndpoint;
     SceneInfo scene;
     int tier = 0;
-    std::optional<Feedback> feedback;  // newest not yet polled
-    std::optional<Refusal> refusal;    // newest not yet looked at by connect() or sendCommand()
-    Buffer hello;                      // this session's Hello, sent again to keep the session
-    Clock::time_point lastSent{};      // the last message over the DEALER socket
+    std::optional<Feedback> feedback;      // newest not yet polled
+    std::optional<Refusal> refusal;        // newest not yet looked at by connect() or sendCommand()
+    Buffer hello;                          // this session's Hello, sent again to keep the session
+    Clock::time_point lastSent{};          // the last message over the DEALER socket
     std::optional<UdpSocket> probeSocket;  // ClientOptions::probeOverUdp
     Endpoint probeTo;                      // the server's UDP probe port
 
@@ -55,7 +55,8 @@ struct ClientSession::Impl {
     void countMalformed();
     // Reads DEALER messages, handing each to `take`, until it returns true (then true) or
     // `deadline` passes (then false, having read everything queued).
-    template <class Take> bool pumpControl(Clock::time_point deadline, Take take);
+    template <class Take>
+    bool pumpControl(Clock::time_point deadline, Take take);
     // Waits until `s` (or file descriptor `fd`, if not -1) has something to read or `deadline`
     // passes; false at the deadline or when a signal interrupted the wait (callers look at the
     // clock again).
@@ -63,13 +64,13 @@ struct ClientSession::Impl {
     void takeUdpFeedback();  // feedback datagrams queued on probeSocket
     void takeRefusal(Refusal r);
     void send(const Buffer& b, const char* what);  // over the DEALER, without waiting; bop::Error when it cannot queue
-    void keepAlive();        // Hello again when a third of the server's session timeout went by in silence
+    void keepAlive();  // Hello again when a third of the server's session timeout went by in silence
 
     // ---- frame side (ClientFrames.cpp) ----
     // Reads every frame message queued on the SUB socket without waiting; returns the newest
     // whole frame they completed, if any.
     std::optional<StateFrame> drainSub();
-    std::optional<StateFrame> drainUdp();  // the same for frames over UDP
+    std::optional<StateFrame> drainUdp();     // the same for frames over UDP
     std::optional<StateFrame> drainFrames();  // from whichever of the two carries frames
     int udpFrameFd() { return udpFrames ? udpFrames->socket().fd() : -1; }
     // One frame chunk, from whatever transport carried it (the SUB socket, or a whole frame from
@@ -90,7 +91,8 @@ bool ClientSession::Impl::pumpControl(Clock::time_point deadline, Take take) {
                 if (take(msg)) return true;
                 continue;
             }
-            for (zmq::message_t part; msg.more() && dealer->recv(part, zmq::recv_flags::dontwait);) msg = std::move(part);
+            for (zmq::message_t part; msg.more() && dealer->recv(part, zmq::recv_flags::dontwait);)
+                msg = std::move(part);
             countMalformed();
         }
         if (Clock::now() >= deadline) return false;

@@ -58,9 +58,9 @@ void FrameAssembler::recycle(StateFrame&& frame) {
     if (frame.positions.capacity() == 0 && frame.species.capacity() == 0) return;
     spares_.push_back(std::move(frame));
     if (spares_.size() <= kMaxSpares) return;
-    const auto smallest = std::min_element(spares_.begin(), spares_.end(), [](const StateFrame& a, const StateFrame& b) {
-        return a.positions.capacity() < b.positions.capacity();
-    });
+    const auto smallest = std::min_element(
+        spares_.begin(), spares_.end(),
+        [](const StateFrame& a, const StateFrame& b) { return a.positions.capacity() < b.positions.capacity(); });
     spares_.erase(smallest);
 }
 

@@ -47,8 +47,8 @@ public:
 
     // Takes one decoded chunk. Returns the whole frame when this chunk completed it: chunkIndex 0,
     // chunkCount 1, firstIndex 0, the header of its first chunk to arrive (chunks repeat their
-    // frame's header) and the particles of all chunks in frame order. Returns nothing while the frame is incomplete, or when the chunk
-    // was dropped (stale, inconsistent, over the limits: see stats()).
+    // frame's header) and the particles of all chunks in frame order. Returns nothing while the frame is incomplete, or
+    // when the chunk was dropped (stale, inconsistent, over the limits: see stats()).
     std::optional<StateFrame> add(StateFrame chunk);
 
     const AssemblerStats& stats() const { return stats_; }
@@ -67,21 +67,21 @@ public:
 
 private:
     struct Partial {
-        bool givenUp = false;                       // inconsistent or over the limits: later chunks are ignored
-        std::size_t bytes = 0;                      // particle bytes of the whole frame, reserved at its first chunk
-        std::uint64_t particles = 0;                // particles arrived
-        std::vector<bool> seen;                     // by chunk index
+        bool givenUp = false;                          // inconsistent or over the limits: later chunks are ignored
+        std::size_t bytes = 0;                         // particle bytes of the whole frame, reserved at its first chunk
+        std::uint64_t particles = 0;                   // particles arrived
+        std::vector<bool> seen;                        // by chunk index
         std::map<std::uint32_t, std::uint32_t> spans;  // particles arrived: first index -> count
-        StateFrame whole;                           // header of the first chunk, arrays of the whole frame
+        StateFrame whole;                              // header of the first chunk, arrays of the whole frame
     };
     using Iter = std::map<std::uint64_t, Partial>::iterator;
 
     std::optional<StateFrame> addChunk(Iter it, StateFrame chunk);
     bool fits(const Partial& p, const StateFrame& chunk) const;
     std::optional<StateFrame> deliver(std::uint64_t seq, StateFrame frame);
-    void giveUp(Partial& p);                 // frees its frame, keeps the entry as a tombstone
+    void giveUp(Partial& p);  // frees its frame, keeps the entry as a tombstone
     void erase(Iter it, bool countLost);
-    bool makeRoom(std::uint64_t seq);        // evicts oldest partial frames; false if `seq` itself went
+    bool makeRoom(std::uint64_t seq);  // evicts oldest partial frames; false if `seq` itself went
 
     AssemblerLimits limits_;
     AssemblerStats stats_;

@@ -22,7 +22,7 @@ public:
 private:
     std::size_t capacity_;
     std::deque<std::pair<std::uint64_t, double>> pending_;  // (seq, sent at), oldest first
-    std::deque<double> samples_;                             // ms
+    std::deque<double> samples_;                            // ms
 };
 
 }  // namespace bop::protocol

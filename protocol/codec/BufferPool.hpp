@@ -20,9 +20,8 @@ public:
     Buffer take() {
         std::lock_guard lock(m_);
         if (kept_.empty()) return {};
-        const auto largest = std::max_element(kept_.begin(), kept_.end(), [](const Buffer& a, const Buffer& b) {
-            return a.capacity() < b.capacity();
-        });
+        const auto largest = std::max_element(
+            kept_.begin(), kept_.end(), [](const Buffer& a, const Buffer& b) { return a.capacity() < b.capacity(); });
         Buffer b = std::move(*largest);
         kept_.erase(largest);
         b.clear();

@@ -40,15 +40,14 @@ public:
     }
     // A finite number in [lo, hi]; the message names the range (the valid ranges: Ranges.hpp).
     bool within(double v, double lo, double hi, const char* field) {
-        return finite(v, field) &&
-               require(v >= lo && v <= hi, DecodeError::OutOfRange, field,
-                       number(v) + " outside " + number(lo) + ".." + number(hi));
+        return finite(v, field) && require(v >= lo && v <= hi, DecodeError::OutOfRange, field,
+                                           number(v) + " outside " + number(lo) + ".." + number(hi));
     }
     // Every component finite and of magnitude at most `bound`.
     bool within(const Eigen::Vector3d& v, double bound, const char* field) {
-        return finite(v, field) &&
-               require(v.cwiseAbs().maxCoeff() <= bound, DecodeError::OutOfRange, field,
-                       "a component of magnitude " + number(v.cwiseAbs().maxCoeff()) + " (at most " + number(bound) + ")");
+        return finite(v, field) && require(v.cwiseAbs().maxCoeff() <= bound, DecodeError::OutOfRange, field,
+                                           "a component of magnitude " + number(v.cwiseAbs().maxCoeff()) +
+                                               " (at most " + number(bound) + ")");
     }
     static std::string number(double v) {
         char text[32];

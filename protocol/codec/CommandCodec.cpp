@@ -1,7 +1,6 @@
 // Command (client to server) and CommandReply (server to client), request/reply.
 #include "codec/Codec.hpp"
 #include "codec/WireSupport.hpp"
-
 #include "command_generated.h"
 #include "reply_generated.h"
 

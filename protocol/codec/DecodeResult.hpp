@@ -24,7 +24,9 @@ enum class DecodeError : std::uint8_t {
 const char* toString(DecodeError e);
 
 // A refusal for a value (outside its valid range, or not finite) rather than for the buffer.
-inline bool valueRefused(DecodeError e) { return e == DecodeError::NotFinite || e == DecodeError::OutOfRange; }
+inline bool valueRefused(DecodeError e) {
+    return e == DecodeError::NotFinite || e == DecodeError::OutOfRange;
+}
 
 template <class T>
 struct Decoded {

@@ -4,7 +4,6 @@
 #include "codec/Codec.hpp"
 #include "codec/Quantise.hpp"
 #include "codec/WireSupport.hpp"
-
 #include "frame_generated.h"
 
 #include <algorithm>
@@ -64,9 +63,8 @@ void encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std::u
     const auto species = fbb.CreateVector(m.species.data() + begin, k);
     const FrameStats& s = m.stats;
     const wire::LoopStats haptic = detail::toWire(s.haptic);
-    const auto stats =
-        wire::CreateFrameStats(fbb, s.kinetic, s.potential, s.pressure, s.stepRateHz, s.particleCount, &haptic,
-                               s.cavityVolume, s.mapFrame);
+    const auto stats = wire::CreateFrameStats(fbb, s.kinetic, s.potential, s.pressure, s.stepRateHz, s.particleCount,
+                                              &haptic, s.cavityVolume, s.mapFrame);
     const wire::Vec3 probePos = detail::toWire(m.probePosition), probeForce = detail::toWire(m.probeForce);
     const wire::Vec3 lo = detail::toWire(m.quantLo), hi = detail::toWire(m.quantHi);
 
@@ -184,8 +182,10 @@ Validation decodeStateFrameInto(const std::uint8_t* buf, std::size_t len, StateF
     m.probeActive = w.probe_active();
     m.stats = {};
     if (const wire::FrameStats* s = w.stats())
-        m.stats = {s->kinetic_energy(), s->potential_energy(), s->pressure(), s->step_rate_hz(), s->particle_count(),
-                   s->haptic() ? detail::toLoopStats(*s->haptic()) : LoopStats{}, s->cavity_volume(), s->map_frame()};
+        m.stats = {s->kinetic_energy(), s->potential_energy(),
+                   s->pressure(),       s->step_rate_hz(),
+                   s->particle_count(), s->haptic() ? detail::toLoopStats(*s->haptic()) : LoopStats{},
+                   s->cavity_volume(),  s->map_frame()};
     m.frameParticleCount = w.frame_particle_count();
     m.firstIndex = w.first_index();
     m.encoding = FrameEncoding(w.encoding());
@@ -196,7 +196,8 @@ Validation decodeStateFrameInto(const std::uint8_t* buf, std::size_t len, StateF
         // Decoded straight from the verified buffer: aligned (VerifiedBuffer), its arrays read the
         // way FlatBuffers' own accessors read them.
         // An empty chunk may leave qpositions out altogether (0 values: checkWireLengths passed it).
-        const auto* qpositions = w.qpositions() ? reinterpret_cast<const std::uint16_t*>(w.qpositions()->Data()) : nullptr;
+        const auto* qpositions =
+            w.qpositions() ? reinterpret_cast<const std::uint16_t*>(w.qpositions()->Data()) : nullptr;
         const auto* qnormals = w.qnormals() ? reinterpret_cast<const std::uint16_t*>(w.qnormals()->Data()) : nullptr;
         m.quantLo = detail::toEigen(*w.quant_lo());
         m.quantHi = detail::toEigen(*w.quant_hi());

@@ -1,7 +1,6 @@
 // Hello (client to server) and SceneInfo (the server's answer).
 #include "codec/Codec.hpp"
 #include "codec/WireSupport.hpp"
-
 #include "hello_generated.h"
 #include "scene_generated.h"
 
@@ -66,9 +65,9 @@ Buffer encodeSceneInfo(const SceneInfo& m) {
         wire::CreateEndpoints(fbb, frameEndpoint, m.endpoints.udpFramePort, m.endpoints.udpProbePort);
     const auto units = fbb.CreateString(m.units);
     const Tunables& t = m.tunables;
-    const auto tunables = wire::CreateTunables(fbb, fbb.CreateVector(t.lj), fbb.CreateVector(t.coNormal),
-                                               fbb.CreateVector(t.coPlanar), fbb.CreateVector(t.dragV),
-                                               fbb.CreateVector(t.dragW), t.k0, t.k1);
+    const auto tunables =
+        wire::CreateTunables(fbb, fbb.CreateVector(t.lj), fbb.CreateVector(t.coNormal), fbb.CreateVector(t.coPlanar),
+                             fbb.CreateVector(t.dragV), fbb.CreateVector(t.dragW), t.k0, t.k1);
     const wire::Vec3 lo = detail::toWire(m.boxLo), hi = detail::toWire(m.boxHi);
     const wire::Vec3 origin = detail::toWire(m.gridOriginMm);
     const wire::Int3 dims(m.gridDims[0], m.gridDims[1], m.gridDims[2]);
@@ -143,8 +142,13 @@ Decoded<SceneInfo> decodeSceneInfo(const std::uint8_t* buf, std::size_t len) {
             if (!out.empty()) std::memcpy(out.data(), v->Data(), out.size() * sizeof(double));
             return out;
         };
-        m.tunables = {doubles(t->lj()), doubles(t->co_normal()), doubles(t->co_planar()),
-                      doubles(t->drag_v()), doubles(t->drag_w()), t->k0(), t->k1()};
+        m.tunables = {doubles(t->lj()),
+                      doubles(t->co_normal()),
+                      doubles(t->co_planar()),
+                      doubles(t->drag_v()),
+                      doubles(t->drag_w()),
+                      t->k0(),
+                      t->k1()};
     }
     const Validation v = validate(m);
     return detail::accept(std::move(m), v);

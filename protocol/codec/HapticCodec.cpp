@@ -1,7 +1,6 @@
 // Probe (client to server, up to 1 kHz) and Feedback (server to client, every step).
 #include "codec/Codec.hpp"
 #include "codec/WireSupport.hpp"
-
 #include "feedback_generated.h"
 #include "probe_generated.h"
 

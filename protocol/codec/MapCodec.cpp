@@ -1,7 +1,6 @@
 // MapRequest (client to server) and MapChunk (server to client): the gradient-map download.
 #include "codec/Codec.hpp"
 #include "codec/WireSupport.hpp"
-
 #include "map_chunk_generated.h"
 #include "map_request_generated.h"
 
@@ -10,10 +9,10 @@ namespace bop::protocol {
 namespace {
 
 // One flat table each (the chunk's one vector is not a table); caps in DecodeResult.hpp.
-const detail::MessageSpec kRequestSpec{"MapRequest", wire::MapRequestIdentifier(), kMaxMapRequestBytes, 4, 4,
-                                       &wire::VerifyMapRequestBuffer};
-const detail::MessageSpec kChunkSpec{"MapChunk", wire::MapChunkIdentifier(), kMaxMapChunkBytes, 4, 4,
-                                     &wire::VerifyMapChunkBuffer};
+const detail::MessageSpec kRequestSpec{
+    "MapRequest", wire::MapRequestIdentifier(), kMaxMapRequestBytes, 4, 4, &wire::VerifyMapRequestBuffer};
+const detail::MessageSpec kChunkSpec{"MapChunk", wire::MapChunkIdentifier(), kMaxMapChunkBytes, 4,
+                                     4,          &wire::VerifyMapChunkBuffer};
 
 }  // namespace
 

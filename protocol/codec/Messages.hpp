@@ -23,9 +23,9 @@ enum class Role : std::uint8_t { Viewer = 0, Haptic = 1, Replay = 2, Control = 3
 struct Hello {
     std::uint16_t protocolVersion = kProtocolVersion;  // sender's version, >= 1
     Role role = Role::Viewer;
-    float frameRateHz = 0;   // wanted state-frame rate, wall Hz; 0 = the server's default
-    bool readOnly = false;   // asks for a session that may not send commands
-    std::string clientName;  // for logs, at most kMaxNameBytes
+    float frameRateHz = 0;           // wanted state-frame rate, wall Hz; 0 = the server's default
+    bool readOnly = false;           // asks for a session that may not send commands
+    std::string clientName;          // for logs, at most kMaxNameBytes
     std::uint16_t udpFramePort = 0;  // the client's UDP port for frames as datagrams; 0 = none
 };
 
@@ -85,9 +85,9 @@ enum class FrameEncoding : std::uint8_t {
 
 // A haptic client's device loop as it measures itself; all 0 when there is none.
 struct LoopStats {
-    float rateHz = 0;                  // ticks per second
-    float periodErrorP99Us = 0;        // 99th percentile of |tick - deadline|, microseconds
-    std::uint64_t missedDeadlines = 0; // since the start: ticks a period or more late, deadlines skipped
+    float rateHz = 0;                   // ticks per second
+    float periodErrorP99Us = 0;         // 99th percentile of |tick - deadline|, microseconds
+    std::uint64_t missedDeadlines = 0;  // since the start: ticks a period or more late, deadlines skipped
 };
 
 struct FrameStats {
@@ -134,9 +134,9 @@ struct Probe {
     std::int64_t clientTimeNs = 0;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();  // length
     bool active = false;
-    double k0 = 1.0;  // range scale of paper eq. 9, dimensionless, > 0
-    double k1 = 1.0;  // strength of paper eq. 9, dimensionless
-    LoopStats loop;   // the sender's device loop (haptic clients)
+    double k0 = 1.0;                                          // range scale of paper eq. 9, dimensionless, > 0
+    double k1 = 1.0;                                          // strength of paper eq. 9, dimensionless
+    LoopStats loop;                                           // the sender's device loop (haptic clients)
     Eigen::Vector3d renderedForce = Eigen::Vector3d::Zero();  // what its device rendered at this tick, force
 };
 
@@ -164,10 +164,10 @@ struct MapChunk {
 
 // One of the client's messages refused and not applied (schemas/refusal.fbs).
 struct Refusal {
-    std::string kind;          // the refused message's kind ("Probe", ...), at most kMaxNameBytes
-    std::uint64_t seq = 0;     // its sequence (Probe) or request id (Command); 0 when unreadable
-    std::string reason;        // "<Message>.<field>: <problem>", at most kMaxTextBytes
-    std::uint64_t refused = 0; // refusals of the session (UDP: of the address) so far
+    std::string kind;           // the refused message's kind ("Probe", ...), at most kMaxNameBytes
+    std::uint64_t seq = 0;      // its sequence (Probe) or request id (Command); 0 when unreadable
+    std::string reason;         // "<Message>.<field>: <problem>", at most kMaxTextBytes
+    std::uint64_t refused = 0;  // refusals of the session (UDP: of the address) so far
 };
 
 // ---- commands ----

@@ -15,7 +15,7 @@ inline constexpr double kMaxCoordinate = 1e6;
 // Probe (paper eq. 9), also as SetParameter "k0" / "k1".
 inline constexpr double kMinProbeK0 = 0.1;  // range scale, dimensionless
 inline constexpr double kMaxProbeK0 = 10;
-inline constexpr double kMinProbeK1 = 0;    // strength, dimensionless
+inline constexpr double kMinProbeK1 = 0;  // strength, dimensionless
 inline constexpr double kMaxProbeK1 = 50;
 
 // SetParameter "lj", "co_normal", "co_planar": interspecies weights, dimensionless.
@@ -24,9 +24,9 @@ inline constexpr double kMaxWeight = 10;
 inline constexpr double kMaxDrag = 100;
 
 // A haptic client's loop statistics, carried by its probes (display only).
-inline constexpr float kMaxLoopRateHz = 100000;       // ticks per wall second
-inline constexpr float kMaxPeriodErrorUs = 1e9f;      // microseconds
-inline constexpr double kMaxRenderedForce = 1e6;      // |component| of the force a device rendered, force
+inline constexpr float kMaxLoopRateHz = 100000;   // ticks per wall second
+inline constexpr float kMaxPeriodErrorUs = 1e9f;  // microseconds
+inline constexpr double kMaxRenderedForce = 1e6;  // |component| of the force a device rendered, force
 
 // RunControl SingleStep: steps at a time.
 inline constexpr std::uint32_t kMaxSingleSteps = 1000000;

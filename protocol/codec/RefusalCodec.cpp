@@ -1,7 +1,6 @@
 // Refusal (server to client): a message refused, and why.
 #include "codec/Codec.hpp"
 #include "codec/WireSupport.hpp"
-
 #include "refusal_generated.h"
 
 namespace bop::protocol {
@@ -9,8 +8,8 @@ namespace bop::protocol {
 namespace {
 
 // One flat table with two strings; cap in DecodeResult.hpp.
-const detail::MessageSpec kRefusalSpec{"Refusal", wire::RefusalIdentifier(), kMaxRefusalBytes, 4, 4,
-                                       &wire::VerifyRefusalBuffer};
+const detail::MessageSpec kRefusalSpec{"Refusal", wire::RefusalIdentifier(), kMaxRefusalBytes, 4,
+                                       4,         &wire::VerifyRefusalBuffer};
 
 }  // namespace
 

@@ -45,11 +45,16 @@ void checkBody(Checker& c, const SetBirth& b) {
 void checkValue(Checker& c, const SetParameter& b) {
     using namespace ranges;
     const std::string& n = b.name;
-    if (n == "lj" || n == "co_normal" || n == "co_planar") c.within(b.value, 0, kMaxWeight, "SetParameter.value");
-    else if (n == "drag_v" || n == "drag_w") c.within(b.value, 0, kMaxDrag, "SetParameter.value");
-    else if (n == "k0") c.within(b.value, kMinProbeK0, kMaxProbeK0, "SetParameter.value");
-    else if (n == "k1") c.within(b.value, kMinProbeK1, kMaxProbeK1, "SetParameter.value");
-    else c.finite(b.value, "SetParameter.value");
+    if (n == "lj" || n == "co_normal" || n == "co_planar")
+        c.within(b.value, 0, kMaxWeight, "SetParameter.value");
+    else if (n == "drag_v" || n == "drag_w")
+        c.within(b.value, 0, kMaxDrag, "SetParameter.value");
+    else if (n == "k0")
+        c.within(b.value, kMinProbeK0, kMaxProbeK0, "SetParameter.value");
+    else if (n == "k1")
+        c.within(b.value, kMinProbeK1, kMaxProbeK1, "SetParameter.value");
+    else
+        c.finite(b.value, "SetParameter.value");
 }
 void checkBody(Checker& c, const SetParameter& b) {
     checkName(c, b.name, "SetParameter.name") && c.species(b.speciesA, 0, kMaxSpecies, "SetParameter.species_a") &&
@@ -99,8 +104,9 @@ bool validLoop(Checker& c, const LoopStats& s, const char* field) {
                          std::isfinite(s.periodErrorP99Us) && s.periodErrorP99Us >= 0 &&
                          s.periodErrorP99Us <= ranges::kMaxPeriodErrorUs,
                      DecodeError::OutOfRange, field,
-                     "rate " + Checker::number(s.rateHz) + " Hz and period error " + Checker::number(s.periodErrorP99Us) +
-                         " us must lie in 0.." + Checker::number(ranges::kMaxLoopRateHz) + " and 0.." +
+                     "rate " + Checker::number(s.rateHz) + " Hz and period error " +
+                         Checker::number(s.periodErrorP99Us) + " us must lie in 0.." +
+                         Checker::number(ranges::kMaxLoopRateHz) + " and 0.." +
                          Checker::number(ranges::kMaxPeriodErrorUs));
 }
 
@@ -147,8 +153,8 @@ Validation validate(const SceneInfo& m) {
         c.finite(m.r0Voxels, "r0_voxels") &&
         c.require(m.r0Voxels >= 0, DecodeError::OutOfRange, "r0_voxels", "negative") && c.finite(m.dt, "dt") &&
         c.require(m.dt > 0, DecodeError::OutOfRange, "dt", "not > 0") && c.finite(m.publishRateHz, "publish_rate_hz") &&
-        c.require(m.publishRateHz >= 0 && m.publishRateHz <= kMaxFrameRateHz, DecodeError::OutOfRange, "publish_rate_hz",
-                  "outside 0.." + std::to_string(int(kMaxFrameRateHz)) + " Hz") &&
+        c.require(m.publishRateHz >= 0 && m.publishRateHz <= kMaxFrameRateHz, DecodeError::OutOfRange,
+                  "publish_rate_hz", "outside 0.." + std::to_string(int(kMaxFrameRateHz)) + " Hz") &&
         c.finite(m.probeReach, "probe_reach") && validTunables(c, m.tunables, m.species.size()) &&
         c.require(m.probeReach >= 0, DecodeError::OutOfRange, "probe_reach", "negative") &&
         c.within(m.sessionTimeoutS, 0, 1e6, "session_timeout_s") &&

@@ -3,7 +3,6 @@
 // identifier, alignment, verifier), and conversions between wire and plain types.
 #include "codec/Codec.hpp"
 #include "codec/Validate.hpp"
-
 #include "common_generated.h"
 
 #include <flatbuffers/flatbuffers.h>

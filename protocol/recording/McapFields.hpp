@@ -2,9 +2,8 @@
 // Bounds-checked reading of MCAP record content, used by McapReader (internal to recording/).
 // Fields never reads past the content it was given: each length is checked against the bytes that
 // remain before use, and a failure throws bop::Error naming the record kind and its file offset.
-#include "recording/McapFormat.hpp"
-
 #include "bop/common/Error.hpp"
+#include "recording/McapFormat.hpp"
 
 #include <algorithm>
 #include <cstdint>

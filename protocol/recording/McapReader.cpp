@@ -1,9 +1,8 @@
 #include "recording/McapReader.hpp"
 
+#include "bop/common/Error.hpp"
 #include "recording/McapFields.hpp"
 #include "recording/McapFormat.hpp"
-
-#include "bop/common/Error.hpp"
 
 #include <algorithm>
 #include <cstring>

@@ -1,17 +1,17 @@
 #include "recording/McapWriter.hpp"
 
+#include "bop/common/Error.hpp"
 #include "recording/McapFormat.hpp"
 
-#include "bop/common/Error.hpp"
-
-#include <fcntl.h>
-#include <unistd.h>
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <limits>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace bop::recording {
 

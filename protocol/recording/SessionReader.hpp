@@ -29,7 +29,7 @@ struct RecordedSession {
     std::map<std::string, std::string> meta;  // scene file, ranks, restart (the scene channel's metadata)
     std::vector<RecordedCommand> commands;    // in the order they were applied
     std::vector<RecordedProbe> probes;
-    std::vector<RecordedChunk> chunks;        // in the order they were sent
+    std::vector<RecordedChunk> chunks;  // in the order they were sent
 };
 
 // Reads PATH (a complete recording; PATH.partial files of an interrupted session are read up to

@@ -14,8 +14,9 @@ extern const std::size_t sceneSchemaSize, commandSchemaSize, replySchemaSize, pr
 namespace {
 
 std::uint64_t wallNs() {
-    return std::uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                             std::chrono::system_clock::now().time_since_epoch()).count());
+    return std::uint64_t(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+            .count());
 }
 
 }  // namespace
@@ -53,8 +54,12 @@ void SessionRecorder::probe(const Buffer& probe, const Buffer& applied) {
     write(applied_, applied);
 }
 
-void SessionRecorder::frameChunk(const Buffer& chunk) { write(frame_, chunk); }
+void SessionRecorder::frameChunk(const Buffer& chunk) {
+    write(frame_, chunk);
+}
 
-void SessionRecorder::close() { writer_.close(); }
+void SessionRecorder::close() {
+    writer_.close();
+}
 
 }  // namespace bop::protocol

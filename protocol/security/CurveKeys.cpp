@@ -8,10 +8,11 @@
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
-#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <string_view>
+
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -76,12 +77,16 @@ std::string readCurveKey(const std::string& path) {
     if (text.size() > kMaxKeyFileBytes)
         throw Error(path, "more than " + std::to_string(kMaxKeyFileBytes) +
                               " bytes; expected one 40-character z85 CURVE key (as bop-keys writes)");
-    if (text.ends_with("\r\n")) text.resize(text.size() - 2);
-    else if (text.ends_with('\n')) text.pop_back();
+    if (text.ends_with("\r\n"))
+        text.resize(text.size() - 2);
+    else if (text.ends_with('\n'))
+        text.pop_back();
     if (text.size() != kCurveKeyChars)
-        throw Error(path, std::to_string(text.size()) + " characters; expected a 40-character z85 CURVE key "
-                                                        "(and at most a line end)");
-    if (!isCurveKey(text)) throw Error(path, "not a z85 CURVE key (40 characters of the z85 alphabet, as bop-keys writes)");
+        throw Error(path, std::to_string(text.size()) +
+                              " characters; expected a 40-character z85 CURVE key "
+                              "(and at most a line end)");
+    if (!isCurveKey(text))
+        throw Error(path, "not a z85 CURVE key (40 characters of the z85 alphabet, as bop-keys writes)");
     return text;
 }
 

@@ -16,7 +16,8 @@ constexpr std::size_t kKeyBytes = 32;
 ZapHandler::ZapHandler(zmq::context_t& ctx, const std::vector<std::string>& allowed)
     : rep_(ctx, zmq::socket_type::rep) {
     for (const std::string& z85 : allowed) {
-        if (!isCurveKey(z85)) throw Error("CURVE client key", "\"" + z85 + "\" is not a z85 public key (40 characters)");
+        if (!isCurveKey(z85))
+            throw Error("CURVE client key", "\"" + z85 + "\" is not a z85 public key (40 characters)");
         std::array<std::uint8_t, kKeyBytes> key{};
         zmq_z85_decode(key.data(), z85.c_str());
         allowed_.insert(key);

@@ -2,9 +2,8 @@
 // server/InboundRanges.hpp), refused with a reason or taken, and the sessions that say Hello,
 // kept while they talk and forgotten after FrontOptions::sessionTimeout of silence. Runs on the
 // control thread (and in inject()) with the front's mutex held; answers go to the outbox.
-#include "server/ServerFrontImpl.hpp"
-
 #include "server/InboundRanges.hpp"
+#include "server/ServerFrontImpl.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -44,8 +43,10 @@ void ServerFront::Impl::handle(const std::string& id, const std::uint8_t* data, 
 
 void ServerFront::Impl::count(DecodeError error) {
     if (error == DecodeError::None) return;  // a refusal by policy (hello first, read-only, ...)
-    if (valueRefused(error)) ++stats.outOfRange;
-    else ++stats.malformed;
+    if (valueRefused(error))
+        ++stats.outOfRange;
+    else
+        ++stats.malformed;
     if (error == DecodeError::TooLarge) ++stats.oversized;
 }
 
@@ -127,15 +128,17 @@ void ServerFront::Impl::command(const std::string& id, const Decoded<Command>& c
     using E = DecodeError;
     if (!c) {  // a request id that could be read gets its reply; the rest a Refusal
         if (!c.read) return refuse(id, MessageKind::Command, 0, c.error, c.message);
-        return refuse(id, c.value, c.error == E::Unsupported ? ReplyStatus::Unsupported : ReplyStatus::Rejected, c.error,
-                      c.message);
+        return refuse(id, c.value, c.error == E::Unsupported ? ReplyStatus::Unsupported : ReplyStatus::Rejected,
+                      c.error, c.message);
     }
     ++stats.commands;
     const auto it = clients.find(id);
     if (it == clients.end()) return refuse(id, c.value, ReplyStatus::Rejected, E::None, "hello first");
     if (!it->second.mayCommand) return refuse(id, c.value, ReplyStatus::ReadOnly, E::None, "this session is read-only");
-    if (const auto why = refuseCommand(c.value, scene)) return refuse(id, c.value, ReplyStatus::Rejected, E::OutOfRange, *why);
-    if (commands.size() >= front::kMaxQueuedCommands) return refuse(id, c.value, ReplyStatus::Rejected, E::None, "server busy");
+    if (const auto why = refuseCommand(c.value, scene))
+        return refuse(id, c.value, ReplyStatus::Rejected, E::OutOfRange, *why);
+    if (commands.size() >= front::kMaxQueuedCommands)
+        return refuse(id, c.value, ReplyStatus::Rejected, E::None, "server busy");
     commands.push_back({id, c.value});
 }
 
@@ -145,33 +148,35 @@ void ServerFront::Impl::dispatch(const std::string& id, const std::uint8_t* data
     if (const auto it = clients.find(id); it != clients.end()) it->second.lastHeard = Clock::now();
     const MessageKind kind = messageKind(data, size);
     switch (kind) {
-    case MessageKind::Hello:
-        return hello(id, decodeHello(data, size), peerAddress);
-    case MessageKind::Command:
-        return command(id, decodeCommand(data, size));
-    case MessageKind::MapRequest: {
-        const auto r = decodeMapRequest(data, size);
-        if (!r) return refuse(id, kind, 0, r.error, r.message);
-        const auto it = clients.find(id);
-        if (it == clients.end()) return refuse(id, kind, 0, DecodeError::None, "MapRequest: hello first");
-        if (const auto why = refuseMapRequest(r.value, scene)) return refuse(id, kind, 0, DecodeError::OutOfRange, *why);
-        outbox.emplace_back(id, mapPiece(r.value, it->second));
-        return;
-    }
-    case MessageKind::Probe: {
-        const auto p = decodeProbe(data, size);
-        if (!p) return refuse(id, kind, p.read ? p.value.seq : 0, p.error, p.message);
-        const auto it = clients.find(id);
-        if (it == clients.end()) return refuse(id, kind, p.value.seq, DecodeError::None, "Probe: hello first");
-        if (const auto why = refuseProbe(p.value, scene)) return refuse(id, kind, p.value.seq, DecodeError::OutOfRange, *why);
-        ++stats.probes;
-        it->second.lastProbe = it->second.lastHeard;
-        if (!probe || p.value.seq > probe->seq) probe = p.value;
-        return;
-    }
-    default:
-        return refuse(id, kind, 0, DecodeError::WrongIdentifier,
-                      std::string(toString(kind)) + ": not a message a client sends to the server");
+        case MessageKind::Hello:
+            return hello(id, decodeHello(data, size), peerAddress);
+        case MessageKind::Command:
+            return command(id, decodeCommand(data, size));
+        case MessageKind::MapRequest: {
+            const auto r = decodeMapRequest(data, size);
+            if (!r) return refuse(id, kind, 0, r.error, r.message);
+            const auto it = clients.find(id);
+            if (it == clients.end()) return refuse(id, kind, 0, DecodeError::None, "MapRequest: hello first");
+            if (const auto why = refuseMapRequest(r.value, scene))
+                return refuse(id, kind, 0, DecodeError::OutOfRange, *why);
+            outbox.emplace_back(id, mapPiece(r.value, it->second));
+            return;
+        }
+        case MessageKind::Probe: {
+            const auto p = decodeProbe(data, size);
+            if (!p) return refuse(id, kind, p.read ? p.value.seq : 0, p.error, p.message);
+            const auto it = clients.find(id);
+            if (it == clients.end()) return refuse(id, kind, p.value.seq, DecodeError::None, "Probe: hello first");
+            if (const auto why = refuseProbe(p.value, scene))
+                return refuse(id, kind, p.value.seq, DecodeError::OutOfRange, *why);
+            ++stats.probes;
+            it->second.lastProbe = it->second.lastHeard;
+            if (!probe || p.value.seq > probe->seq) probe = p.value;
+            return;
+        }
+        default:
+            return refuse(id, kind, 0, DecodeError::WrongIdentifier,
+                          std::string(toString(kind)) + ": not a message a client sends to the server");
     }
 }
 

@@ -8,7 +8,9 @@
 namespace bop::protocol {
 namespace {
 
-std::string parts(const Endpoint& e) { return e.address + ":" + std::to_string(e.port); }
+std::string parts(const Endpoint& e) {
+    return e.address + ":" + std::to_string(e.port);
+}
 
 Endpoint endpointOf(const std::string& text) {
     const auto colon = text.rfind(':');
@@ -22,8 +24,10 @@ FrontUdp::FrontUdp(const std::string& bindAddress, int port)
 
 void FrontUdp::refuse(const Endpoint& sender, const Probe* p, DecodeError e, const std::string& why,
                       Clock::time_point now, Inbound& in, std::size_t datagramBytes) {
-    if (valueRefused(e)) ++in.outOfRange;
-    else ++in.malformed;
+    if (valueRefused(e))
+        ++in.outOfRange;
+    else
+        ++in.malformed;
     if (e == DecodeError::TooLarge) ++in.oversized;
     if (!p) return;  // unreadable: perhaps not even from the address it names
     Refused& r = refused_[sender.address];

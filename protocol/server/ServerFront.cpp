@@ -1,7 +1,6 @@
-#include "server/ServerFrontImpl.hpp"
-
 #include "bop/common/Error.hpp"
 #include "codec/MessageKind.hpp"
+#include "server/ServerFrontImpl.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -25,7 +24,8 @@ using Clock = front::Clock;
 }  // namespace
 
 int ServerFront::Impl::bind(zmq::socket_t& s, int port) {
-    const std::string ep = "tcp://" + opt.bindAddress + ":" + (opt.basePort == 0 ? std::string("*") : std::to_string(port));
+    const std::string ep =
+        "tcp://" + opt.bindAddress + ":" + (opt.basePort == 0 ? std::string("*") : std::to_string(port));
     try {
         s.bind(ep);
     } catch (const zmq::error_t& e) {
@@ -269,7 +269,8 @@ ServerFront::ServerFront(FrontOptions options, SceneInfo scene) : impl_(std::mak
         d.udp = std::make_unique<FrontUdp>(d.opt.bindAddress, d.opt.basePort == 0 ? 0 : d.opt.basePort + 2);
     d.controlEndpoint = "tcp://" + (d.opt.bindAddress == "*" ? std::string("127.0.0.1") : d.opt.bindAddress) + ":" +
                         std::to_string(d.controlPort);
-    if (!d.opt.recordPath.empty()) d.recorder = std::make_unique<SessionRecorder>(d.opt.recordPath, d.sceneNow(), d.opt.recordMeta);
+    if (!d.opt.recordPath.empty())
+        d.recorder = std::make_unique<SessionRecorder>(d.opt.recordPath, d.sceneNow(), d.opt.recordMeta);
     d.wakeFd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     if (d.wakeFd < 0) throw Error("bop-server", std::string("eventfd: ") + std::strerror(errno));
     d.thread = std::thread([&d] { d.loop(); });
@@ -303,11 +304,23 @@ ServerFront::~ServerFront() {
     if (impl_->wakeFd >= 0) close(impl_->wakeFd);
 }
 
-int ServerFront::controlPort() const { return impl_->controlPort; }
-int ServerFront::framePort() const { return impl_->framePort; }
-int ServerFront::udpProbePort() const { return impl_->udp ? impl_->udp->port() : 0; }
-std::string ServerFront::controlEndpoint() const { return impl_->controlEndpoint; }
-float ServerFront::publishHz() const { return impl_->rateHz.load(); }
-bool ServerFront::anyHaptic() const { return impl_->haptic.load(); }
+int ServerFront::controlPort() const {
+    return impl_->controlPort;
+}
+int ServerFront::framePort() const {
+    return impl_->framePort;
+}
+int ServerFront::udpProbePort() const {
+    return impl_->udp ? impl_->udp->port() : 0;
+}
+std::string ServerFront::controlEndpoint() const {
+    return impl_->controlEndpoint;
+}
+float ServerFront::publishHz() const {
+    return impl_->rateHz.load();
+}
+bool ServerFront::anyHaptic() const {
+    return impl_->haptic.load();
+}
 
 }  // namespace bop::protocol

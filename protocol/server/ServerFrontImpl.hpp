@@ -1,14 +1,13 @@
 #pragma once
 // The front's state (ServerFront.hpp), shared by its thread's side (ServerFront.cpp: sockets,
 // handshakes, publishing) and the step loop's side (ServerFrontSlots.cpp: the slots).
-#include "server/ServerFront.hpp"
-
 #include "codec/BufferPool.hpp"
 #include "codec/Codec.hpp"
 #include "codec/MessageKind.hpp"
-#include "server/FrontUdp.hpp"
 #include "recording/SessionRecorder.hpp"
 #include "security/ZapHandler.hpp"
+#include "server/FrontUdp.hpp"
+#include "server/ServerFront.hpp"
 
 #include <zmq.hpp>
 
@@ -47,14 +46,14 @@ struct Budget {
 struct Client {
     bool mayCommand = true;
     float wantedHz = 0;
-    std::string udpAddress;            // where its frame datagrams go (empty: none)
+    std::string udpAddress;  // where its frame datagrams go (empty: none)
     std::uint16_t udpPort = 0;
     int udpTier = 0;
-    Clock::time_point lastHeard{};     // any message: a session silent for the timeout is forgotten
+    Clock::time_point lastHeard{};  // any message: a session silent for the timeout is forgotten
     Clock::time_point lastProbe{};
-    Budget mapPieces;                  // the gradient-map download's budget (FrontMap.cpp)
-    Budget refusals;                   // Refusal messages sent to it
-    std::uint64_t refused = 0;         // its messages refused so far
+    Budget mapPieces;           // the gradient-map download's budget (FrontMap.cpp)
+    Budget refusals;            // Refusal messages sent to it
+    std::uint64_t refused = 0;  // its messages refused so far
 };
 
 }  // namespace front
@@ -70,7 +69,7 @@ struct ServerFront::Impl {
     std::atomic<bool> stop{false};
     std::thread thread;     // control: handshakes, commands, probes in, feedback out
     std::thread publisher;  // frames out: encoding a large frame never holds back a feedback
-    int wakeFd = -1;  // eventfd: the step loop's offers wake the control thread at once (feedback latency)
+    int wakeFd = -1;        // eventfd: the step loop's offers wake the control thread at once (feedback latency)
     // Chunk buffers ZeroMQ has sent, for the next frames; held weakly by messages in flight.
     std::shared_ptr<BufferPool> chunkPool = std::make_shared<BufferPool>(front::kKeptChunkBuffers);
 
@@ -93,9 +92,9 @@ struct ServerFront::Impl {
     std::atomic<float> rateHz{60};
     std::atomic<bool> haptic{false};
     std::uint64_t particleCount = 0;
-    std::uint64_t frameNumber = 0;   // frames published (tier of the next one); the publisher's
-    std::mutex recordMutex;          // the recorder is written by both threads
-    Clock::time_point nextTick{};    // step loop's publish clock
+    std::uint64_t frameNumber = 0;  // frames published (tier of the next one); the publisher's
+    std::mutex recordMutex;         // the recorder is written by both threads
+    Clock::time_point nextTick{};   // step loop's publish clock
 
     int bind(zmq::socket_t& s, int port);
     void configure(zmq::socket_t& s);
@@ -117,23 +116,26 @@ struct ServerFront::Impl {
     void count(DecodeError error);
     void refuse(const std::string& id, const Command& c, ReplyStatus status, DecodeError error, const std::string& why);
     void refuse(const std::string& id, MessageKind kind, std::uint64_t seq, DecodeError error, const std::string& why);
-    void expire(Clock::time_point now);  // forgets the sessions silent for opt.sessionTimeout
-    void updateRate();                   // the largest rate a session wants, within the bounds
-    void internalError(const std::string& what);  // counted, said on stderr sparingly
+    void expire(Clock::time_point now);                  // forgets the sessions silent for opt.sessionTimeout
+    void updateRate();                                   // the largest rate a session wants, within the bounds
+    void internalError(const std::string& what);         // counted, said on stderr sparingly
     std::vector<std::pair<std::string, Buffer>> outbox;  // answers of handle(), sent by the loop
     front::Budget anonymousRefusals;
     Clock::time_point nextExpiry{};
     Buffer mapPiece(const MapRequest& r, front::Client& c);  // FrontMap.cpp
-    int mapPiecesThisPass = 0;             // at most kMapPiecesPerPass per pass of the loop
+    int mapPiecesThisPass = 0;                               // at most kMapPiecesPerPass per pass of the loop
     void publish(StateFrame f);
     void send(std::vector<Buffer> chunks);
     // Runs a recorder call; a failure (disk full, ...) ends the recording, never the server.
-    template <class F> void record(F f) {
+    template <class F>
+    void record(F f) {
         std::lock_guard recording(recordMutex);
         recordLocked(f);
     }
-    void recordInputLocked(const std::pair<Buffer, Buffer>& input);  // (command, reply) or (probe, applied); recordMutex held
-    template <class F> void recordLocked(F f) {  // recordMutex held
+    void recordInputLocked(
+        const std::pair<Buffer, Buffer>& input);  // (command, reply) or (probe, applied); recordMutex held
+    template <class F>
+    void recordLocked(F f) {  // recordMutex held
         if (!recorder) return;
         try {
             f();

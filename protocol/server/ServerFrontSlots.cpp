@@ -1,7 +1,6 @@
 // The step loop's side of the front: slots guarded by the front's mutex, never a socket call.
-#include "server/ServerFrontImpl.hpp"
-
 #include "codec/MessageKind.hpp"
+#include "server/ServerFrontImpl.hpp"
 
 #include <algorithm>
 #include <utility>
@@ -24,7 +23,8 @@ std::optional<Probe> ServerFront::takeProbe() {
 bool ServerFront::frameDue(Clock::time_point now) {
     Impl& d = *impl_;
     if (now < d.nextTick) return false;
-    const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / d.rateHz.load()));
+    const auto period =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / d.rateHz.load()));
     d.nextTick = std::max(d.nextTick + period, now);  // no burst after a pause
     return true;
 }

@@ -49,18 +49,17 @@ std::uint32_t fragmentCount(std::size_t totalBytes, std::size_t payloadBytes) {
                                          " bytes per datagram: expected 1 to " +
                                          std::to_string(kMaxFragmentPayloadBytes));
     if (totalBytes > std::numeric_limits<std::uint32_t>::max())
-        throw Error("UDP fragments", "message of " + std::to_string(totalBytes) +
-                                         " bytes: the datagram header holds at most 2^32 - 1");
+        throw Error("UDP fragments",
+                    "message of " + std::to_string(totalBytes) + " bytes: the datagram header holds at most 2^32 - 1");
     return static_cast<std::uint32_t>(countFor(totalBytes, payloadBytes));
 }
 
 void writeFragment(std::vector<std::uint8_t>& out, std::uint8_t stream, std::uint32_t sequence,
-                   std::span<const std::uint8_t> message, std::size_t payloadBytes,
-                   std::uint32_t index) {
+                   std::span<const std::uint8_t> message, std::size_t payloadBytes, std::uint32_t index) {
     const std::uint32_t count = fragmentCount(message.size(), payloadBytes);
     if (index >= count)
-        throw Error("UDP fragments", "fragment " + std::to_string(index) + " of a message of " +
-                                         std::to_string(count) + " fragments");
+        throw Error("UDP fragments",
+                    "fragment " + std::to_string(index) + " of a message of " + std::to_string(count) + " fragments");
     const std::size_t begin = std::size_t{index} * payloadBytes;
     const std::size_t length = std::min(payloadBytes, message.size() - begin);
     out.resize(kFragmentHeaderBytes + length);
@@ -78,12 +77,10 @@ void writeFragment(std::vector<std::uint8_t>& out, std::uint8_t stream, std::uin
 }
 
 std::vector<std::vector<std::uint8_t>> splitMessage(std::uint8_t stream, std::uint32_t sequence,
-                                                    std::span<const std::uint8_t> message,
-                                                    std::size_t payloadBytes) {
+                                                    std::span<const std::uint8_t> message, std::size_t payloadBytes) {
     const std::uint32_t count = fragmentCount(message.size(), payloadBytes);
     std::vector<std::vector<std::uint8_t>> out(count);
-    for (std::uint32_t i = 0; i < count; ++i)
-        writeFragment(out[i], stream, sequence, message, payloadBytes, i);
+    for (std::uint32_t i = 0; i < count; ++i) writeFragment(out[i], stream, sequence, message, payloadBytes, i);
     return out;
 }
 
@@ -98,8 +95,7 @@ std::optional<FragmentHeader> readFragmentHeader(std::span<const std::uint8_t> d
     h.count = getU32(p + 12);
     h.totalBytes = getU32(p + 16);
     h.stride = getU16(p + 20);
-    if (h.stride == 0 || h.count != countFor(h.totalBytes, h.stride) || h.index >= h.count)
-        return std::nullopt;
+    if (h.stride == 0 || h.count != countFor(h.totalBytes, h.stride) || h.index >= h.count) return std::nullopt;
     const std::uint64_t begin = std::uint64_t{h.index} * h.stride;  // < totalBytes unless empty
     const std::uint64_t expected = std::min<std::uint64_t>(h.stride, h.totalBytes - begin);
     if (datagram.size() - kFragmentHeaderBytes != expected) return std::nullopt;
@@ -113,10 +109,9 @@ bool sequenceNewer(std::uint32_t a, std::uint32_t b) {
 Reassembler::Reassembler(ReassemblyLimits limits) : limits_(limits) {
     if (limits_.maxPartialMessages == 0 || limits_.maxMessageBytes == 0 ||
         limits_.maxMessageBytes > limits_.maxTotalBytes)
-        throw Error("UDP reassembly limits",
-                    "expected at least one partial message and 0 < maxMessageBytes (" +
-                        std::to_string(limits_.maxMessageBytes) + ") <= maxTotalBytes (" +
-                        std::to_string(limits_.maxTotalBytes) + ")");
+        throw Error("UDP reassembly limits", "expected at least one partial message and 0 < maxMessageBytes (" +
+                                                 std::to_string(limits_.maxMessageBytes) + ") <= maxTotalBytes (" +
+                                                 std::to_string(limits_.maxTotalBytes) + ")");
 }
 
 std::optional<Message> Reassembler::accept(std::span<const std::uint8_t> datagram) {
@@ -129,8 +124,7 @@ std::optional<Message> Reassembler::accept(std::span<const std::uint8_t> datagra
     const auto payload = datagram.subspan(kFragmentHeaderBytes);
     for (Partial& p : partials_) {
         if (p.header.stream != h->stream || p.header.sequence != h->sequence) continue;
-        if (p.header.count != h->count || p.header.totalBytes != h->totalBytes ||
-            p.header.stride != h->stride) {
+        if (p.header.count != h->count || p.header.totalBytes != h->totalBytes || p.header.stride != h->stride) {
             ++stats_.malformed;
             return std::nullopt;
         }
@@ -159,11 +153,11 @@ std::optional<Message> Reassembler::accept(std::span<const std::uint8_t> datagra
 
     // A new partial message: make room by giving up the least recently touched ones. The new
     // message fits once all are gone, since maxMessageBytes <= maxTotalBytes.
-    while (!partials_.empty() && (partials_.size() >= limits_.maxPartialMessages ||
-                                  bufferedBytes_ + h->totalBytes > limits_.maxTotalBytes)) {
-        const auto lru = std::min_element(
-            partials_.begin(), partials_.end(),
-            [](const Partial& a, const Partial& b) { return a.lastTouched < b.lastTouched; });
+    while (!partials_.empty() &&
+           (partials_.size() >= limits_.maxPartialMessages || bufferedBytes_ + h->totalBytes > limits_.maxTotalBytes)) {
+        const auto lru = std::min_element(partials_.begin(), partials_.end(), [](const Partial& a, const Partial& b) {
+            return a.lastTouched < b.lastTouched;
+        });
         drop(static_cast<std::size_t>(lru - partials_.begin()));
     }
     Partial& p = partials_.emplace_back();

@@ -54,13 +54,12 @@ std::uint32_t fragmentCount(std::size_t totalBytes, std::size_t payloadBytes);
 // Writes datagram `index` of `message` into `out` (resized; reused by senders so that a 3 MB
 // message does not allocate 2600 vectors). Throws as fragmentCount, or if index >= count.
 void writeFragment(std::vector<std::uint8_t>& out, std::uint8_t stream, std::uint32_t sequence,
-                   std::span<const std::uint8_t> message, std::size_t payloadBytes,
-                   std::uint32_t index);
+                   std::span<const std::uint8_t> message, std::size_t payloadBytes, std::uint32_t index);
 
 // All datagrams of a message, in index order.
-std::vector<std::vector<std::uint8_t>> splitMessage(
-    std::uint8_t stream, std::uint32_t sequence, std::span<const std::uint8_t> message,
-    std::size_t payloadBytes = kDefaultFragmentPayloadBytes);
+std::vector<std::vector<std::uint8_t>> splitMessage(std::uint8_t stream, std::uint32_t sequence,
+                                                    std::span<const std::uint8_t> message,
+                                                    std::size_t payloadBytes = kDefaultFragmentPayloadBytes);
 
 // The header of a datagram that is well formed on its own (size, magic, version, index < count,
 // count consistent with total and stride, payload length as the header implies), else nullopt.
@@ -71,9 +70,9 @@ std::optional<FragmentHeader> readFragmentHeader(std::span<const std::uint8_t> d
 bool sequenceNewer(std::uint32_t a, std::uint32_t b);
 
 struct ReassemblyLimits {
-    std::size_t maxPartialMessages = 4;          // messages being assembled at once, all streams
-    std::size_t maxMessageBytes = 32u << 20;     // one message; larger ones are refused (bytes)
-    std::size_t maxTotalBytes = 64u << 20;       // all partial messages together (bytes)
+    std::size_t maxPartialMessages = 4;       // messages being assembled at once, all streams
+    std::size_t maxMessageBytes = 32u << 20;  // one message; larger ones are refused (bytes)
+    std::size_t maxTotalBytes = 64u << 20;    // all partial messages together (bytes)
 };
 
 // Datagram counters (duplicates, late, malformed, oversized) and message counters (delivered,
@@ -112,11 +111,11 @@ public:
 private:
     enum class Outcome : std::uint8_t { Delivered, Lost, Stale };
     struct Partial {
-        FragmentHeader header;             // index unused
-        std::vector<std::uint8_t> bytes;   // totalBytes, filled as fragments arrive
-        std::vector<bool> received;        // one flag per fragment
-        std::uint32_t missing = 0;         // fragments not yet received
-        std::uint64_t lastTouched = 0;     // accept() call number, for least-recent eviction
+        FragmentHeader header;            // index unused
+        std::vector<std::uint8_t> bytes;  // totalBytes, filled as fragments arrive
+        std::vector<bool> received;       // one flag per fragment
+        std::uint32_t missing = 0;        // fragments not yet received
+        std::uint64_t lastTouched = 0;    // accept() call number, for least-recent eviction
     };
     struct StreamState {
         std::optional<std::uint32_t> lastDelivered;
@@ -126,16 +125,14 @@ private:
         std::size_t finishedNext = 0;
     };
 
-    std::optional<Message> addFragment(Partial& p, const FragmentHeader& h,
-                                       std::span<const std::uint8_t> payload);
-    std::optional<Message> deliver(std::uint8_t stream, std::uint32_t sequence,
-                                   std::vector<std::uint8_t> bytes);
+    std::optional<Message> addFragment(Partial& p, const FragmentHeader& h, std::span<const std::uint8_t> payload);
+    std::optional<Message> deliver(std::uint8_t stream, std::uint32_t sequence, std::vector<std::uint8_t> bytes);
     void drop(std::size_t partialIndex);  // gives up a partial message: counted lost
     void remember(std::uint8_t stream, std::uint32_t sequence, Outcome outcome);
 
     ReassemblyLimits limits_;
     ReassemblyStats stats_;
-    std::vector<Partial> partials_;  // at most maxPartialMessages: searched linearly
+    std::vector<Partial> partials_;         // at most maxPartialMessages: searched linearly
     std::array<StreamState, 256> streams_;  // by stream id
     std::size_t bufferedBytes_ = 0;
     std::uint64_t calls_ = 0;

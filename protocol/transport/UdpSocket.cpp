@@ -4,15 +4,16 @@
 
 #include "bop/common/Error.hpp"
 
-#include <arpa/inet.h>
 #include <cerrno>
 #include <chrono>
+#include <system_error>
+#include <utility>
+
+#include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
-#include <system_error>
 #include <unistd.h>
-#include <utility>
 
 namespace bop::protocol {
 
@@ -20,7 +21,9 @@ namespace {
 
 constexpr std::size_t kReceiveBufferBytes = 65536;  // > 65507, the largest IPv4 UDP payload
 
-std::string systemText(int err) { return std::generic_category().message(err); }
+std::string systemText(int err) {
+    return std::generic_category().message(err);
+}
 
 sockaddr_in toSockaddr(const Endpoint& e) {
     sockaddr_in a{};
@@ -46,10 +49,11 @@ int socketIntOption(int fd, int option) {
 
 }  // namespace
 
-std::string Endpoint::text() const { return address + ":" + std::to_string(port); }
+std::string Endpoint::text() const {
+    return address + ":" + std::to_string(port);
+}
 
-UdpSocket::UdpSocket(const std::string& address, std::uint16_t port, int bufferBytes)
-    : local_{address, port} {
+UdpSocket::UdpSocket(const std::string& address, std::uint16_t port, int bufferBytes) : local_{address, port} {
     const sockaddr_in a = toSockaddr(local_);
     fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     if (fd_ < 0) {
@@ -77,11 +81,12 @@ UdpSocket::UdpSocket(const std::string& address, std::uint16_t port, int bufferB
     local_.port = ntohs(bound.sin_port);
 }
 
-UdpSocket::~UdpSocket() { close(); }
+UdpSocket::~UdpSocket() {
+    close();
+}
 
 UdpSocket::UdpSocket(UdpSocket&& other) noexcept
-    : fd_(std::exchange(other.fd_, -1)), local_(std::move(other.local_)),
-      buffer_(std::move(other.buffer_)) {}
+    : fd_(std::exchange(other.fd_, -1)), local_(std::move(other.local_)), buffer_(std::move(other.buffer_)) {}
 
 UdpSocket& UdpSocket::operator=(UdpSocket&& other) noexcept {
     if (this != &other) {
@@ -98,19 +103,23 @@ void UdpSocket::close() noexcept {
     fd_ = -1;
 }
 
-int UdpSocket::receiveBufferBytes() const { return socketIntOption(fd_, SO_RCVBUF); }
-int UdpSocket::sendBufferBytes() const { return socketIntOption(fd_, SO_SNDBUF); }
+int UdpSocket::receiveBufferBytes() const {
+    return socketIntOption(fd_, SO_RCVBUF);
+}
+int UdpSocket::sendBufferBytes() const {
+    return socketIntOption(fd_, SO_SNDBUF);
+}
 
 bool UdpSocket::sendTo(const Endpoint& to, std::span<const std::uint8_t> bytes) {
     if (fd_ < 0) throw Error("UDP " + to.text(), "send on a closed (moved-from) socket");
     const sockaddr_in a = toSockaddr(to);
     for (;;) {
-        const ssize_t n = ::sendto(fd_, bytes.data(), bytes.size(), 0,
-                                   reinterpret_cast<const sockaddr*>(&a), sizeof a);
+        const ssize_t n = ::sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&a), sizeof a);
         if (n >= 0) return true;
         const int err = errno;
         switch (err) {
-            case EINTR: continue;
+            case EINTR:
+                continue;
             case EAGAIN:
 #if EWOULDBLOCK != EAGAIN
             case EWOULDBLOCK:
@@ -126,8 +135,7 @@ bool UdpSocket::sendTo(const Endpoint& to, std::span<const std::uint8_t> bytes) 
                 return false;
             default:
                 throw Error("UDP " + local_.text() + " -> " + to.text(),
-                            "cannot send " + std::to_string(bytes.size()) +
-                                " bytes: " + systemText(err));
+                            "cannot send " + std::to_string(bytes.size()) + " bytes: " + systemText(err));
         }
     }
 }
@@ -141,10 +149,9 @@ std::optional<Datagram> UdpSocket::receive(int timeoutMs) {
         socklen_t len = sizeof from;
         // MSG_DONTWAIT: the socket stays blocking for sends; receives never block here.
         if (buffer_.empty()) buffer_.resize(kReceiveBufferBytes);  // a socket that only sends never needs it
-        const ssize_t n = ::recvfrom(fd_, buffer_.data(), buffer_.size(), MSG_DONTWAIT,
-                                     reinterpret_cast<sockaddr*>(&from), &len);
-        if (n >= 0)
-            return Datagram{{buffer_.begin(), buffer_.begin() + n}, fromSockaddr(from)};
+        const ssize_t n =
+            ::recvfrom(fd_, buffer_.data(), buffer_.size(), MSG_DONTWAIT, reinterpret_cast<sockaddr*>(&from), &len);
+        if (n >= 0) return Datagram{{buffer_.begin(), buffer_.begin() + n}, fromSockaddr(from)};
         const int err = errno;
         // ECONNREFUSED: an ICMP error for an earlier send; it concerns no datagram to read.
         if (err != EAGAIN && err != EWOULDBLOCK && err != EINTR && err != ECONNREFUSED)

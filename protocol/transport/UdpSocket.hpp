@@ -40,7 +40,7 @@ public:
 
     std::uint16_t boundPort() const { return local_.port; }
     const Endpoint& local() const { return local_; }
-    int fd() const { return fd_; }  // for poll(); -1 once moved from
+    int fd() const { return fd_; }   // for poll(); -1 once moved from
     int receiveBufferBytes() const;  // as granted by the kernel (Linux reports twice the ask)
     int sendBufferBytes() const;
 

@@ -18,8 +18,7 @@ std::uint32_t UdpSender::send(std::uint8_t stream, std::span<const std::uint8_t>
     return sequence;
 }
 
-void UdpSender::send(std::uint8_t stream, std::uint32_t sequence,
-                     std::span<const std::uint8_t> message) {
+void UdpSender::send(std::uint8_t stream, std::uint32_t sequence, std::span<const std::uint8_t> message) {
     const std::uint32_t count = fragmentCount(message.size(), options_.payloadBytes);
     nextSequence_[stream] = sequence + 1;  // unsigned: wraps at 2^32
     ++stats_.messages;
@@ -43,8 +42,8 @@ bool UdpReceiver::take(Datagram d, std::vector<Message>& newest) {
     if (!m) return false;
     // The reassembler delivers each stream in increasing sequence order, so a later message
     // of a stream replaces the one held for it.
-    const auto same = std::find_if(newest.begin(), newest.end(),
-                                   [&](const Message& n) { return n.stream == m->stream; });
+    const auto same =
+        std::find_if(newest.begin(), newest.end(), [&](const Message& n) { return n.stream == m->stream; });
     if (same == newest.end()) {
         newest.push_back(std::move(*m));
     } else {
@@ -73,8 +72,7 @@ std::vector<Message> UdpReceiver::receive(int timeoutMs) {
         if (!d) break;
         take(std::move(*d), newest);
     }
-    std::sort(newest.begin(), newest.end(),
-              [](const Message& a, const Message& b) { return a.stream < b.stream; });
+    std::sort(newest.begin(), newest.end(), [](const Message& a, const Message& b) { return a.stream < b.stream; });
     return newest;
 }
 

@@ -54,7 +54,7 @@ private:
     UdpSenderOptions options_;
     UdpSenderStats stats_;
     std::array<std::uint32_t, 256> nextSequence_{};  // by stream id
-    std::vector<std::uint8_t> datagram_;              // reused for every fragment
+    std::vector<std::uint8_t> datagram_;             // reused for every fragment
 };
 
 class UdpReceiver {

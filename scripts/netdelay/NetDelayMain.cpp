@@ -3,27 +3,29 @@
 // go: scripts/two-host.sh's delay on kernels without tc netem. Runs until SIGINT/SIGTERM, then
 // lets every held packet go and prints how many it delayed.
 #include "NetDelayQueue.hpp"
-
 #include "bop/common/ToolMain.hpp"
 
 #include <CLI/CLI.hpp>
-
-#include <poll.h>
 #include <sched.h>
 
 #include <csignal>
 #include <cstdio>
 
+#include <poll.h>
+
 namespace {
 volatile std::sig_atomic_t gStop = 0;
-void onSignal(int) { gStop = 1; }
+void onSignal(int) {
+    gStop = 1;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
     return bop::runTool("bop-netdelay", [&] {
-        CLI::App app{"bop-netdelay: delays the packets an iptables rule queues to it (-j NFQUEUE --queue-num N "
-                     "--queue-bypass), for "
-                     "scripts/two-host.sh on kernels without tc netem. Needs root."};
+        CLI::App app{
+            "bop-netdelay: delays the packets an iptables rule queues to it (-j NFQUEUE --queue-num N "
+            "--queue-bypass), for "
+            "scripts/two-host.sh on kernels without tc netem. Needs root."};
         double delayMs = 0, jitterMs = 0;
         std::uint16_t queue = 0;
         std::uint32_t seed = 1;
@@ -39,14 +41,15 @@ int main(int argc, char** argv) {
         const bool realtime = sched_setscheduler(0, SCHED_FIFO, &p) == 0;
         std::signal(SIGINT, onSignal);
         std::signal(SIGTERM, onSignal);
-        std::printf("bop-netdelay: queue %u, delay %.3g ms, jitter %.3g ms, real-time priority: %s; ready\n", unsigned(queue),
-                    delayMs, jitterMs, realtime ? "yes" : "no");
+        std::printf("bop-netdelay: queue %u, delay %.3g ms, jitter %.3g ms, real-time priority: %s; ready\n",
+                    unsigned(queue), delayMs, jitterMs, realtime ? "yes" : "no");
         std::fflush(stdout);
         using bop::netdelay::Clock;
         while (!gStop) {
             const Clock::time_point due = q.nextDue();
-            const auto wait = due == Clock::time_point::max() ? std::chrono::nanoseconds(100'000'000)
-                                                               : std::max(std::chrono::nanoseconds(0), due - Clock::now());
+            const auto wait = due == Clock::time_point::max()
+                                  ? std::chrono::nanoseconds(100'000'000)
+                                  : std::max(std::chrono::nanoseconds(0), due - Clock::now());
             const timespec ts{time_t(wait.count() / 1'000'000'000), long(wait.count() % 1'000'000'000)};
             pollfd fd{q.fd(), POLLIN, 0};
             if (ppoll(&fd, 1, &ts, nullptr) > 0) q.receive();

@@ -2,16 +2,15 @@
 
 #include "bop/common/Error.hpp"
 
-#include <arpa/inet.h>
-#include <sys/socket.h>
-
-#include <libnetfilter_queue/libnetfilter_queue.h>
-#include <linux/netfilter.h>  // NF_ACCEPT; after the libc headers, whose in_addr it then leaves alone
-
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <string>
+
+#include <arpa/inet.h>
+#include <libnetfilter_queue/libnetfilter_queue.h>
+#include <linux/netfilter.h>  // NF_ACCEPT; after the libc headers, whose in_addr it then leaves alone
+#include <sys/socket.h>
 
 namespace bop::netdelay {
 namespace {
@@ -80,10 +79,13 @@ void DelayQueue::release(Clock::time_point now) {
         nfq_set_verdict(queue_, h.id, NF_ACCEPT, 0, nullptr);
         ++stats_.delayed;
         if (now != Clock::time_point::max())
-            stats_.largestLateMs = std::max(stats_.largestLateMs, std::chrono::duration<double, std::milli>(now - h.due).count());
+            stats_.largestLateMs =
+                std::max(stats_.largestLateMs, std::chrono::duration<double, std::milli>(now - h.due).count());
     }
 }
 
-Clock::time_point DelayQueue::nextDue() const { return held_.empty() ? Clock::time_point::max() : held_.top().due; }
+Clock::time_point DelayQueue::nextDue() const {
+    return held_.empty() ? Clock::time_point::max() : held_.top().due;
+}
 
 }  // namespace bop::netdelay

@@ -17,9 +17,9 @@ namespace bop::netdelay {
 using Clock = std::chrono::steady_clock;
 
 struct DelayStats {
-    std::uint64_t delayed = 0;     // packets held and accepted
-    std::uint64_t overflows = 0;   // times the kernel dropped queue notifications (ENOBUFS)
-    double largestLateMs = 0;      // the latest a packet left after its time, ms
+    std::uint64_t delayed = 0;    // packets held and accepted
+    std::uint64_t overflows = 0;  // times the kernel dropped queue notifications (ENOBUFS)
+    double largestLateMs = 0;     // the latest a packet left after its time, ms
 };
 
 class DelayQueue {
@@ -31,7 +31,7 @@ public:
     DelayQueue& operator=(const DelayQueue&) = delete;
 
     int fd() const { return fd_; }
-    void receive();                   // takes what the kernel has queued, without waiting
+    void receive();                       // takes what the kernel has queued, without waiting
     void release(Clock::time_point now);  // accepts every packet whose time has come
     // When the next held packet is due (Clock::time_point::max() when none is held).
     Clock::time_point nextDue() const;

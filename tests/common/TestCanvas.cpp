@@ -1,7 +1,6 @@
+#include "TestUtil.hpp"
 #include "bop/common/Canvas.hpp"
 #include "bop/common/Error.hpp"
-
-#include "TestUtil.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -12,6 +11,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -55,7 +55,7 @@ TEST_CASE("a Canvas made from RGB bytes has them row by row, top row first", "[c
 TEST_CASE("fillRect colours exactly the pixels of the rectangle", "[canvas]") {
     bop::Canvas c(10, 8, kBlack);
     const bop::Rgb red{200, 10, 20};
-    c.fillRect(2, 3, 4, 2, red);  // x 2..5, y 3..4
+    c.fillRect(2, 3, 4, 2, red);       // x 2..5, y 3..4
     c.fillRect(8, 6, 10, 10, kWhite);  // clipped to x 8..9, y 6..7
     for (int y = 0; y < 8; ++y)
         for (int x = 0; x < 10; ++x) {
@@ -111,8 +111,7 @@ TEST_CASE("blit copies with clipping", "[canvas]") {
 TEST_CASE("writePng then stbi_load gives the same pixels", "[canvas]") {
     bop::Canvas c(37, 21, {10, 20, 30});
     for (int y = 0; y < c.height(); ++y)
-        for (int x = 0; x < c.width(); ++x)
-            c.set(x, y, bop::colourMap(double(x) / (c.width() - 1)));
+        for (int x = 0; x < c.width(); ++x) c.set(x, y, bop::colourMap(double(x) / (c.width() - 1)));
     c.fillRect(3, 4, 5, 6, {255, 0, 128});
     c.drawText(1, 1, "Hi", kWhite);
     const std::string path = tempPath("picture.png");
@@ -145,8 +144,7 @@ TEST_CASE("colour maps", "[canvas]") {
     CHECK(bop::colourMap(-3.0) == bop::colourMap(0.0));
     CHECK(bop::colourMap(7.0) == bop::colourMap(1.0));
     // Viridis brightens monotonically (green channel rises).
-    for (int i = 0; i < 100; ++i)
-        CHECK(bop::colourMap(i / 100.0).g <= bop::colourMap((i + 1) / 100.0).g);
+    for (int i = 0; i < 100; ++i) CHECK(bop::colourMap(i / 100.0).g <= bop::colourMap((i + 1) / 100.0).g);
     CHECK(bop::divergingMap(0.0) == kWhite);
     const bop::Rgb blue = bop::divergingMap(-1.0), red = bop::divergingMap(1.0);
     CHECK(blue.b > blue.r);

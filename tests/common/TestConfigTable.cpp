@@ -43,7 +43,8 @@ TEST_CASE("config errors name the file and the key and say what was expected", "
     const toml::table doc2 = toml::parse("size = 3\n");
     const ConfigTable t2(doc2, "y.toml", "");
     (void)t2.has("size_voxels");
-    CHECK(errorOf([&] { t2.finish(); }).find("key 'size': the unit is missing; this quantity is in voxels") != std::string::npos);
+    CHECK(errorOf([&] { t2.finish(); }).find("key 'size': the unit is missing; this quantity is in voxels") !=
+          std::string::npos);
     const toml::table doc3 = toml::parse("speed = 1\n");
     const ConfigTable t3(doc3, "z.toml", "");
     (void)t3.has("voxel_size_mm");

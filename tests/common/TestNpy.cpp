@@ -1,7 +1,6 @@
+#include "TestUtil.hpp"
 #include "bop/common/Error.hpp"
 #include "bop/common/Npy.hpp"
-
-#include "TestUtil.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -12,8 +11,9 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 #include <vector>
+
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -105,7 +105,10 @@ TEST_CASE("npy 0-d array and descr strings", "[npy]") {
 TEST_CASE("npy header ends with a newline at a multiple of 64 bytes", "[npy]") {
     // Shapes with a zero extent hold no data, so long headers cost nothing.
     const std::vector<std::vector<std::size_t>> shapes = {
-        {}, {1}, {0, 123456789}, {0, 1, 22, 333, 4444, 55555, 666666},
+        {},
+        {1},
+        {0, 123456789},
+        {0, 1, 22, 333, 4444, 55555, 666666},
         {0, 100000000, 100000000, 100000000, 100000000, 100000000, 100000000}};
     for (const auto& shape : shapes) {
         const std::string path = tempPath("align.npy");
@@ -174,8 +177,7 @@ TEST_CASE("readNpy rejects bad files with an Error naming the path", "[npy]") {
 TEST_CASE("writeNpy reports an unwritable path", "[npy]") {
     const std::string path = tempPath("no_such_dir") + "/x.npy";
     const std::uint8_t b = 1;
-    CHECK_THROWS_WITH(bop::writeNpy(path, &b, {1}),
-                      Catch::Contains(path) && Catch::Contains("cannot write"));
+    CHECK_THROWS_WITH(bop::writeNpy(path, &b, {1}), Catch::Contains(path) && Catch::Contains("cannot write"));
 }
 
 TEST_CASE("numpy.load reads what writeNpy wrote", "[npy][python]") {
@@ -193,8 +195,9 @@ TEST_CASE("numpy.load reads what writeNpy wrote", "[npy][python]") {
         sum += data[i];
     }
     bop::writeNpy(path, data.data(), {4, 3, 2, 3});
-    const std::string cmd = python + " -c \"import numpy as np, sys; a = np.load(sys.argv[1]); "
-                                     "print(a.shape, a.dtype, int(a.astype(np.int64).sum()))\" '" +
+    const std::string cmd = python +
+                            " -c \"import numpy as np, sys; a = np.load(sys.argv[1]); "
+                            "print(a.shape, a.dtype, int(a.astype(np.int64).sum()))\" '" +
                             path + "' > '" + outPath + "'";
     REQUIRE(std::system(cmd.c_str()) == 0);
     std::ifstream in(outPath);

@@ -15,8 +15,9 @@ TEST_CASE("a box of n whole fcc cells holds 4 n^3 particles at nearest distance 
     for (int cells : {3, 14, 29}) {
         char side[64];
         std::snprintf(side, sizeof side, "%.17g", cells * std::sqrt(2.0));
-        const std::string path = test::writeText(dir.file("bulk.toml"), std::string("[box]\nsize_r0 = [") + side + ", " +
-                                                     side + ", " + side + "]\nspacing_r0 = 1.0\nperiodic = true\n"
+        const std::string path = test::writeText(dir.file("bulk.toml"),
+                                                 std::string("[box]\nsize_r0 = [") + side + ", " + side + ", " + side +
+                                                     "]\nspacing_r0 = 1.0\nperiodic = true\n"
                                                      "[[species]]\nname = \"bulk\"\nkind = \"volume\"\n");
         const app::Scene scene = app::loadScene(path);
         const core::Particles p = app::bulkLattice(scene);
@@ -36,8 +37,10 @@ TEST_CASE("a box of n whole fcc cells holds 4 n^3 particles at nearest distance 
 TEST_CASE("a scene's probe keeps the ranges a client's probe must keep", "[core][scene][probe]") {
     test::TempDir dir("probe-range");
     const auto load = [&](const std::string& probe) {
-        const std::string path = test::writeText(dir.file("probe.toml"), "[box]\nsize_r0 = [6.0, 6.0, 6.0]\n"
-                                                 "[[species]]\nname = \"bulk\"\nkind = \"volume\"\n[probe]\n" + probe);
+        const std::string path = test::writeText(dir.file("probe.toml"),
+                                                 "[box]\nsize_r0 = [6.0, 6.0, 6.0]\n"
+                                                 "[[species]]\nname = \"bulk\"\nkind = \"volume\"\n[probe]\n" +
+                                                     probe);
         try {
             const app::Scene s = app::loadScene(path);
             return std::string("k1 ") + std::to_string(s.probe.params.k1);

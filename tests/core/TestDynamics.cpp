@@ -25,8 +25,10 @@ std::shared_ptr<Model> mixedModel(bool symmetric, bool damped, bool periodic, do
     m->coNormal = WeightMatrix(3, 0.3);
     m->coPlanar = WeightMatrix(3, 0.3);
     if (!symmetric) {
-        m->lj(1, 2) = 0.5; m->lj(2, 1) = 1.5;
-        m->coNormal(1, 3) = 0.1; m->coPlanar(3, 1) = 0.7;
+        m->lj(1, 2) = 0.5;
+        m->lj(2, 1) = 1.5;
+        m->coNormal(1, 3) = 0.1;
+        m->coPlanar(3, 1) = 0.7;
         m->species[3].alphaForceOp = 0.8;
         m->species[1].alphaTorqueOp = 1.3;
     }
@@ -68,7 +70,10 @@ TEST_CASE("cell-list forces and torques equal O(N^2) brute force", "[core][cells
         ForceStats a, b;
         field.compute(*m, ProbeState{}, p, a);
         Particles q = p;
-        for (std::size_t i = 0; i < q.size(); ++i) { q.force[i].setZero(); q.torque[i].setZero(); }
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            q.force[i].setZero();
+            q.torque[i].setZero();
+        }
         ForceField::computePairsBruteForce(*m, q, b);
         double maxF = 0, errF = 0, errT = 0;
         for (std::size_t i = 0; i < p.size(); ++i) {
@@ -92,7 +97,10 @@ TEST_CASE("total momentum is conserved with symmetric weights and no field", "[c
     std::mt19937 rng(4);
     std::normal_distribution<double> g(0, 0.2);
     double speed = 0;
-    for (auto& v : p.vel) { v = Eigen::Vector3d(g(rng), g(rng), g(rng)); speed += v.norm(); }
+    for (auto& v : p.vel) {
+        v = Eigen::Vector3d(g(rng), g(rng), g(rng));
+        speed += v.norm();
+    }
     const Eigen::Vector3d p0 = momentum(p);
     Simulation sim(m, p, Construction({}, {}, 3));
     sim.run(500);
@@ -120,7 +128,9 @@ TEST_CASE("an undamped LJ cluster conserves energy over 10,000 steps", "[core][c
     for (int k = 0; k < 4; ++k)
         for (int j = 0; j < 4; ++j)
             for (int i = 0; i < 4; ++i) {
-                const std::size_t n = p.add(Eigen::Vector3d(8 + i, 8 + j, 8 + k) * kR0 * 1.02 + Eigen::Vector3d(0.5 * (j % 2), 0.5 * (k % 2), 0) * kR0, 1, p.size() + 1);
+                const std::size_t n = p.add(Eigen::Vector3d(8 + i, 8 + j, 8 + k) * kR0 * 1.02 +
+                                                Eigen::Vector3d(0.5 * (j % 2), 0.5 * (k % 2), 0) * kR0,
+                                            1, p.size() + 1);
                 p.vel[n] = Eigen::Vector3d(g(rng), g(rng), g(rng));
             }
     Simulation sim(m, p, Construction({}, {}, 1));
@@ -132,7 +142,8 @@ TEST_CASE("an undamped LJ cluster conserves energy over 10,000 steps", "[core][c
         sim.step();
         worst = std::max(worst, std::abs(sim.stats().total() - e0));
     }
-    INFO("E0 " << e0 << ", |E_pair(0)| " << scale << ", largest |E - E0| " << worst << ", final E_kin " << sim.stats().kinetic);
+    INFO("E0 " << e0 << ", |E_pair(0)| " << scale << ", largest |E - E0| " << worst << ", final E_kin "
+               << sim.stats().kinetic);
     CHECK(sim.stats().kinetic > 0.05);  // the cluster moves
     CHECK(worst / scale < 1e-4);
 }

@@ -1,13 +1,11 @@
 // Extended XYZ snapshots: bit-exact round trip of a trajectory, files from other tools, and a
 // bop::Error naming the file and the line for every malformed input.
+#include "TestUtil.hpp"
 #include "app/files/ExtendedXyz.hpp"
 #include "bop/common/Error.hpp"
 
-#include "TestUtil.hpp"
-
-#include <catch2/catch.hpp>
-
 #include <Eigen/Geometry>
+#include <catch2/catch.hpp>
 
 #include <cstdlib>
 #include <random>

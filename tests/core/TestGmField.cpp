@@ -1,7 +1,7 @@
 // Gradient-map force and torque rules: the paper's per-voxel table at voxel centres, a
 // continuous field between them, sensible torques, and a spring back from outside the grid.
-#include "shape/ShapeTestUtil.hpp"
 #include "core/GmField.hpp"
+#include "shape/ShapeTestUtil.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -21,9 +21,8 @@ GradientMap slab() {
 
 GradientMap ball() {
     const Dims d{30, 30, 30};
-    return test::mapFrom(test::depthFrom(d, {[](const Eigen::Vector3d& x) {
-        return (x - Eigen::Vector3d(15.3, 14.8, 15.1)).norm() < 10;
-    }}));
+    return test::mapFrom(test::depthFrom(
+        d, {[](const Eigen::Vector3d& x) { return (x - Eigen::Vector3d(15.3, 14.8, 15.1)).norm() < 10; }}));
 }
 
 }  // namespace
@@ -36,9 +35,11 @@ TEST_CASE("GM rules follow the paper's table for a single bag", "[shape][gm]") {
     const Eigen::Vector3d nz(0, 0, 1);
     auto at = [&](double x, double y, double z) -> Eigen::Vector3d { return Eigen::Vector3d(x, y, z) * h; };
     // Surface particle outside, above the top surface (voxel layer 19): pushed down by d.
-    CHECK((f.sample(ParticleKind::Surface, 1, at(5.5, 5.5, 25.5), nz).force - Eigen::Vector3d(0, 0, -6 * h)).norm() < 1e-12);
+    CHECK((f.sample(ParticleKind::Surface, 1, at(5.5, 5.5, 25.5), nz).force - Eigen::Vector3d(0, 0, -6 * h)).norm() <
+          1e-12);
     // Surface particle inside the slab, at z = 14.5: pulled to the nearer surface (z = 10.5).
-    CHECK((f.sample(ParticleKind::Surface, 1, at(5.5, 5.5, 14.5), nz).force - Eigen::Vector3d(0, 0, -4 * h)).norm() < 1e-12);
+    CHECK((f.sample(ParticleKind::Surface, 1, at(5.5, 5.5, 14.5), nz).force - Eigen::Vector3d(0, 0, -4 * h)).norm() <
+          1e-12);
     // Surface particle on the surface layer's centre plane: no force, anywhere along it.
     for (double x : {3.5, 3.9, 4.2, 7.77})
         CHECK(f.sample(ParticleKind::Surface, 1, at(x, 6.3, 19.5), nz).force.norm() < 1e-12);
@@ -48,11 +49,14 @@ TEST_CASE("GM rules follow the paper's table for a single bag", "[shape][gm]") {
     CHECK(up.z() == Approx(-(2 * 0.2 - 0.04) * h));
     // The default (mixed) keeps the paper's spring to the voxel centre for surface particles.
     const GmField paper(m);
-    CHECK((paper.sample(ParticleKind::Surface, 1, at(4.2, 6.3, 19.7), nz).force - Eigen::Vector3d(0.3, 0.2, -0.2) * h).norm() < 1e-12);
+    CHECK((paper.sample(ParticleKind::Surface, 1, at(4.2, 6.3, 19.7), nz).force - Eigen::Vector3d(0.3, 0.2, -0.2) * h)
+              .norm() < 1e-12);
     // Volume particles: free inside, pushed in from outside, pushed one voxel inward on the surface.
     CHECK(f.sample(ParticleKind::Volume, 2, at(5.5, 5.5, 15.5), nz).force.norm() < 1e-12);
-    CHECK((f.sample(ParticleKind::Volume, 2, at(5.5, 5.5, 2.5), nz).force - Eigen::Vector3d(0, 0, 8 * h)).norm() < 1e-12);
-    CHECK((f.sample(ParticleKind::Volume, 2, at(12.5, 10.5, 19.5), nz).force - Eigen::Vector3d(0, 0, -h)).norm() < 1e-6);
+    CHECK((f.sample(ParticleKind::Volume, 2, at(5.5, 5.5, 2.5), nz).force - Eigen::Vector3d(0, 0, 8 * h)).norm() <
+          1e-12);
+    CHECK((f.sample(ParticleKind::Volume, 2, at(12.5, 10.5, 19.5), nz).force - Eigen::Vector3d(0, 0, -h)).norm() <
+          1e-6);
 }
 
 TEST_CASE("GM torque turns a surface particle's normal toward the surface normal", "[shape][gm]") {
@@ -91,19 +95,22 @@ TEST_CASE("GM field equals the per-voxel rule at centres and is continuous betwe
         for (int s = 0; s < 40; ++s) {
             const Eigen::Vector3d a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
             const Eigen::Vector3d dir = (b - a).normalized();
-            Eigen::Vector3d prevT = tri.sample(kind, species, a * h, n).force, prevN = near.sample(kind, species, a * h, n).force;
+            Eigen::Vector3d prevT = tri.sample(kind, species, a * h, n).force,
+                            prevN = near.sample(kind, species, a * h, n).force;
             for (double t = step; t < (b - a).norm(); t += step) {
                 const Eigen::Vector3d p = (a + t * dir) * h;
-                const Eigen::Vector3d ft = tri.sample(kind, species, p, n).force, fn = near.sample(kind, species, p, n).force;
+                const Eigen::Vector3d ft = tri.sample(kind, species, p, n).force,
+                                      fn = near.sample(kind, species, p, n).force;
                 maxTri = std::max(maxTri, (ft - prevT).norm() / h);
                 maxNear = std::max(maxNear, (fn - prevN).norm() / h);
                 prevT = ft;
                 prevN = fn;
             }
         }
-        INFO("species " << species << ": largest change per 0.001-voxel step: trilinear " << maxTri << ", nearest " << maxNear);
-        CHECK(maxTri < 0.05);   // Lipschitz: at most ~ (|d| + 2) per voxel times the step
-        CHECK(maxNear > 0.5);   // the paper's piecewise rule jumps at voxel faces
+        INFO("species " << species << ": largest change per 0.001-voxel step: trilinear " << maxTri << ", nearest "
+                        << maxNear);
+        CHECK(maxTri < 0.05);  // Lipschitz: at most ~ (|d| + 2) per voxel times the step
+        CHECK(maxNear > 0.5);  // the paper's piecewise rule jumps at voxel faces
     }
 }
 

@@ -56,7 +56,8 @@ TEST_CASE("keyframes at one process: the map switches every frame duration and t
     CHECK(sim->particles().force[0].norm() > 0);  // the test saw a shape force at all
 }
 
-TEST_CASE("with LJ off the blood's pressure is N T / V and equals the walls' mechanical pressure within 2%", "[keyframes]") {
+TEST_CASE("with LJ off the blood's pressure is N T / V and equals the walls' mechanical pressure within 2%",
+          "[keyframes]") {
     test::TempDir dir("ideal-gas");
     // A ball of radius 14 voxels; the wall is the map's step from volume to surface voxels
     // (nearest rule), stiff; no pair forces and no drag on the gas. The step force heats the gas
@@ -111,8 +112,9 @@ co_planar = [[0.0, 0.0], [0.0, 0.0]]
     }
     const double n = sim->stats().blood.count, volume = sim->stats().bloodVolume;
     const double nTOverV = kinetic / steps;  // N T / V with T = sum m v^2 / (3 N)
-    INFO("T " << nTOverV * volume / n << " (started at " << temperature << "), N " << n << ", V " << volume << ", N T / V " << nTOverV << ", wall pressure " << wall / steps
-              << ", the product's pressure " << product / steps);
+    INFO("T " << nTOverV * volume / n << " (started at " << temperature << "), N " << n << ", V " << volume
+              << ", N T / V " << nTOverV << ", wall pressure " << wall / steps << ", the product's pressure "
+              << product / steps);
     CHECK(n == 250);
     CHECK(wall / steps == Approx(nTOverV).epsilon(0.02));
     CHECK(product / steps == Approx(wall / steps).epsilon(0.02));  // what the run reports is the walls' pressure
@@ -152,31 +154,43 @@ TEST_CASE("the averaged cycle finds a known pressure peak and scales it to 120 m
 TEST_CASE("bad keyframes and pressure tables stop with the file and key", "[keyframes]") {
     test::TempDir dir("keyframes-errors");
     const std::string good = test::writeKeyframeScene(dir.path.string(), 0.5, true);
-    const std::string base = [&] { std::ifstream f(good); return std::string(std::istreambuf_iterator<char>(f), {}); }();
+    const std::string base = [&] {
+        std::ifstream f(good);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    }();
     const auto fails = [&](const std::string& text, const std::string& name) {
         const std::string path = test::writeText(dir.file(name + ".toml"), text);
         try {
             app::loadScene(path);
         } catch (const std::exception& e) {
-            return std::string(e.what()).find(path) != std::string::npos ? std::string(e.what()) : std::string("no path");
+            return std::string(e.what()).find(path) != std::string::npos ? std::string(e.what())
+                                                                         : std::string("no path");
         }
         return std::string("no error");
     };
-    CHECK_THAT(fails(base + "period = 2.0\n", "both"), Catch::Contains("keyframes.frame_duration") && Catch::Contains("not both"));
-    CHECK_THAT(fails(base + "first_frame = 2\n", "first"), Catch::Contains("keyframes.first_frame") && Catch::Contains("[0, 1]"));
+    CHECK_THAT(fails(base + "period = 2.0\n", "both"),
+               Catch::Contains("keyframes.frame_duration") && Catch::Contains("not both"));
+    CHECK_THAT(fails(base + "first_frame = 2\n", "first"),
+               Catch::Contains("keyframes.first_frame") && Catch::Contains("[0, 1]"));
     CHECK_THAT(fails(base + "first_frame = 4294967296\n", "first-wide"), Catch::Contains("keyframes.first_frame"));
-    CHECK_THAT(fails(base + "start_time = nan\n", "nan"), Catch::Contains("keyframes.start_time") && Catch::Contains("finite"));
+    CHECK_THAT(fails(base + "start_time = nan\n", "nan"),
+               Catch::Contains("keyframes.start_time") && Catch::Contains("finite"));
     std::string noDuration = base;
     noDuration.replace(noDuration.find("frame_duration = 0.5"), 20, "");
     CHECK_THAT(fails(noDuration, "neither"), Catch::Contains("keyframes.frame_duration") && Catch::Contains("either"));
-    CHECK_THAT(fails(noDuration + "period = inf\n", "inf"), Catch::Contains("keyframes.period") && Catch::Contains("finite"));
-    CHECK_THAT(fails(noDuration + "period = -2.0\n", "negative"), Catch::Contains("keyframes.period") && Catch::Contains("time step"));
-    CHECK_THAT(fails(noDuration + "frame_duration = 0.001\n", "short"), Catch::Contains("keyframes.frame_duration") && Catch::Contains("time step"));
-    CHECK_THAT(fails("[box]\n[keyframes]\nframe_duration = 1.0\n", "no-shape"), Catch::Contains("keyframes") && Catch::Contains("has none"));
+    CHECK_THAT(fails(noDuration + "period = inf\n", "inf"),
+               Catch::Contains("keyframes.period") && Catch::Contains("finite"));
+    CHECK_THAT(fails(noDuration + "period = -2.0\n", "negative"),
+               Catch::Contains("keyframes.period") && Catch::Contains("time step"));
+    CHECK_THAT(fails(noDuration + "frame_duration = 0.001\n", "short"),
+               Catch::Contains("keyframes.frame_duration") && Catch::Contains("time step"));
+    CHECK_THAT(fails("[box]\n[keyframes]\nframe_duration = 1.0\n", "no-shape"),
+               Catch::Contains("keyframes") && Catch::Contains("has none"));
     CHECK_THAT(fails(base + "[pressure]\naverage_steps = 0\n", "avg"), Catch::Contains("pressure.average_steps"));
     CHECK_THAT(fails(base + "[pressure]\nformula = 'ideal'\n", "formula"), Catch::Contains("pressure.formula"));
-    const std::string sphere = "[grid]\nvoxel_size_mm = 1.0\n[shape]\n[[shape.bag]]\nsource = 'sphere'\nradius_mm = 5.0\n"
-                               "[keyframes]\nframe_duration = 1.0\n";
+    const std::string sphere =
+        "[grid]\nvoxel_size_mm = 1.0\n[shape]\n[[shape.bag]]\nsource = 'sphere'\nradius_mm = 5.0\n"
+        "[keyframes]\nframe_duration = 1.0\n";
     CHECK_THAT(fails(sphere, "static"), Catch::Contains("one frame"));
     CHECK_THAT(fails("[box]\n[pressure]\n", "bulk"), Catch::Contains("pressure") && Catch::Contains("no [shape]"));
 }

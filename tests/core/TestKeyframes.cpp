@@ -43,7 +43,8 @@ TEST_CASE("map volume counts: a box's voxels split between subdomains add up to 
     m.occ.assign(m.grid.dims.count(), 0);
     for (int z = 1; z < 5; ++z)
         for (int y = 1; y < 7; ++y)
-            for (int x = 1; x < 9; ++x) m.occ[m.grid.dims.index(x, y, z)] = (x == 1 || x == 8 || y == 1 || y == 6 || z == 1 || z == 4) ? 1 : 2;
+            for (int x = 1; x < 9; ++x)
+                m.occ[m.grid.dims.index(x, y, z)] = (x == 1 || x == 8 || y == 1 || y == 6 || z == 1 || z == 4) ? 1 : 2;
     const double h = kR0 / 2;
     const Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d(10, 8, 6) * h, cut(4.5 * h, 8 * h, 6 * h);
     const MapVolume whole = countMapVolume(m, lo, hi);
@@ -55,7 +56,8 @@ TEST_CASE("map volume counts: a box's voxels split between subdomains add up to 
     CHECK(left.bagVoxels == 3 * 6 * 4);  // centres below x = 4.5: x = 1..3 of the bag
 }
 
-TEST_CASE("filled volume: oriented points on a sphere enclose its volume, a wide hole lets the outside in", "[keyframes]") {
+TEST_CASE("filled volume: oriented points on a sphere enclose its volume, a wide hole lets the outside in",
+          "[keyframes]") {
     const double h = 1.0, radius = 12.0, spacing = 1.7;
     const Dims d{40, 40, 40};
     const Eigen::Vector3d centre(20, 20, 20);
@@ -73,17 +75,20 @@ TEST_CASE("filled volume: oriented points on a sphere enclose its volume, a wide
     CHECK(filled == Approx(expected).epsilon(0.03));
     std::vector<Eigen::Vector3d> holedPos, holedNormal;  // a cap of 8 voxels radius removed
     for (std::size_t i = 0; i < pos.size(); ++i)
-        if ((pos[i] - (centre + radius * Eigen::Vector3d::UnitZ())).norm() > 8) holedPos.push_back(pos[i]), holedNormal.push_back(normal[i]);
-    CHECK(filledVoxels(d, h, holedPos, holedNormal, 1.5 * spacing) < 0.6 * expected);  // only the band inside the sheet is left
+        if ((pos[i] - (centre + radius * Eigen::Vector3d::UnitZ())).norm() > 8)
+            holedPos.push_back(pos[i]), holedNormal.push_back(normal[i]);
+    CHECK(filledVoxels(d, h, holedPos, holedNormal, 1.5 * spacing) <
+          0.6 * expected);  // only the band inside the sheet is left
 }
 
 TEST_CASE("blood pressure: the standard virial form and the paper's eq. 15", "[keyframes]") {
-    CHECK(virialPressure(30, 6, 2) == Approx(6.0));           // (30 + 6) / 6
+    CHECK(virialPressure(30, 6, 2) == Approx(6.0));             // (30 + 6) / 6
     CHECK(paperEq15Pressure(30, 6, 3, 2) == Approx(32.0 / 6));  // (30 + 6 / 3) / 6
     CHECK(virialPressure(30, 6, 0) == 0);
 }
 
-TEST_CASE("periodic spline: through its knots, smooth across the period's ends, exact for a sine to 1e-3", "[keyframes]") {
+TEST_CASE("periodic spline: through its knots, smooth across the period's ends, exact for a sine to 1e-3",
+          "[keyframes]") {
     const int k = 32;
     std::vector<double> y;
     for (int i = 0; i < k; ++i) y.push_back(std::sin(2 * M_PI * i / k) + 0.3 * std::cos(4 * M_PI * i / k));

@@ -66,7 +66,10 @@ double bruteForceError(const Model& m, ForceField& field, Particles& p, bool ene
     ForceStats a, b;
     field.compute(m, ProbeState{}, p, a, nullptr, energies);
     Particles q = p;
-    for (std::size_t i = 0; i < q.size(); ++i) { q.force[i].setZero(); q.torque[i].setZero(); }
+    for (std::size_t i = 0; i < q.size(); ++i) {
+        q.force[i].setZero();
+        q.torque[i].setZero();
+    }
     ForceField::computePairsBruteForce(m, q, b);
     REQUIRE(a.pairsInRange == b.pairsInRange);
     CHECK(a.virial == Approx(b.virial).epsilon(1e-11));

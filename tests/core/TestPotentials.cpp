@@ -1,11 +1,10 @@
-// Pair potentials (physics.md §1–§2): forces are minus the gradient of the energies (central
+// Pair potentials (docs/physics.md §1–§2): forces are minus the gradient of the energies (central
 // finite differences), torques match the energy's dependence on orientation (dE = -tau.dtheta),
-// total angular momentum is conserved pair by pair, and the LJ-form values of physics.md §2.
+// total angular momentum is conserved pair by pair, and the LJ-form values of docs/physics.md §2.
 #include "core/Potentials.hpp"
 
-#include <catch2/catch.hpp>
-
 #include <Eigen/Geometry>
+#include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -20,10 +19,10 @@ using Eigen::Vector3d;
 namespace {
 
 constexpr int kPairs = 200;
-constexpr double kStep = 1e-3;      // FD step for positions (fourth-order stencil), length units
-constexpr double kAngle = 1e-5;     // FD step for rotations (two-point), radians
-constexpr double kRelTol = 1e-6;    // relative error allowed between analytic and FD values
-constexpr double kFloor = 1e-3;     // absolute floor of the relative error's denominator
+constexpr double kStep = 1e-3;    // FD step for positions (fourth-order stencil), length units
+constexpr double kAngle = 1e-5;   // FD step for rotations (two-point), radians
+constexpr double kRelTol = 1e-6;  // relative error allowed between analytic and FD values
+constexpr double kFloor = 1e-3;   // absolute floor of the relative error's denominator
 constexpr double kMomentumTol = 1e-12;
 
 Vector3d randomUnit(std::mt19937& rng) {
@@ -49,7 +48,11 @@ Vector3d randomPoint(std::mt19937& rng) {
 Vector3d fdForce(const std::function<double(const Vector3d&)>& e, const Vector3d& x) {
     Vector3d f;
     for (int k = 0; k < 3; ++k) {
-        auto at = [&](double d) { Vector3d y = x; y[k] += d; return e(y); };
+        auto at = [&](double d) {
+            Vector3d y = x;
+            y[k] += d;
+            return e(y);
+        };
         f[k] = -(8.0 * (at(kStep) - at(-kStep)) - (at(2 * kStep) - at(-2 * kStep))) / (12.0 * kStep);
     }
     return f;
@@ -98,11 +101,10 @@ void checkCentralPair(const Form& form, double rmin, double rmax, unsigned seed)
     CHECK(worstMomentum < kMomentumTol);
 }
 
-using OrientedFn = void (*)(const Vector3d&, double, const Vector3d&, const Vector3d&, double,
-                            double, OrientedPair&);
+using OrientedFn = void (*)(const Vector3d&, double, const Vector3d&, const Vector3d&, double, double, OrientedPair&);
 
-OrientedPair orientedPair(OrientedFn fn, const OrientedWeight& w, const Vector3d& pi,
-                          const Vector3d& pj, const Vector3d& ni, const Vector3d& nj) {
+OrientedPair orientedPair(OrientedFn fn, const OrientedWeight& w, const Vector3d& pi, const Vector3d& pj,
+                          const Vector3d& ni, const Vector3d& nj) {
     const Vector3d r = pj - pi;
     const double rlen = r.norm();
     double psi = 0.0, dpsi = 0.0;
@@ -132,8 +134,7 @@ void checkOrientedPair(OrientedFn fn, const OrientedWeight& w, unsigned seed) {
         const Vector3d l = p.taui + p.tauj + pi.cross(-p.fj) + pj.cross(p.fj);
         worstMomentum = std::max(worstMomentum, l.norm());
     }
-    INFO("worst FD errors: force " << worstF << ", torque " << worstT << "; angular momentum "
-                                   << worstMomentum);
+    INFO("worst FD errors: force " << worstF << ", torque " << worstT << "; angular momentum " << worstMomentum);
     CHECK(worstF < kRelTol);
     CHECK(worstT < kRelTol);
     CHECK(worstMomentum < kMomentumTol);
@@ -143,9 +144,8 @@ void checkOrientedPair(OrientedFn fn, const OrientedWeight& w, unsigned seed) {
 
 TEST_CASE("LJ-form force is minus the energy gradient in every cutoff mode", "[core][potentials]") {
     const std::vector<LjParams> cases = {
-        {LjCutoff::Switched, 1.2, 1.6},      {LjCutoff::Switched, 2.0, 3.0},
-        {LjCutoff::Truncated, 1.2, 3.0},     {LjCutoff::EnergyShifted, 1.2, 3.0},
-        {LjCutoff::ShiftedForce, 1.2, 3.0},  {LjCutoff::ShiftedForce, 1.2, 2.0},
+        {LjCutoff::Switched, 1.2, 1.6},      {LjCutoff::Switched, 2.0, 3.0},     {LjCutoff::Truncated, 1.2, 3.0},
+        {LjCutoff::EnergyShifted, 1.2, 3.0}, {LjCutoff::ShiftedForce, 1.2, 3.0}, {LjCutoff::ShiftedForce, 1.2, 2.0},
     };
     unsigned seed = 11;
     for (const LjParams& c : cases) {
@@ -195,7 +195,7 @@ TEST_CASE("LJ-form values, continuity and cutoff", "[core][potentials]") {
     const LjForm sf({LjCutoff::ShiftedForce, 1.2, 3.0});
     CHECK(std::abs(sf.force(rc * (1 - 1e-12))) < 1e-9);
     CHECK(std::abs(sf.energy(rc * (1 - 1e-12))) < 1e-9);
-    const double rMin = 3.0 * std::sqrt(6.0) / 4.0;  // 1.837, physics.md §2.2
+    const double rMin = 3.0 * std::sqrt(6.0) / 4.0;  // 1.837, docs/physics.md §2.2
     CHECK(std::abs(sf.force(rMin)) < 1e-14);
     CHECK(sf.energy(rMin) < sf.energy(rMin - 1e-3));
     CHECK(sf.energy(rMin) < sf.energy(rMin + 1e-3));

@@ -44,7 +44,8 @@ Simulation simulation(const std::shared_ptr<Model>& m, Particles p) {
 
 }  // namespace
 
-TEST_CASE("a step that ends with a non-finite value throws UnsoundState naming the particle and what", "[core][sound]") {
+TEST_CASE("a step that ends with a non-finite value throws UnsoundState naming the particle and what",
+          "[core][sound]") {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     struct Spoil {
         const char* what;  // what the state after the step says
@@ -83,10 +84,12 @@ TEST_CASE("a step that ends with a non-finite value throws UnsoundState naming t
     // A start (a restart file's state) checked before any drift: too fast to step.
     Particles fast = three();
     fast.vel[2].z() = -2e6 / m->integration.dt;
-    CHECK(unsoundness(*m, fast, Eigen::Vector3d::Zero()) == "particle 3 (species 1): faster than 1e6 length units a step");
+    CHECK(unsoundness(*m, fast, Eigen::Vector3d::Zero()) ==
+          "particle 3 (species 1): faster than 1e6 length units a step");
 }
 
-TEST_CASE("the step limit holds a particle shot at 1e300 to 0.2 r0 a step, and changes nothing below it", "[core][sound]") {
+TEST_CASE("the step limit holds a particle shot at 1e300 to 0.2 r0 a step, and changes nothing below it",
+          "[core][sound]") {
     const auto m = smallModel();
     Simulation sim = simulation(m, three());
     sim.particles().vel[1].x() = 1e300;
@@ -113,7 +116,8 @@ TEST_CASE("two particles on one point: the forces blow up and the step says so",
     CHECK_THROWS_AS(sim.step(), UnsoundState);
 }
 
-TEST_CASE("the probe's force is that of its core's edge inside it, -dE/dr holds, and it is 0 on the particle", "[core][potentials][probe]") {
+TEST_CASE("the probe's force is that of its core's edge inside it, -dE/dr holds, and it is 0 on the particle",
+          "[core][potentials][probe]") {
     for (const ProbeParams pp : {ProbeParams{1.0, 1.0}, ProbeParams{0.3, 50.0}, ProbeParams{4.0, 0.2}}) {
         const ProbeForm probe(LjForm(), pp);
         const double core = kProbeCoreR0 * pp.k0 * kR0;
@@ -140,7 +144,8 @@ TEST_CASE("the probe's force is that of its core's edge inside it, -dE/dr holds,
     }
 }
 
-TEST_CASE("a probe dropped onto a particle pushes it with a bounded force, and the state stays sound", "[core][sound][probe]") {
+TEST_CASE("a probe dropped onto a particle pushes it with a bounded force, and the state stays sound",
+          "[core][sound][probe]") {
     const auto m = smallModel();
     Simulation sim = simulation(m, three());
     sim.probe().active = true;

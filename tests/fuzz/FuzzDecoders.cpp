@@ -13,11 +13,10 @@
 // Strict accepts must read the same in Tolerant mode, and Tolerant mode must read the same records
 // again from the first validBytes bytes of what it was given.
 #include "ProtocolSamples.hpp"  // samples::same(): field-by-field comparisons of every message
+#include "bop/common/Error.hpp"
 #include "codec/Codec.hpp"
 #include "codec/Validate.hpp"
 #include "recording/McapReader.hpp"
-
-#include "bop/common/Error.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -29,7 +28,8 @@
 #include <string_view>
 
 #ifndef BOP_FUZZ_TARGET
-#error "define BOP_FUZZ_TARGET: hello, scene, frame, probe, feedback, command, reply, maprequest, mapchunk, refusal or mcap"
+#error \
+    "define BOP_FUZZ_TARGET: hello, scene, frame, probe, feedback, command, reply, maprequest, mapchunk, refusal or mcap"
 #endif
 #define BOP_FUZZ_STR2(x) #x
 #define BOP_FUZZ_STR(x) BOP_FUZZ_STR2(x)
@@ -75,10 +75,11 @@ void checkDecoder(const std::uint8_t* data, std::size_t size, Decode decode, Enc
     const Misaligned odd(data, size);
     const Decoded<T> dOdd = decode(odd.data, size);
     if (dOdd.error != d.error)
-        fail(std::string("aligned input: ") + toString(d.error) + " (" + d.message + "), misaligned input: " +
-             toString(dOdd.error) + " (" + dOdd.message + ")");
+        fail(std::string("aligned input: ") + toString(d.error) + " (" + d.message +
+             "), misaligned input: " + toString(dOdd.error) + " (" + dOdd.message + ")");
     if (!d.ok()) return;
-    if (!bop::protocol::samples::same(d.value, dOdd.value)) fail("aligned and misaligned input decode to different values");
+    if (!bop::protocol::samples::same(d.value, dOdd.value))
+        fail("aligned and misaligned input decode to different values");
 
     const Validation v = validateValue(d.value);
     if (!v.ok()) fail("the decoder accepted a value validate() refuses: " + v.message);
@@ -90,8 +91,7 @@ void checkDecoder(const std::uint8_t* data, std::size_t size, Decode decode, Enc
         fail(std::string("the decoder accepted a value the encoder refuses: ") + e.what());
     }
     const Decoded<T> d2 = decode(again.data(), again.size());
-    if (!d2.ok())
-        fail(std::string("the re-encoded value is refused: ") + toString(d2.error) + " (" + d2.message + ")");
+    if (!d2.ok()) fail(std::string("the re-encoded value is refused: ") + toString(d2.error) + " (" + d2.message + ")");
     if (!bop::protocol::samples::same(d.value, d2.value)) fail("the value changed in the round trip");
     Buffer third;
     try {

@@ -13,9 +13,9 @@
 // The contract, beyond the sanitizers': nothing thrown leaves the loop (no UnsoundState: no
 // in-range input may make the physics unsound), the front counts no internal error, and the
 // run's totals stay finite.
-#include "app/scene/SceneConfig.hpp"
 #include "app/runs/ServedLoop.hpp"
 #include "app/runs/ServedRun.hpp"
+#include "app/scene/SceneConfig.hpp"
 #include "app/scene/SimulationSetup.hpp"
 #include "parallel/DecomposedRun.hpp"
 #include "parallel/Session.hpp"
@@ -29,6 +29,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+
 #include <unistd.h>
 
 namespace {
@@ -144,8 +145,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     w.front->takeCommands();  // what an earlier input left queued
     w.front->takeProbe();
-    app::ServedLoop loop(w.scene, *w.run, w.front.get(), w.serve, [] { return false; }, nullptr,
-                         std::chrono::microseconds(0));  // a paused pass does not wait
+    app::ServedLoop loop(
+        w.scene, *w.run, w.front.get(), w.serve, [] { return false; }, nullptr,
+        std::chrono::microseconds(0));  // a paused pass does not wait
     // Paused, as a client may leave a server: the run steps only when the input resumes it or
     // asks for single steps, so that an input's cost lies in its messages, not in the physics.
     loop.desk().paused = true;
@@ -165,23 +167,24 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (std::size_t k = 0; k < size;) {
         const std::uint8_t op = data[k++];
         switch (op % 4) {
-        case 0:
-        case 1: {
-            std::size_t n = 0;
-            if (k < size) n = data[k++];
-            if (k < size) n |= std::size_t(data[k++]) << 8;
-            n = std::min(n, size - k);
-            w.front->inject("peer" + std::to_string((op / 4) % 4), data + k, n);
-            k += n;
-            break;
-        }
-        default:
-            for (int p = 0; p <= (op / 4) % 8; ++p) pass();
+            case 0:
+            case 1: {
+                std::size_t n = 0;
+                if (k < size) n = data[k++];
+                if (k < size) n |= std::size_t(data[k++]) << 8;
+                n = std::min(n, size - k);
+                w.front->inject("peer" + std::to_string((op / 4) % 4), data + k, n);
+                k += n;
+                break;
+            }
+            default:
+                for (int p = 0; p <= (op / 4) % 8; ++p) pass();
         }
     }
     const parallel::Totals t = w.run->totals();
     if (!(std::isfinite(t.kinetic) && std::isfinite(t.pairEnergy) && t.probeReaction.allFinite()))
         fail("the run's totals are not finite");
-    if (w.front->stats().internalErrors != errorsBefore) fail("internal error in the front: " + w.front->stats().lastInternalError);
+    if (w.front->stats().internalErrors != errorsBefore)
+        fail("internal error in the front: " + w.front->stats().lastInternalError);
     return 0;
 }

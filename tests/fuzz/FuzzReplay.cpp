@@ -24,24 +24,24 @@ Bytes mutate(Bytes b, const std::vector<Bytes>& all, std::mt19937& rng) {
     for (int edits = 1 + int(rng() % 4); edits > 0; --edits) {
         const std::size_t at = b.empty() ? 0 : rng() % b.size();
         switch (rng() % 5) {
-        case 0:
-            if (!b.empty()) b[at] ^= std::uint8_t(1u << (rng() % 8));
-            break;
-        case 1:
-            if (!b.empty()) b[at] = std::uint8_t(rng());
-            break;
-        case 2:
-            b.insert(b.begin() + long(at), std::uint8_t(rng()));
-            break;
-        case 3:
-            if (!b.empty()) b.erase(b.begin() + long(at), b.begin() + long(std::min(b.size(), at + 1 + rng() % 8)));
-            break;
-        default: {  // a piece of another input
-            const Bytes& o = all[rng() % all.size()];
-            if (o.empty()) break;
-            const std::size_t from = rng() % o.size(), n = std::min<std::size_t>(o.size() - from, 1 + rng() % 64);
-            b.insert(b.begin() + long(at), o.begin() + long(from), o.begin() + long(from + n));
-        }
+            case 0:
+                if (!b.empty()) b[at] ^= std::uint8_t(1u << (rng() % 8));
+                break;
+            case 1:
+                if (!b.empty()) b[at] = std::uint8_t(rng());
+                break;
+            case 2:
+                b.insert(b.begin() + long(at), std::uint8_t(rng()));
+                break;
+            case 3:
+                if (!b.empty()) b.erase(b.begin() + long(at), b.begin() + long(std::min(b.size(), at + 1 + rng() % 8)));
+                break;
+            default: {  // a piece of another input
+                const Bytes& o = all[rng() % all.size()];
+                if (o.empty()) break;
+                const std::size_t from = rng() % o.size(), n = std::min<std::size_t>(o.size() - from, 1 + rng() % 64);
+                b.insert(b.begin() + long(at), o.begin() + long(from), o.begin() + long(from + n));
+            }
         }
     }
     return b;

@@ -172,7 +172,9 @@ private:
     std::vector<std::uint8_t> bytes_;
 };
 
-Command command(std::uint64_t id, CommandBody body) { return {id, std::move(body)}; }
+Command command(std::uint64_t id, CommandBody body) {
+    return {id, std::move(body)};
+}
 
 void front() {
     const Buffer hello = encodeHello({});

@@ -33,8 +33,8 @@ TEST_CASE("haptic loop: deadlines a period apart, percentiles of lateness, misse
     REQUIRE(ticks.size() == 100);
     const PeriodStats s = loop.whole();
     CHECK(s.ticks == 100);
-    CHECK(s.missed >= 5);                   // the stall skipped at least five deadlines...
-    CHECK(ticks[21].dtS >= 0.006 - 1e-9);   // ...and the tick after it says so
+    CHECK(s.missed >= 5);                  // the stall skipped at least five deadlines...
+    CHECK(ticks[21].dtS >= 0.006 - 1e-9);  // ...and the tick after it says so
     for (std::size_t k = 1; k < ticks.size(); ++k) {
         const double steps = ticks[k].dtS / 0.001;
         CHECK(std::abs(steps - std::round(steps)) < 1e-6);  // deadlines on the 1 ms grid
@@ -78,8 +78,8 @@ TEST_CASE("virtual coupling: the proxy follows a free hand; in contact the hand 
 
     ForceModel contact(p);
     const Eigen::Vector3d reaction(0, 0, 5);  // the server pushes the probe up with 5 force units
-    const std::vector<ForceOutput> b =
-        simulate(contact, 2, [](double) { return Eigen::Vector3d(0, 0, -1); }, [&](const Eigen::Vector3d&) { return reaction; });
+    const std::vector<ForceOutput> b = simulate(
+        contact, 2, [](double) { return Eigen::Vector3d(0, 0, -1); }, [&](const Eigen::Vector3d&) { return reaction; });
     CHECK((b.back().force - reaction).norm() < 1e-3);  // at rest, the hand feels the reaction
     CHECK(b.back().gain == 1);
     CHECK((b.back().proxy - Eigen::Vector3d(0, 0, -1 + 5 / p.stiffness)).norm() < 1e-3);
@@ -89,8 +89,9 @@ TEST_CASE("virtual coupling: the proxy follows a free hand; in contact the hand 
     stiff.stiffness = 1000;
     stiff.damping = 2 * std::sqrt(stiff.stiffness * stiff.proxyMass);
     ForceModel s(stiff);
-    const std::vector<ForceOutput> c =
-        simulate(s, 1, [](double t) { return Eigen::Vector3d(t < 0.6 ? 0 : -0.5, 0, 0); }, [](const Eigen::Vector3d& x) {
+    const std::vector<ForceOutput> c = simulate(
+        s, 1, [](double t) { return Eigen::Vector3d(t < 0.6 ? 0 : -0.5, 0, 0); },
+        [](const Eigen::Vector3d& x) {
             return Eigen::Vector3d(x.x() < 0 ? -200 * x.x() : 0, 0, 0);  // a wall at x = 0
         });
     double largest = 0;
@@ -98,7 +99,8 @@ TEST_CASE("virtual coupling: the proxy follows a free hand; in contact the hand 
     // The hand jumped 0.5 in one tick: at most the spring and the damper of that jump, once.
     CHECK(largest < stiff.stiffness * 0.5 + stiff.damping * 0.5 / 0.001);
     // Within 0.3 s it settles on the series springs of coupling and wall: 1000 * 200 / 1200 * 0.5.
-    for (std::size_t k = 900; k < c.size(); ++k) CHECK(c[k].force.x() == Approx(1000.0 * 200 / 1200 * 0.5).epsilon(0.01));
+    for (std::size_t k = 900; k < c.size(); ++k)
+        CHECK(c[k].force.x() == Approx(1000.0 * 200 / 1200 * 0.5).epsilon(0.01));
 }
 
 TEST_CASE("safety: silence ramps the force to 0 within 50 ms; it comes back over half a second", "[haptic]") {
@@ -106,7 +108,8 @@ TEST_CASE("safety: silence ramps the force to 0 within 50 ms; it comes back over
     ForceModel m(p);
     const Eigen::Vector3d reaction(0, 0, 5);
     const std::vector<ForceOutput> o = simulate(
-        m, 2.0, [](double) { return Eigen::Vector3d(0, 0, -1); }, [&](const Eigen::Vector3d&) { return reaction; }, 1.0);
+        m, 2.0, [](double) { return Eigen::Vector3d(0, 0, -1); }, [&](const Eigen::Vector3d&) { return reaction; },
+        1.0);
     REQUIRE(o[999].force.norm() > 4.9);  // before the silence
     std::size_t zeroAt = 0;
     for (std::size_t k = 1000; k < o.size() && !zeroAt; ++k)
@@ -161,8 +164,8 @@ GradientMap slab() {
 
 TEST_CASE("field force: zero outside the bag, growing with depth inside, along the outward normal", "[haptic]") {
     const FieldForce f(slab(), 4.0);
-    const double h = f.voxelSize();  // sqrt 3 / 2
-    const double surface = 10.5 * h; // the surface voxels' centres
+    const double h = f.voxelSize();   // sqrt 3 / 2
+    const double surface = 10.5 * h;  // the surface voxels' centres
     CHECK(f.signedDistance({2 * h, 2 * h, surface}) == Approx(0).margin(1e-12));
     CHECK(f.signedDistance({2 * h, 2 * h, surface + 2 * h}) == Approx(2 * h));
     CHECK(f.signedDistance({2 * h, 2 * h, surface - 1.25 * h}) == Approx(-1.25 * h));  // continuous between centres
@@ -180,9 +183,9 @@ TEST_CASE("scripted paths: a poke goes in to its depth, holds and comes out; a c
     p.inward = {0, 0, -1};
     p.standoffMm = 10, p.depthMm = 5, p.speedMmPerS = 10, p.holdS = 1;
     CHECK(pathAt(p, 0).z() == Approx(10));
-    CHECK(pathAt(p, 1.5).z() == Approx(-5));   // in after 15 mm at 10 mm/s
-    CHECK(pathAt(p, 2.0).z() == Approx(-5));   // holding
-    CHECK(pathAt(p, 3.0).z() == Approx(0));    // halfway out
+    CHECK(pathAt(p, 1.5).z() == Approx(-5));  // in after 15 mm at 10 mm/s
+    CHECK(pathAt(p, 2.0).z() == Approx(-5));  // holding
+    CHECK(pathAt(p, 3.0).z() == Approx(0));   // halfway out
     CHECK(pathDuration(p) == Approx(4.0));
     CHECK(pathAt(p, 9).z() == Approx(10));
     p.kind = PathKind::Circle;

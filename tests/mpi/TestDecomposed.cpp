@@ -55,7 +55,8 @@ Particles scatter(const Model& m, int n, std::uint32_t seed, double speed) {
         }
         if (!ok) continue;
         const Eigen::Vector3d axis = Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
-        const std::size_t i = p.add(x, 1 + int(p.size() % 3), 1000 + p.size(), Eigen::Quaterniond(Eigen::AngleAxisd(3 * u(rng), axis)));
+        const std::size_t i =
+            p.add(x, 1 + int(p.size() % 3), 1000 + p.size(), Eigen::Quaterniond(Eigen::AngleAxisd(3 * u(rng), axis)));
         p.vel[i] = Eigen::Vector3d(g(rng), g(rng), g(rng));
     }
     return p;
@@ -69,7 +70,8 @@ double forceDifference(const Particles& expected, const Particles& got) {
     for (std::size_t i = 0; i < expected.size(); ++i) {
         REQUIRE(got.id[i] == expected.id[i]);
         maxF = std::max(maxF, expected.force[i].norm());
-        worst = std::max({worst, (got.force[i] - expected.force[i]).norm(), (got.torque[i] - expected.torque[i]).norm()});
+        worst =
+            std::max({worst, (got.force[i] - expected.force[i]).norm(), (got.torque[i] - expected.torque[i]).norm()});
     }
     return worst / maxF;
 }
@@ -87,8 +89,8 @@ TEST_CASE("forces on every particle equal the single process's for a frozen conf
         DecomposedSimulation run(comm, m, all);
         const double worst = forceDifference(all, run.gather());
         const auto t = run.totals();
-        INFO("periodic " << periodic << ", " << comm.size() << " ranks, grid " << comm.dims()[0] << "x" << comm.dims()[1]
-                         << "x" << comm.dims()[2] << ": largest relative force difference " << worst);
+        INFO("periodic " << periodic << ", " << comm.size() << " ranks, grid " << comm.dims()[0] << "x"
+                         << comm.dims()[1] << "x" << comm.dims()[2] << ": largest relative force difference " << worst);
         CHECK(worst < 1e-12);
         CHECK(t.pairEnergy == Approx(ref.pairEnergy).epsilon(1e-12));
         CHECK(t.virial == Approx(ref.virial).epsilon(1e-12));
@@ -113,7 +115,7 @@ TEST_CASE("no particle is lost or duplicated over 1,000 steps of subdomain cross
     for (double v : moved) migrations += v;
     INFO(comm.size() << " ranks; particles here at the end " << run.particles().size() << "; " << migrations
                      << " migrations in " << run.rebuilds() << " rebuilds");
-    CHECK(after == before);  // sorted by id, so duplicates or losses would show
+    CHECK(after == before);                          // sorted by id, so duplicates or losses would show
     CHECK((migrations > 150) == (comm.size() > 1));  // most of the 300 particles crossed a face
     const double travelled = (got.pos[0] - all.pos[0]).norm();
     CHECK(travelled > 0);
@@ -142,7 +144,8 @@ TEST_CASE("an undamped LJ cluster follows the single-process trajectory for 200 
     for (int k = 0; k < 5; ++k)
         for (int j = 0; j < 5; ++j)
             for (int i = 0; i < 5; ++i) {
-                const std::size_t n = all.add(Eigen::Vector3d(5.5 + i, 5.5 + j, 5.5 + k) * kR0 * 1.02, 2 + (i + j + k) % 2, all.size() + 1);
+                const std::size_t n = all.add(Eigen::Vector3d(5.5 + i, 5.5 + j, 5.5 + k) * kR0 * 1.02,
+                                              2 + (i + j + k) % 2, all.size() + 1);
                 all.vel[n] = Eigen::Vector3d(g(rng), g(rng), g(rng));
             }
     Simulation single(m, all, Construction({}, {}, 3));
@@ -154,10 +157,11 @@ TEST_CASE("an undamped LJ cluster follows the single-process trajectory for 200 
     const Particles got = run.gather();
     REQUIRE(got.size() == all.size());
     double worst = 0;
-    for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, (got.pos[i] - single.particles().pos[i]).norm());
+    for (std::size_t i = 0; i < got.size(); ++i)
+        worst = std::max(worst, (got.pos[i] - single.particles().pos[i]).norm());
     const double eSingle = single.stats().kinetic + single.stats().forces.pairEnergy;
-    INFO(comm.size() << " ranks: largest position difference " << worst << ", energies " << run.totals().total() << " and "
-                     << eSingle);
+    INFO(comm.size() << " ranks: largest position difference " << worst << ", energies " << run.totals().total()
+                     << " and " << eSingle);
     CHECK(worst < 1e-9 * kR0);
     CHECK(run.totals().total() == Approx(eSingle).epsilon(1e-10));
 }
@@ -264,7 +268,8 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
     single.refreshForces();
     const Particles got = run.gather();
     double worst = 0;
-    for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, (got.pos[i] - single.particles().pos[i]).norm());
+    for (std::size_t i = 0; i < got.size(); ++i)
+        worst = std::max(worst, (got.pos[i] - single.particles().pos[i]).norm());
     const double reaction = (run.totals().probeReaction - single.stats().forces.probeReaction).norm();
     INFO(comm.size() << " ranks: largest position difference " << worst << ", reaction difference " << reaction);
     CHECK(single.stats().forces.probeReaction.norm() > 1e-3);

@@ -80,8 +80,10 @@ TEST_CASE("each rank holds only its window of the gradient map", "[mpi][construc
     const double whole = double(bop::gradientMapBytes(*b.scene.model->map));
     double sum = 0, largest = 0;
     for (double x : bytes) sum += x, largest = std::max(largest, x);
-    if (comm.size() == 1) CHECK(largest <= whole);  // one window: the whole grid, the named surface
-    else CHECK(largest < whole);
+    if (comm.size() == 1)
+        CHECK(largest <= whole);  // one window: the whole grid, the named surface
+    else
+        CHECK(largest < whole);
     // Windows overlap only by their margins: together they hold at most a few times the map.
     CHECK(sum < 4.0 * whole);
     // Every rank's window answers like the whole map where its particles can be.
@@ -154,9 +156,11 @@ TEST_CASE("deaths across ranks take the single process's victims and keep ids un
             for (int k = 0; k < 8; ++k) {
                 const Eigen::Vector3d x = Eigen::Vector3d(i + 0.02 * j, j + 0.03 * k, k + 0.05 * i) * core::kR0;
                 const std::size_t a = all.add(x, 1 + (i + j + k) % 2, id++);
-                all.vel[a] = Eigen::Vector3d(0.3 * std::sin(i + 2.0 * k), 0.2 * std::cos(j + k), 0.25 * std::sin(3.0 * j));
+                all.vel[a] =
+                    Eigen::Vector3d(0.3 * std::sin(i + 2.0 * k), 0.2 * std::cos(j + k), 0.25 * std::sin(3.0 * j));
                 if ((i * 7 + j * 3 + k) % 3) continue;  // a close partner for a third of them
-                const std::size_t b = all.add(x + Eigen::Vector3d(0.2, 0.25 * std::sin(i), 0.3) * core::kR0, 1 + (i + k) % 2, id++);
+                const std::size_t b =
+                    all.add(x + Eigen::Vector3d(0.2, 0.25 * std::sin(i), 0.3) * core::kR0, 1 + (i + k) % 2, id++);
                 all.vel[b] = -all.vel[a];
             }
     core::ConstructionParams params;
@@ -202,7 +206,8 @@ TEST_CASE("a run that reads its map windows from the cache file builds the same 
     CHECK(ids == std::set<std::uint64_t>(b.serial->particles().id.begin(), b.serial->particles().id.end()));
     double worst = 0;
     std::map<std::uint64_t, Eigen::Vector3d> want;
-    for (std::size_t i = 0; i < b.serial->particles().size(); ++i) want[b.serial->particles().id[i]] = b.serial->particles().pos[i];
+    for (std::size_t i = 0; i < b.serial->particles().size(); ++i)
+        want[b.serial->particles().id[i]] = b.serial->particles().pos[i];
     for (std::size_t i = 0; i < got.size(); ++i)
         if (want.count(got.id[i])) worst = std::max(worst, (want[got.id[i]] - got.pos[i]).norm());
     CHECK(worst < 1e-8);

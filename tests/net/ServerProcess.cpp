@@ -2,7 +2,12 @@
 
 #include "TestUtil.hpp"
 
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <stdexcept>
 
 #include <fcntl.h>
 #include <poll.h>
@@ -10,15 +15,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <cerrno>
-#include <cstdlib>
-#include <cstdio>
-#include <cstring>
-#include <stdexcept>
-
 namespace bop::test {
 
-std::string buildDir() { return BOP_BUILD_DIR; }
+std::string buildDir() {
+    return BOP_BUILD_DIR;
+}
 
 namespace {
 // Open MPI refuses root unless told (CI runs as root) and more ranks than cores unless told.
@@ -39,9 +40,12 @@ std::pair<int, std::string> runCommand(const std::string& command) {
     const int status = pclose(p);
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
-std::string mpiexec() { return BOP_MPIEXEC; }
+std::string mpiexec() {
+    return BOP_MPIEXEC;
+}
 
-ServerProcess::ServerProcess(std::vector<std::string> argv, std::chrono::milliseconds timeout, const std::string& ready) {
+ServerProcess::ServerProcess(std::vector<std::string> argv, std::chrono::milliseconds timeout,
+                             const std::string& ready) {
     allowMpiAsRoot();
     int pipeFds[2];
     if (pipe(pipeFds) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));

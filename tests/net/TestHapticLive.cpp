@@ -7,17 +7,16 @@
 #include "TestUtil.hpp"
 #include "client/ClientSession.hpp"
 
-#include <catch2/catch.hpp>
-
 #include <Eigen/Core>
+#include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <atomic>
 #include <csignal>
-#include <map>
-#include <optional>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <thread>
@@ -28,9 +27,21 @@ using namespace std::chrono_literals;
 namespace {
 
 std::vector<std::string> torusServer(const std::string& outDir) {
-    return {test::mpiexec(), "-np", "2", "--oversubscribe", test::buildDir() + "/dynamics_server/bop-server",
-            test::sourceDir() + "/config/scenes/torus.toml", "--restart", test::builtTorus(), "--port", "0",
-            "--publish-hz", "10", "--frame-ids", "-o", outDir};
+    return {test::mpiexec(),
+            "-np",
+            "2",
+            "--oversubscribe",
+            test::buildDir() + "/dynamics_server/bop-server",
+            test::sourceDir() + "/config/scenes/torus.toml",
+            "--restart",
+            test::builtTorus(),
+            "--port",
+            "0",
+            "--publish-hz",
+            "10",
+            "--frame-ids",
+            "-o",
+            outDir};
 }
 
 // Surface particles (species 1) by id.
@@ -103,7 +114,8 @@ void waitUntilPushing(const std::string& trace, std::size_t rows, double afterS 
 
 }  // namespace
 
-TEST_CASE("bop-haptic pokes the served torus: the reaction opposes the poke, grows with depth, and moves the surface", "[net][haptic]") {
+TEST_CASE("bop-haptic pokes the served torus: the reaction opposes the poke, grows with depth, and moves the surface",
+          "[net][haptic]") {
     test::TempDir dir("haptic-poke");
     test::ServerProcess srv(torusServer(dir.file("run")));
     const std::string out = test::outputDir("haptic", "poke");
@@ -117,7 +129,8 @@ TEST_CASE("bop-haptic pokes the served torus: the reaction opposes the poke, gro
     std::atomic<bool> done{false};
     std::pair<int, std::string> result;
     std::thread run([&] {
-        result = test::runCommand(haptic(srv.endpoint(), "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 1 --out " + out));
+        result = test::runCommand(
+            haptic(srv.endpoint(), "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 1 --out " + out));
         done = true;
     });
     // The surface gives way: at the probe's deepest frame, the nearest surface particle to the
@@ -140,8 +153,8 @@ TEST_CASE("bop-haptic pokes the served torus: the reaction opposes the poke, gro
     REQUIRE(code == 0);
     srv.stop(SIGINT);
     INFO("nearest surface particle to the deepest probe: " << clearBefore << " before the poke, " << clearDuring
-                                                               << " during it");
-    CHECK(clearDuring > clearBefore + 0.2);  // 0.88 -> 1.26 here
+                                                           << " during it");
+    CHECK(clearDuring > clearBefore + 0.2);                         // 0.88 -> 1.26 here
     CHECK(printed.find("gradient map 100%") != std::string::npos);  // downloaded at connect
     // The stiffness curve: force felt against the poke, by depth past the surface.
     const Csv curve(out + "/stiffness.csv");
@@ -161,7 +174,7 @@ TEST_CASE("bop-haptic pokes the served torus: the reaction opposes the poke, gro
         CHECK(steps[k] > steps[k - 1] - 0.1 * top);  // a tenth of the largest for that pull
     }
     CHECK(steps.back() > 3 * steps.front());
-    CHECK(curve.rows.back()[1] > 1.0);                 // opposes the poke, clearly, at the bottom
+    CHECK(curve.rows.back()[1] > 1.0);                        // opposes the poke, clearly, at the bottom
     CHECK(curve.rows.back()[1] > 5 * curve.rows.front()[1]);  // and far more than at the surface
     CHECK(std::filesystem::file_size(out + "/stiffness.png") > 1000);
     // The server's own reaction pushed the probe back out (up) while it was in.
@@ -180,8 +193,10 @@ TEST_CASE("bop-haptic: a server stopped mid-poke leaves the device without force
     const std::string out = test::outputDir("haptic", "safety");
     std::pair<int, std::string> result;
     std::thread run([&] {
-        result = test::runCommand(haptic(srv.endpoint(), "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 10 "
-                                                         "--seconds 8 --out " + out));
+        result = test::runCommand(haptic(srv.endpoint(),
+                                         "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 10 "
+                                         "--seconds 8 --out " +
+                                             out));
     });
     // Wait until the device pushes back, then stop the server.
     waitUntilPushing(out + "/haptic-trace.csv", 1);
@@ -209,14 +224,16 @@ TEST_CASE("bop-haptic: a server stopped mid-poke leaves the device without force
     for (std::size_t k = zero; k < trace.rows.size(); ++k) CHECK(trace.rows[k][n] == 0);  // and stays there
 }
 
-TEST_CASE("bop-haptic connects again on its own when the server restarts on its port, and feels it push back", "[net][haptic]") {
+TEST_CASE("bop-haptic connects again on its own when the server restarts on its port, and feels it push back",
+          "[net][haptic]") {
     test::TempDir dir("haptic-reconnect");
     auto first = std::make_unique<test::ServerProcess>(torusServer(dir.file("a")));
     const std::string endpoint = first->endpoint();
     const std::string out = test::outputDir("haptic", "reconnect");
-    test::ServerProcess client({test::buildDir() + "/haptic_client/bop-haptic", endpoint, "--device", "sim:poke", "--standoff",
-                                "3", "--depth", "1.5", "--speed", "1", "--hold", "60", "--reconnect-after", "1", "--out", out},
-                               30s, "bop-haptic: sim:poke at");
+    test::ServerProcess client(
+        {test::buildDir() + "/haptic_client/bop-haptic", endpoint, "--device", "sim:poke", "--standoff", "3", "--depth",
+         "1.5", "--speed", "1", "--hold", "60", "--reconnect-after", "1", "--out", out},
+        30s, "bop-haptic: sim:poke at");
     waitUntilPushing(out + "/haptic-trace.csv", 1);
     first->stop(SIGTERM);
     first.reset();
@@ -248,7 +265,8 @@ TEST_CASE("bop-haptic connects again on its own when the server restarts on its 
         }
     for (const auto& r : trace.rows)
         if (r[t] > gapEnd && r[age] < 5) pushedAfter = std::max(pushedAfter, r[n]);
-    INFO("longest gap in feedback " << gapMs << " ms, to " << gapEnd << " s; largest force after it " << pushedAfter << " N");
+    INFO("longest gap in feedback " << gapMs << " ms, to " << gapEnd << " s; largest force after it " << pushedAfter
+                                    << " N");
     CHECK(gapMs > 1000);
     CHECK(pushedAfter > 0.5);
 }
@@ -257,8 +275,8 @@ TEST_CASE("bop-haptic sim:finger pressed on the served torus comes to rest at it
     test::TempDir dir("haptic-finger");
     test::ServerProcess srv(torusServer(dir.file("run")));
     const std::string out = test::outputDir("haptic", "finger");
-    const auto [code, printed] =
-        test::runCommand(haptic(srv.endpoint(), "--device sim:finger --standoff 3 --depth 1.5 --speed 1 --hold 3 --out " + out));
+    const auto [code, printed] = test::runCommand(
+        haptic(srv.endpoint(), "--device sim:finger --standoff 3 --depth 1.5 --speed 1 --hold 3 --out " + out));
     INFO(printed);
     REQUIRE(code == 0);
     srv.stop(SIGINT);

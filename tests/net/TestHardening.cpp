@@ -110,7 +110,8 @@ long long checkpointStep(const std::string& path) {
 
 }  // namespace
 
-TEST_CASE("the served torus keeps stepping through every out-of-range message and a probe dropped onto its particles", "[net][hardening]") {
+TEST_CASE("the served torus keeps stepping through every out-of-range message and a probe dropped onto its particles",
+          "[net][hardening]") {
     test::TempDir dir("hardening-served");
     ServerProcess srv(server(1, test::sourceDir() + "/config/scenes/torus.toml",
                              {"--restart", test::builtTorus(), "-o", dir.file("run")}));
@@ -153,7 +154,8 @@ TEST_CASE("the served torus keeps stepping through every out-of-range message an
     CHECK(printed(out, "internal errors in the front") == 0);
 }
 
-TEST_CASE("a run whose physics goes unsound stops with exit 3 and the last sound state as its checkpoint", "[net][hardening][sound]") {
+TEST_CASE("a run whose physics goes unsound stops with exit 3 and the last sound state as its checkpoint",
+          "[net][hardening][sound]") {
     test::TempDir dir("hardening-unsound");
     const std::string scene = openBox(dir);
     const std::string start = thrownStart(dir, scene);
@@ -161,12 +163,14 @@ TEST_CASE("a run whose physics goes unsound stops with exit 3 and the last sound
         INFO(ranks << " ranks");
         const std::string out = dir.file("batch" + std::to_string(ranks));
         const std::string launch = ranks > 1 ? test::mpiexec() + " -np 2 --oversubscribe " : "";
-        const auto [code, log] = test::runCommand(launch + test::buildDir() + "/dynamics_server/bop-server " + scene +
-                                                  " --no-listen --steps 400 --restart " + start + " -o " + out + " 2>&1");
+        const auto [code, log] =
+            test::runCommand(launch + test::buildDir() + "/dynamics_server/bop-server " + scene +
+                             " --no-listen --steps 400 --restart " + start + " -o " + out + " 2>&1");
         INFO(log);
         CHECK(code == 3);
         std::smatch m;
-        REQUIRE(std::regex_search(log, m, std::regex("after step ([0-9]+) is not sound: .*particle 1 \\(species 1\\): more than 1e6")));
+        REQUIRE(std::regex_search(
+            log, m, std::regex("after step ([0-9]+) is not sound: .*particle 1 \\(species 1\\): more than 1e6")));
         const long long failed = std::stoll(m[1]);
         const long long saved = checkpointStep(out + "/checkpoint.xyz");
         CHECK(saved % 100 == 0);
@@ -175,17 +179,19 @@ TEST_CASE("a run whose physics goes unsound stops with exit 3 and the last sound
         CHECK(saved > 0);  // not the start: a later sound state
         CHECK_FALSE(std::filesystem::exists(out + "/final.xyz"));
         // The checkpoint restarts: the run goes on from the last sound state.
-        const auto again = test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + scene +
-                                            " --no-listen --steps 1 --restart " + out + "/checkpoint.xyz -o " + out + "/again 2>&1");
+        const auto again =
+            test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + scene +
+                             " --no-listen --steps 1 --restart " + out + "/checkpoint.xyz -o " + out + "/again 2>&1");
         CHECK(again.first == 0);
     }
     // Served: frames up to the stop are finite, the server exits 3 by itself, nothing after it.
-    ServerProcess srv(server(2, scene, {"--restart", start, "--wait-for-client", "--publish-hz", "200", "-o",
-                                        dir.file("served")}));
+    ServerProcess srv(
+        server(2, scene, {"--restart", start, "--wait-for-client", "--publish-hz", "200", "-o", dir.file("served")}));
     ClientSession c;
     c.connect(srv.endpoint(), 20s);
     int frames = 0;
-    for (const auto until = std::chrono::steady_clock::now() + 10s; std::chrono::steady_clock::now() < until && srv.running();)
+    for (const auto until = std::chrono::steady_clock::now() + 10s;
+         std::chrono::steady_clock::now() < until && srv.running();)
         if (const auto f = c.receiveFrame(100ms)) {
             ++frames;
             CHECK(finiteFrame(*f));
@@ -194,8 +200,9 @@ TEST_CASE("a run whose physics goes unsound stops with exit 3 and the last sound
     const int code = srv.stop(SIGINT);
     // With the step limit (the default) the same throw is held to 0.2 r0 a step: the run stays sound.
     const std::string limited = openBox(dir, true);
-    const auto held = test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + limited +
-                                       " --no-listen --steps 400 --restart " + start + " -o " + dir.file("limited") + " 2>&1");
+    const auto held =
+        test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + limited +
+                         " --no-listen --steps 400 --restart " + start + " -o " + dir.file("limited") + " 2>&1");
     INFO(held.second);
     CHECK(held.first == 0);
     const std::string log = srv.output();
@@ -244,7 +251,10 @@ TEST_CASE("frames of a periodic box carry positions inside it, float and quantis
     }
 }
 
-TEST_CASE("clients that come, misbehave and go leave the server's memory flat while a viewer and a haptic client keep working", "[net][hardening][churn]") {
+TEST_CASE(
+    "clients that come, misbehave and go leave the server's memory flat while a viewer and a haptic client keep "
+    "working",
+    "[net][hardening][churn]") {
     test::TempDir dir("hardening-churn");
     ServerProcess srv(server(1, test::sourceDir() + "/config/scenes/torus.toml",
                              {"--restart", test::builtTorus(), "--session-timeout", "1", "-o", dir.file("run")}));
@@ -254,7 +264,8 @@ TEST_CASE("clients that come, misbehave and go leave the server's memory flat wh
                          30s, "bop-haptic: connected");
     const auto [code, churn] = test::runCommand(test::buildDir() + "/protocol/bop-churn " + srv.endpoint() +
                                                 " --clients 300 --concurrency 4 --burst 20 --baseline 2 --settle 3 "
-                                                "--server-pid " + std::to_string(srv.pid()) + " 2>&1");
+                                                "--server-pid " +
+                                                std::to_string(srv.pid()) + " 2>&1");
     INFO(churn);
     REQUIRE(code == 0);
     const auto figure = [&](const std::string& key) {
@@ -265,7 +276,7 @@ TEST_CASE("clients that come, misbehave and go leave the server's memory flat wh
     CHECK(figure("clients") == 300);
     CHECK(figure("no_scene") == 0);  // every client's Hello answered, however it behaved
     CHECK(figure("refusals_received") >= 300);
-    CHECK(figure("frames_during") > 10);  // the viewer kept taking frames...
+    CHECK(figure("frames_during") > 10);         // the viewer kept taking frames...
     CHECK(figure("longest_frame_gap_s") < 1.0);  // ...without a pause
     // Loose: this machine's rate drifts by 10-20%; a server that waited on clients would stall.
     CHECK(figure("steps_per_s_during") >= 0.5 * figure("steps_per_s_before"));

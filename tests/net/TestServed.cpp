@@ -5,9 +5,9 @@
 #include "ServerProcess.hpp"
 #include "TestUtil.hpp"
 #include "client/ClientSession.hpp"
-#include "security/CurveKeys.hpp"
 #include "codec/Codec.hpp"
 #include "recording/SessionReader.hpp"
+#include "security/CurveKeys.hpp"
 #include "shape/KeyframeTestScene.hpp"
 #include "transport/UdpSocket.hpp"
 
@@ -18,8 +18,9 @@
 #include <fstream>
 #include <regex>
 #include <set>
-#include <sys/wait.h>
 #include <thread>
+
+#include <sys/wait.h>
 #include <unistd.h>
 
 using namespace bop;
@@ -55,12 +56,15 @@ void stopCleanly(ServerProcess& srv) {
     CHECK(out.find("final state:") != std::string::npos);
 }
 
-Eigen::Vector3d centreOf(const SceneInfo& s) { return 0.5 * (s.boxLo + s.boxHi); }
+Eigen::Vector3d centreOf(const SceneInfo& s) {
+    return 0.5 * (s.boxLo + s.boxHi);
+}
 
 double nearestTo(const StateFrame& f, const Eigen::Vector3d& x) {
     double best = 1e300;
     for (std::size_t i = 0; i < f.count(); ++i)
-        best = std::min(best, (Eigen::Vector3d(f.positions[3 * i], f.positions[3 * i + 1], f.positions[3 * i + 2]) - x).norm());
+        best = std::min(
+            best, (Eigen::Vector3d(f.positions[3 * i], f.positions[3 * i + 1], f.positions[3 * i + 2]) - x).norm());
     return best;
 }
 
@@ -123,12 +127,13 @@ TEST_CASE("a client of a 2-rank server gets the scene, frames at the set rate, a
     stopCleanly(srv);
 }
 
-TEST_CASE("a keyframed bag served at 2 ranks beats in its frames and writes its pressure curve at the end", "[net][keyframes]") {
+TEST_CASE("a keyframed bag served at 2 ranks beats in its frames and writes its pressure curve at the end",
+          "[net][keyframes]") {
     test::TempDir dir("served-keyframes");
     // The test ball (radius 6 then 9 voxels, 0.5 time units each) built from seeds while it beats.
-    const std::string scene = test::writeKeyframeScene(dir.path.string(), 0.5, true,
-                                                       std::string(test::kGrowFromSeeds) +
-                                                           "[pressure]\nskip_cycles = 0\nvolume_every_steps = 20\n");
+    const std::string scene = test::writeKeyframeScene(
+        dir.path.string(), 0.5, true,
+        std::string(test::kGrowFromSeeds) + "[pressure]\nskip_cycles = 0\nvolume_every_steps = 20\n");
     ServerProcess srv({test::mpiexec(), "-np", "2", "--oversubscribe", test::buildDir() + "/dynamics_server/bop-server",
                        scene, "--port", "0", "--publish-hz", "30", "-o", dir.file("out")});
     ClientSession c;
@@ -160,7 +165,8 @@ TEST_CASE("a keyframed bag served at 2 ranks beats in its frames and writes its 
     CHECK(std::filesystem::file_size(dir.file("out") + "/pressure.png") > 1000);
 }
 
-TEST_CASE("malformed, truncated and oversized messages are refused and counted, and a killed client costs nothing", "[net]") {
+TEST_CASE("malformed, truncated and oversized messages are refused and counted, and a killed client costs nothing",
+          "[net]") {
     test::TempDir dir("served-bad");
     ServerProcess srv(server(2, "bulk-box", {"-o", dir.file("out")}));
     int sent = 0, oversized = 0;
@@ -171,7 +177,8 @@ TEST_CASE("malformed, truncated and oversized messages are refused and counted, 
         raw.connect(srv.endpoint());
         const Buffer hello = encodeHello({});
         std::vector<std::vector<std::uint8_t>> bad = {{1, 2, 3}, std::vector<std::uint8_t>(100, 0xff)};
-        for (std::size_t cut = 1; cut < hello.size(); cut += 3) bad.emplace_back(hello.begin(), hello.begin() + long(cut));
+        for (std::size_t cut = 1; cut < hello.size(); cut += 3)
+            bad.emplace_back(hello.begin(), hello.begin() + long(cut));
         std::vector<std::uint8_t> big(10000, 0);  // a "command" beyond its 4 KiB cap
         std::copy_n("BCMD", 4, big.begin() + 4);
         bad.push_back(big);
@@ -241,7 +248,10 @@ TEST_CASE("a recorded session replayed at the same rank count reproduces every f
     CHECK(std::stoi(m[2]) >= 10);  // frames after the drag command too: the replay applied it at its step
 }
 
-TEST_CASE("commands are acknowledged with their step, pause and resume are idempotent, recording starts and stops, read-only viewers are refused", "[net]") {
+TEST_CASE(
+    "commands are acknowledged with their step, pause and resume are idempotent, recording starts and stops, read-only "
+    "viewers are refused",
+    "[net]") {
     test::TempDir dir("served-commands");
     ServerProcess srv(server(2, "bulk-box", {"--read-only-viewers", "--publish-hz", "50", "-o", dir.file("out")}));
     ClientOptions control;
@@ -342,9 +352,9 @@ TEST_CASE("with CURVE on, a client without the server's key gets nothing and com
     CHECK(good.connect(srv.endpoint(), 20s).particleCount == 2048);
     std::optional<StateFrame> f;
     for (int k = 0; k < 20 && !f; ++k) f = good.receiveFrame(200ms);
-    CHECK(f);  // encrypted frames arrive
+    CHECK(f);                                         // encrypted frames arrive
     CHECK(good.scene().endpoints.udpProbePort == 0);  // datagrams carry no authentication: UDP is off
-    ClientSession plain;  // no key: the handshake never completes
+    ClientSession plain;                              // no key: the handshake never completes
     CHECK_THROWS_WITH(plain.connect(srv.endpoint(), 2s), Catch::Contains("no SceneInfo"));
     {
         zmq::context_t ctx;  // a plaintext peer sending a command straight away
@@ -360,15 +370,16 @@ TEST_CASE("with CURVE on, a client without the server's key gets nothing and com
     }
     // The haptic client from the command line: with --server-key it gets through the encrypted
     // handshake and probes for a second (the bulk box has no map: no field force).
-    const auto [code, out] = test::runCommand(test::buildDir() + "/haptic_client/bop-haptic " + srv.endpoint() +
-                                              " --seconds 1 --out " + dir.file("haptic") + " --server-key " +
-                                              dir.file("server.pub") + " 2>&1");
+    const auto [code, out] =
+        test::runCommand(test::buildDir() + "/haptic_client/bop-haptic " + srv.endpoint() + " --seconds 1 --out " +
+                         dir.file("haptic") + " --server-key " + dir.file("server.pub") + " 2>&1");
     INFO(out);
     CHECK(code == 0);
     CHECK(out.find("bop-haptic: connected to") != std::string::npos);
     CHECK(out.find("probe round trip") != std::string::npos);
-    const auto [plainCode, plainOut] = test::runCommand(test::buildDir() + "/haptic_client/bop-haptic " + srv.endpoint() +
-                                                        " --seconds 1 --client-key " + dir.file("server") + " 2>&1");
+    const auto [plainCode, plainOut] =
+        test::runCommand(test::buildDir() + "/haptic_client/bop-haptic " + srv.endpoint() +
+                         " --seconds 1 --client-key " + dir.file("server") + " 2>&1");
     CHECK(plainCode != 0);
     CHECK(plainOut.find("--client-key: needs --server-key") != std::string::npos);
     stopCleanly(srv);
@@ -380,8 +391,9 @@ TEST_CASE("with a list of client keys, only listed clients get in", "[net][curve
     const CurveKeyPair host = makeCurveKeyPair(), alice = makeCurveKeyPair(), mallory = makeCurveKeyPair();
     writeCurveKeyFiles(dir.file("server"), host);
     writeCurveKeyFiles(dir.file("alice"), alice);
-    ServerProcess srv(server(2, "bulk-box", {"--curve-secret", dir.file("server.key"), "--curve-client",
-                                             dir.file("alice.pub"), "-o", dir.file("out")}));
+    ServerProcess srv(server(
+        2, "bulk-box",
+        {"--curve-secret", dir.file("server.key"), "--curve-client", dir.file("alice.pub"), "-o", dir.file("out")}));
     ClientOptions listed;
     listed.curveServerKey = host.publicKey;
     listed.curvePublicKey = alice.publicKey;
@@ -390,7 +402,7 @@ TEST_CASE("with a list of client keys, only listed clients get in", "[net][curve
     CHECK(good.connect(srv.endpoint(), 20s).particleCount == 2048);
     std::optional<StateFrame> f;
     for (int k = 0; k < 20 && !f; ++k) f = good.receiveFrame(200ms);
-    CHECK(f);  // the frame socket let her in too
+    CHECK(f);                         // the frame socket let her in too
     ClientOptions unlisted = listed;  // knows the server's key, holds a key nobody listed
     unlisted.curvePublicKey = mallory.publicKey;
     unlisted.curveSecretKey = mallory.secretKey;
@@ -419,7 +431,8 @@ TEST_CASE("a subscriber that never reads leaves the server's step rate alone", "
     const auto sample = [&](std::chrono::milliseconds phase, std::vector<double>& into) {
         const auto t0 = std::chrono::steady_clock::now();
         while (std::chrono::steady_clock::now() - t0 < phase)
-            if (auto f = c.receiveFrame(100ms); f && f->stats.stepRateHz > 0 && std::chrono::steady_clock::now() - t0 > 1s)
+            if (auto f = c.receiveFrame(100ms);
+                f && f->stats.stepRateHz > 0 && std::chrono::steady_clock::now() - t0 > 1s)
                 into.push_back(f->stats.stepRateHz);
     };
     const auto median = [](std::vector<double> v) {
@@ -445,7 +458,8 @@ TEST_CASE("a subscriber that never reads leaves the server's step rate alone", "
         sample(5s, settling);
         sample(3s, with);
     }
-    INFO("median steps/s: " << median(without) << " without, " << median(with) << " with a subscriber that never reads");
+    INFO("median steps/s: " << median(without) << " without, " << median(with)
+                            << " with a subscriber that never reads");
     // Loose here: this machine's step rate moves by 10-20% between phases even without the
     // subscriber, and a server that waited on it would stop stepping altogether. The 5% target
     // is measured with repetitions by scripts/bench/stream.sh.
@@ -465,7 +479,8 @@ TEST_CASE("bop-replay serve plays a recording to a viewer as the server did", "[
     }
     const RecordedSession recorded = readSession(rec);
     REQUIRE(recorded.chunks.size() >= 20);
-    ServerProcess replay({test::buildDir() + "/protocol/bop-replay", "serve", rec, "--port", "0", "--speed", "2", "--wait-for-client"});
+    ServerProcess replay(
+        {test::buildDir() + "/protocol/bop-replay", "serve", rec, "--port", "0", "--speed", "2", "--wait-for-client"});
     ClientSession viewer;
     const SceneInfo scene = viewer.connect(replay.endpoint(), 20s);
     CHECK(scene.particleCount == recorded.scene.particleCount);

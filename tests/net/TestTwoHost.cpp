@@ -10,8 +10,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <csignal>
+#include <cstdio>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -22,11 +22,21 @@ using namespace std::chrono_literals;
 
 namespace {
 
-std::string tool(const std::string& path) { return test::buildDir() + "/" + path; }
+std::string tool(const std::string& path) {
+    return test::buildDir() + "/" + path;
+}
 
 std::vector<std::string> server(const std::string& scene, std::vector<std::string> extra) {
-    std::vector<std::string> a{test::mpiexec(), "-np", "2", "--oversubscribe", tool("dynamics_server/bop-server"), scene,
-                               "--bind", test::TwoHost::kServerAddress, "--port", "0"};
+    std::vector<std::string> a{test::mpiexec(),
+                               "-np",
+                               "2",
+                               "--oversubscribe",
+                               tool("dynamics_server/bop-server"),
+                               scene,
+                               "--bind",
+                               test::TwoHost::kServerAddress,
+                               "--port",
+                               "0"};
     a.insert(a.end(), extra.begin(), extra.end());
     return a;
 }
@@ -53,7 +63,8 @@ std::vector<double> column(const std::string& path, std::size_t col, std::size_t
         if (row < from || line.empty()) continue;
         std::istringstream s(line);
         std::string cell;
-        for (std::size_t k = 0; k <= col && std::getline(s, cell, ','); ++k) {}
+        for (std::size_t k = 0; k <= col && std::getline(s, cell, ','); ++k) {
+        }
         v.push_back(std::stod(cell));
     }
     return v;
@@ -91,11 +102,14 @@ time_step = 0.005
 
 // Of the frames that reached us at all (a datagram or more), the share that lost some of their
 // k datagrams, each lost with probability p.
-double lostShare(double p, int k) { return (1 - std::pow(1 - p, k) - std::pow(p, k)) / (1 - std::pow(p, k)); }
+double lostShare(double p, int k) {
+    return (1 - std::pow(1 - p, k) - std::pow(p, k)) / (1 - std::pow(p, k));
+}
 
 }  // namespace
 
-TEST_CASE("two hosts, 10% and 30% datagram loss: the viewer draws only whole frames and counts the lost ones", "[two-host][loss]") {
+TEST_CASE("two hosts, 10% and 30% datagram loss: the viewer draws only whole frames and counts the lost ones",
+          "[two-host][loss]") {
     test::TempDir dir("two-host-loss");
     const std::string scene = test::writeText(dir.file("small-box.toml"), kSmallBox);
     std::vector<double> shares;
@@ -119,9 +133,10 @@ TEST_CASE("two hosts, 10% and 30% datagram loss: the viewer draws only whole fra
         REQUIRE(drawn.size() == 100);
         for (const double n : drawn) CHECK(n == double(particles));
         std::smatch m;
-        REQUIRE(std::regex_search(printed, m, std::regex("frames received whole ([0-9]+), lost ([0-9]+) \\(([0-9]+) of "
-                                                         "them sent as datagrams, from ([0-9]+) datagrams read\\), "
-                                                         "malformed 0, inconsistent 0")));
+        REQUIRE(std::regex_search(printed, m,
+                                  std::regex("frames received whole ([0-9]+), lost ([0-9]+) \\(([0-9]+) of "
+                                             "them sent as datagrams, from ([0-9]+) datagrams read\\), "
+                                             "malformed 0, inconsistent 0")));
         const double whole = std::stod(m[1]), lost = std::stod(m[2]), datagrams = std::stod(m[4]);
         CHECK(std::stod(m[3]) == lost);
         // The datagrams per frame k, from those read per frame seen: k (1 - p) / (1 - p^k).
@@ -131,8 +146,10 @@ TEST_CASE("two hosts, 10% and 30% datagram loss: the viewer draws only whole fra
                 std::abs(k * (1 - p) / (1 - std::pow(p, k)) - datagrams / (whole + lost)))
                 k = j;
         const double share = lost / (whole + lost);
-        std::printf("%d%% datagram loss: %.0f frames whole, %.0f lost, %d datagrams per frame of %zu particles; lost share "
-                    "%.3f, expected %.3f\n", percent, whole, lost, k, particles, share, lostShare(p, k));
+        std::printf(
+            "%d%% datagram loss: %.0f frames whole, %.0f lost, %d datagrams per frame of %zu particles; lost share "
+            "%.3f, expected %.3f\n",
+            percent, whole, lost, k, particles, share, lostShare(p, k));
         CHECK(whole >= 100);
         CHECK(lost > 0);
         // Within 4 standard deviations of a share counted over whole + lost frames.
@@ -143,7 +160,8 @@ TEST_CASE("two hosts, 10% and 30% datagram loss: the viewer draws only whole fra
     CHECK(shares[1] > shares[0]);
 }
 
-TEST_CASE("two hosts, 20 ms delay each way: the haptic loop keeps 1 kHz and feels the bag over a 40 ms round trip", "[two-host][delay]") {
+TEST_CASE("two hosts, 20 ms delay each way: the haptic loop keeps 1 kHz and feels the bag over a 40 ms round trip",
+          "[two-host][delay]") {
     test::TwoHost hosts("--delay 20");
     test::TempDir dir("two-host-delay");
     test::ServerProcess srv(hosts.on("dyn", torusServer(dir.file("run"))));
@@ -155,7 +173,8 @@ TEST_CASE("two hosts, 20 ms delay each way: the haptic loop keeps 1 kHz and feel
     REQUIRE(code == 0);
     stopServer(srv);
     std::printf("20 ms each way: loop at %.1f Hz, probe round trip p50 %.2f ms, largest force %.3f N\n",
-                after(printed, "ticks at"), after(printed, "probe round trip: p50"), after(printed, "largest force rendered:"));
+                after(printed, "ticks at"), after(printed, "probe round trip: p50"),
+                after(printed, "largest force rendered:"));
     // "At 1 kHz": within 5%, on a 2-core machine that also runs both ranks and the delayer.
     CHECK(after(printed, "ticks at") >= 950);              // Hz
     CHECK(after(printed, "probe round trip: p50") >= 39);  // ms: the delay was there
@@ -163,19 +182,23 @@ TEST_CASE("two hosts, 20 ms delay each way: the haptic loop keeps 1 kHz and feel
     CHECK(after(printed, "largest force rendered:") > 0.5);  // N: the bag was felt through it
 }
 
-TEST_CASE("two hosts: kill -9 of a viewer, a haptic client and a client reconnecting mid-message leaves the server's step rate", "[two-host][kill]") {
+TEST_CASE(
+    "two hosts: kill -9 of a viewer, a haptic client and a client reconnecting mid-message leaves the server's step "
+    "rate",
+    "[two-host][kill]") {
     test::TwoHost hosts("");
     test::TempDir dir("two-host-kill");
     test::ServerProcess srv(hosts.on("dyn", torusServer(dir.file("run"))));
     const std::string out = test::outputDir("two-host", "kill");
     const std::string csv = out + "/watcher/frames.csv";
     const auto viewer = [&](const std::string& name) {
-        return hosts.on("gfx", {tool("viz_client/bop-viewer"), srv.endpoint(), "--headless", "--no-panel", "--fps", "10",
-                                "--frames", "100000", "--width", "64", "--height", "48", "--out", out + "/" + name});
+        return hosts.on("gfx",
+                        {tool("viz_client/bop-viewer"), srv.endpoint(), "--headless", "--no-panel", "--fps", "10",
+                         "--frames", "100000", "--width", "64", "--height", "48", "--out", out + "/" + name});
     };
     const auto haptic = [&](const std::string& name) {
-        return hosts.on("gfx", {tool("haptic_client/bop-haptic"), srv.endpoint(), "--device", "sim:poke", "--hold", "100",
-                                "--out", out + "/" + name});
+        return hosts.on("gfx", {tool("haptic_client/bop-haptic"), srv.endpoint(), "--device", "sim:poke", "--hold",
+                                "100", "--out", out + "/" + name});
     };
     // The watcher stays throughout; the server's own step rate comes in its frames (column 7).
     test::ServerProcess watcher(viewer("watcher"), 60s, "frame 1:");
@@ -217,28 +240,30 @@ TEST_CASE("two hosts: kill -9 of a viewer, a haptic client and a client reconnec
     CHECK(after(summary, "steps to") >= 8);  // clients: the watcher, 2 killed, 5 reconnections
 }
 
-TEST_CASE("two hosts: a firewall on the dynamics host refusing every datagram out costs the server nothing", "[two-host][refused]") {
+TEST_CASE("two hosts: a firewall on the dynamics host refusing every datagram out costs the server nothing",
+          "[two-host][refused]") {
     test::TwoHost hosts("--loss 0");  // asks for nftables, which the refusal is made with
     test::TempDir dir("two-host-refused");
     const std::string scene = test::writeText(dir.file("small-box.toml"), kSmallBox);
     test::ServerProcess srv(hosts.on("dyn", server(scene, {"--publish-hz", "50", "-o", dir.file("run")})));
     // Refused on the way out, the server's sends fail with EPERM rather than vanish on the wire.
-    const auto [nft, why] = test::runCommand(hosts.shell(
-        "dyn", "nft 'add table inet refuse; add chain inet refuse out { type filter hook output priority 0; }; "
-               "add rule inet refuse out meta l4proto udp drop' 2>&1"));
+    const auto [nft, why] = test::runCommand(
+        hosts.shell("dyn",
+                    "nft 'add table inet refuse; add chain inet refuse out { type filter hook output priority 0; }; "
+                    "add rule inet refuse out meta l4proto udp drop' 2>&1"));
     INFO(why);
     REQUIRE(nft == 0);
     const std::string out = test::outputDir("two-host", "refused");
-    const auto [code, printed] = test::runCommand(hosts.shell(
-        "gfx", tool("haptic_client/bop-haptic") + " " + srv.endpoint() + " --udp --device sim:poke --seconds 2 --out " +
-                   out + " 2>&1"));
+    const auto [code, printed] =
+        test::runCommand(hosts.shell("gfx", tool("haptic_client/bop-haptic") + " " + srv.endpoint() +
+                                                " --udp --device sim:poke --seconds 2 --out " + out + " 2>&1"));
     INFO(printed);
-    CHECK(code == 0);  // no feedback came, which the device survives
+    CHECK(code == 0);                                                   // no feedback came, which the device survives
     CHECK(printed.find("; 0 feedback messages") != std::string::npos);  // none got through
     // A viewer asking for frames as datagrams sees none; it keeps trying until it is stopped.
-    const auto [viewerCode, viewerPrinted] = test::runCommand(hosts.shell(
-        "gfx", "timeout 5 " + tool("viz_client/bop-viewer") + " " + srv.endpoint() + " --headless --udp-port 7400 " +
-                   "--frames 1 --lost-after 1 --out " + out + " 2>&1"));
+    const auto [viewerCode, viewerPrinted] = test::runCommand(
+        hosts.shell("gfx", "timeout 5 " + tool("viz_client/bop-viewer") + " " + srv.endpoint() +
+                               " --headless --udp-port 7400 " + "--frames 1 --lost-after 1 --out " + out + " 2>&1"));
     INFO(viewerPrinted);
     CHECK(viewerCode == 124);  // still waiting for a frame when stopped
     REQUIRE(srv.running());

@@ -5,10 +5,9 @@
 #include "ServerProcess.hpp"
 #include "TestUtil.hpp"
 
+#include <Eigen/Core>
 #include <catch2/catch.hpp>
 #include <stb/stb_image.h>
-
-#include <Eigen/Core>
 
 #include <algorithm>
 #include <csignal>
@@ -26,8 +25,14 @@ using namespace std::chrono_literals;
 namespace {
 
 std::vector<std::string> server(const std::string& scene, std::vector<std::string> extra) {
-    std::vector<std::string> a{test::mpiexec(), "-np", "2", "--oversubscribe", test::buildDir() + "/dynamics_server/bop-server",
-                               test::sourceDir() + "/config/scenes/" + scene + ".toml", "--port", "0"};
+    std::vector<std::string> a{test::mpiexec(),
+                               "-np",
+                               "2",
+                               "--oversubscribe",
+                               test::buildDir() + "/dynamics_server/bop-server",
+                               test::sourceDir() + "/config/scenes/" + scene + ".toml",
+                               "--port",
+                               "0"};
     a.insert(a.end(), extra.begin(), extra.end());
     return a;
 }
@@ -93,9 +98,9 @@ TEST_CASE("bop-viewer --headless writes the frames of a 2-rank server as picture
     test::TempDir dir("viewer-headless");
     test::ServerProcess srv(server("bulk-box", {"--publish-hz", "20", "-o", dir.file("run")}));
     const std::string out = test::outputDir("viewer", "headless");
-    const auto [code, printed] = test::runCommand(test::buildDir() + "/viz_client/bop-viewer " + srv.endpoint() +
-                                                  " --headless --no-panel --frames 4 --width 320 --height 240 --out " +
-                                                  out + " 2>&1");
+    const auto [code, printed] =
+        test::runCommand(test::buildDir() + "/viz_client/bop-viewer " + srv.endpoint() +
+                         " --headless --no-panel --frames 4 --width 320 --height 240 --out " + out + " 2>&1");
     INFO(printed);
     REQUIRE(code == 0);
     // Steps advance from frame to frame: the pictures are of a running server.
@@ -115,7 +120,8 @@ TEST_CASE("bop-viewer --headless writes the frames of a 2-rank server as picture
     srv.stop(SIGINT);
 }
 
-TEST_CASE("a probe scripted in bop-viewer --headless indents the served torus bag and feels it push back", "[net][gui]") {
+TEST_CASE("a probe scripted in bop-viewer --headless indents the served torus bag and feels it push back",
+          "[net][gui]") {
     test::TempDir dir("viewer-probe");
     // The torus as its construction timeline builds it (4,000 steps, one rank), then served.
     const std::string start = test::builtTorus();
@@ -169,7 +175,8 @@ TEST_CASE("a probe scripted in bop-viewer --headless indents the served torus ba
     // The surface moved away from the probe: where it ended (1.2 above the old top) the nearest
     // surface particle was 1.2 away or closer; after the press none is within 2.
     const std::vector<Eigen::Vector3d> after = positionsOf(dir.file("run") + "/final.xyz", "torus-surface");
-    INFO("nearest surface particle to the probe: " << nearest(before, to) << " before, " << nearest(after, to) << " after");
+    INFO("nearest surface particle to the probe: " << nearest(before, to) << " before, " << nearest(after, to)
+                                                   << " after");
     CHECK(nearest(before, to) <= 1.25);
     CHECK(nearest(after, to) > 2.0);
     // The last picture shows the probe (its yellow core) and the bag.
@@ -186,7 +193,8 @@ TEST_CASE("bop-viewer reconnects on its own when the server is lost and another 
     const std::string out = test::outputDir("viewer", "reconnect");
     std::pair<int, std::string> viewer;
     std::thread run([&] {
-        viewer = test::runCommand(test::buildDir() + "/viz_client/bop-viewer " + endpoint + " --headless --no-panel --frames 6 " +
+        viewer = test::runCommand(test::buildDir() + "/viz_client/bop-viewer " + endpoint +
+                                  " --headless --no-panel --frames 6 " +
                                   "--width 160 --height 120 --lost-after 2 --out " + out + " 2>&1");
     });
     // Frames from the first server, then it stops; a second one starts on the same port.
@@ -200,7 +208,8 @@ TEST_CASE("bop-viewer reconnects on its own when the server is lost and another 
     first->stop(SIGINT);
     first.reset();
     // It holds its first step until the viewer is back, so its steps start again from 0.
-    std::vector<std::string> again = server("bulk-box", {"--publish-hz", "2", "--wait-for-client", "-o", dir.file("b")});
+    std::vector<std::string> again =
+        server("bulk-box", {"--publish-hz", "2", "--wait-for-client", "-o", dir.file("b")});
     again[7] = port;  // "--port", "0" -> the first server's port
     test::ServerProcess second(again);
     run.join();
@@ -210,7 +219,8 @@ TEST_CASE("bop-viewer reconnects on its own when the server is lost and another 
     // The steps start again after the reconnection: the second server's pictures follow the first's.
     std::vector<long long> steps;
     const std::regex line("frame [0-9]+: step ([0-9]+)");
-    for (auto it = std::sregex_iterator(viewer.second.begin(), viewer.second.end(), line); it != std::sregex_iterator(); ++it)
+    for (auto it = std::sregex_iterator(viewer.second.begin(), viewer.second.end(), line); it != std::sregex_iterator();
+         ++it)
         steps.push_back(std::stoll((*it)[1]));
     REQUIRE(steps.size() == 6);
     CHECK(std::is_sorted(steps.begin(), steps.end()) == false);
@@ -218,7 +228,8 @@ TEST_CASE("bop-viewer reconnects on its own when the server is lost and another 
     second.stop(SIGINT);
 }
 
-TEST_CASE("the window viewer under Xvfb draws the served particles and its panel, and takes a screenshot", "[net][gui]") {
+TEST_CASE("the window viewer under Xvfb draws the served particles and its panel, and takes a screenshot",
+          "[net][gui]") {
     if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) {
         WARN("xvfb-run is not installed (scripts/install-deps.sh installs it): the window is not tested here");
         return;
@@ -226,9 +237,9 @@ TEST_CASE("the window viewer under Xvfb draws the served particles and its panel
     test::TempDir dir("viewer-window");
     test::ServerProcess srv(server("bulk-box", {"--publish-hz", "20", "-o", dir.file("run")}));
     const std::string shot = test::outputDir("viewer", "window") + "/window.png";
-    const auto [code, printed] = test::runCommand(
-        "xvfb-run -a -s '-screen 0 1280x800x24' " + test::buildDir() + "/viz_client/bop-viewer " + srv.endpoint() +
-        " --frames 5 --width 800 --height 500 --screenshot " + shot + " 2>&1");
+    const auto [code, printed] =
+        test::runCommand("xvfb-run -a -s '-screen 0 1280x800x24' " + test::buildDir() + "/viz_client/bop-viewer " +
+                         srv.endpoint() + " --frames 5 --width 800 --height 500 --screenshot " + shot + " 2>&1");
     INFO(printed);
     REQUIRE(code == 0);
     CHECK(printed.find("drew 5 new frames") != std::string::npos);

@@ -11,7 +11,9 @@
 
 namespace bop::test {
 namespace {
-std::string script() { return sourceDir() + "/scripts/two-host.sh"; }
+std::string script() {
+    return sourceDir() + "/scripts/two-host.sh";
+}
 }  // namespace
 
 TwoHost::TwoHost(const std::string& impairments) : name_("bth" + std::to_string(getpid())) {
@@ -24,8 +26,9 @@ TwoHost::TwoHost(const std::string& impairments) : name_("bth" + std::to_string(
     }
     if (check != 0) throw std::runtime_error("two-host.sh check " + impairments + " failed:\n" + why);
     // Hosts left by a test process that was killed (a ctest timeout) go first.
-    runCommand("for ns in $(ip netns list 2>/dev/null | grep -oE '^bth[0-9]+-(dyn|gfx)'); do p=${ns#bth}; "
-               "kill -0 ${p%-*} 2>/dev/null || ip netns del $ns; done");
+    runCommand(
+        "for ns in $(ip netns list 2>/dev/null | grep -oE '^bth[0-9]+-(dyn|gfx)'); do p=${ns#bth}; "
+        "kill -0 ${p%-*} 2>/dev/null || ip netns del $ns; done");
     const auto [code, out] = runCommand(script() + " up " + name_ + " " + impairments + " 2>&1");
     if (code != 0) {
         runCommand(script() + " down " + name_);  // the destructor does not run after a throw
@@ -34,7 +37,9 @@ TwoHost::TwoHost(const std::string& impairments) : name_("bth" + std::to_string(
     std::printf("%s", out.c_str());
 }
 
-TwoHost::~TwoHost() { runCommand(script() + " down " + name_); }
+TwoHost::~TwoHost() {
+    runCommand(script() + " down " + name_);
+}
 
 std::vector<std::string> TwoHost::on(const std::string& host, std::vector<std::string> argv) const {
     argv.insert(argv.begin(), {"ip", "netns", "exec", name_ + "-" + host});

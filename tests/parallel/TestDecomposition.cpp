@@ -50,8 +50,7 @@ std::vector<Eigen::Vector3d> lopsidedPoints(const core::Box& box, int n, std::ui
 }
 
 // Per axis, particle counts in `bins` equal bins across the box.
-std::array<std::vector<double>, 3> histograms(const core::Box& box, const std::vector<Eigen::Vector3d>& pts,
-                                              int bins) {
+std::array<std::vector<double>, 3> histograms(const core::Box& box, const std::vector<Eigen::Vector3d>& pts, int bins) {
     std::array<std::vector<double>, 3> h;
     for (int a = 0; a < 3; ++a) {
         auto& ha = h[std::size_t(a)];
@@ -362,8 +361,8 @@ TEST_CASE("balance() keeps subdomains minWidth wide when the quantiles crowd tog
         Decomposition d(box, {n, 2, 1}, minWidth);
         d.balance(histograms(box, pts, 200));
         const auto& c = d.cuts(0);
-        INFO("sliver at x - lo in [" << start << ", " << start + 0.5 << "): cuts " << c[0] << " " << c[1] << " "
-                                     << c[2] << " " << c[3] << " " << c[4]);
+        INFO("sliver at x - lo in [" << start << ", " << start + 0.5 << "): cuts " << c[0] << " " << c[1] << " " << c[2]
+                                     << " " << c[3] << " " << c[4]);
         checkCuts(d, minWidth);
         if (start == 0.0) {
             // The quantiles all lie below lo + minWidth: the cuts pack minWidth apart from lo.

@@ -41,9 +41,10 @@ TEST_CASE("torus and star bags take their shape", "[physics][fidelity]") {
     for (const char* name : {"torus", "star"}) {
         Built& b = built(name);
         const app::Fidelity f = app::measureFidelity(b.sim->model(), b.sim->particles());
-        INFO(name << ": " << f.surface << " surface, " << f.volume << " volume particles; " << 100 * f.surfaceInOwnVoxels
-                  << "% / " << 100 * f.volumeInOwnVoxels << "% in their voxels; median normal angle "
-                  << f.medianNormalAngleDeg << " deg; E_kin " << b.sim->stats().kinetic);
+        INFO(name << ": " << f.surface << " surface, " << f.volume << " volume particles; "
+                  << 100 * f.surfaceInOwnVoxels << "% / " << 100 * f.volumeInOwnVoxels
+                  << "% in their voxels; median normal angle " << f.medianNormalAngleDeg << " deg; E_kin "
+                  << b.sim->stats().kinetic);
         CHECK(f.surface > 50);
         CHECK(f.volume > 30);
         CHECK(f.surfaceInOwnVoxels >= 0.98);
@@ -98,7 +99,8 @@ TEST_CASE("the torus recovers its shape after a 3-voxel poke", "[physics][elasti
     const core::Particles held = sim.particles();
     double maxDisplacement = 0;
     for (std::size_t i = 0; i < sim.particles().size(); ++i)
-        maxDisplacement = std::max(maxDisplacement, (sim.particles().pos[i] - before[sim.particles().id[i]]).norm() / h);
+        maxDisplacement =
+            std::max(maxDisplacement, (sim.particles().pos[i] - before[sim.particles().id[i]]).norm() / h);
     for (int s = 0; s <= moveSteps; ++s) {
         probe.position = deepest + (start - deepest) * double(s) / moveSteps;
         sim.step();
@@ -128,14 +130,16 @@ TEST_CASE("the torus recovers its shape after a 3-voxel poke", "[physics][elasti
         }
         sim.run(50);
     }
-    INFO("kinetic energy before the poke " << restKinetic << "; largest displacement while held " << maxDisplacement << " voxels; largest upward reaction on the probe "
-         << maxReaction << "; RMS displacement while held " << heldAll << " (near the poke " << heldLocal
-         << "), surface particles in surface voxels while held " << 100 * heldShape.surfaceInOwnVoxels
-         << "%; RMS below 0.3 voxel and shape back " << recovered << " steps after the " << moveSteps << "-step withdrawal (then "
-         << rms(sim.particles(), false) << ", near the poke " << rms(sim.particles(), true) << ")");
-    CHECK(heldLocal > 1.0);  // the poke did deform the bag where it pressed
-    CHECK(maxDisplacement > 1.0);   // the poke did deform the bag
-    CHECK(maxReaction > 0.0);       // and the bag pushed back
+    INFO("kinetic energy before the poke "
+         << restKinetic << "; largest displacement while held " << maxDisplacement
+         << " voxels; largest upward reaction on the probe " << maxReaction << "; RMS displacement while held "
+         << heldAll << " (near the poke " << heldLocal << "), surface particles in surface voxels while held "
+         << 100 * heldShape.surfaceInOwnVoxels << "%; RMS below 0.3 voxel and shape back " << recovered
+         << " steps after the " << moveSteps << "-step withdrawal (then " << rms(sim.particles(), false)
+         << ", near the poke " << rms(sim.particles(), true) << ")");
+    CHECK(heldLocal > 1.0);        // the poke did deform the bag where it pressed
+    CHECK(maxDisplacement > 1.0);  // the poke did deform the bag
+    CHECK(maxReaction > 0.0);      // and the bag pushed back
     CHECK(recovered >= 0);
     CHECK(recovered <= 2000);
     CHECK(sim.particles().size() == n0);  // no particle left or died
@@ -149,9 +153,12 @@ TEST_CASE("particle counts scale with r0 as in Table 1", "[physics][scaling]") {
         const std::string fine = std::string(name) + "-r0-1.4";
         Built& a = built(name);
         Built& b = built(fine);
-        const double s2 = double(count(b.sim->model(), b.sim->particles(), true)) / double(count(a.sim->model(), a.sim->particles(), true));
-        const double v3 = double(count(b.sim->model(), b.sim->particles(), false)) / double(count(a.sim->model(), a.sim->particles(), false));
-        INFO(name << ": surface ratio " << s2 << " (expected (2/1.4)^2 = 2.04), volume ratio " << v3 << " (expected (2/1.4)^3 = 2.92)");
+        const double s2 = double(count(b.sim->model(), b.sim->particles(), true)) /
+                          double(count(a.sim->model(), a.sim->particles(), true));
+        const double v3 = double(count(b.sim->model(), b.sim->particles(), false)) /
+                          double(count(a.sim->model(), a.sim->particles(), false));
+        INFO(name << ": surface ratio " << s2 << " (expected (2/1.4)^2 = 2.04), volume ratio " << v3
+                  << " (expected (2/1.4)^3 = 2.92)");
         CHECK(s2 == Approx(std::pow(2 / 1.4, 2)).epsilon(0.20));
         CHECK(v3 == Approx(std::pow(2 / 1.4, 3)).epsilon(0.20));
     }

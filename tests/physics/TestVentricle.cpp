@@ -39,11 +39,12 @@ TEST_CASE("the ventricle beats: ejection fraction and the pressure peak in systo
     }
     const app::CardiacCycle c = cardiac.series().cycle();
     const double truth = shape::makeLvPhantom({}).ejectionFraction();  // the generator's ground truth
-    const double cavityEd = sim->frameVolumes()[0].bagVoxels * std::pow(sim->model().map->grid.voxelMm, 3) / 1000;  // mL
+    const double cavityEd =
+        sim->frameVolumes()[0].bagVoxels * std::pow(sim->model().map->grid.voxelMm, 3) / 1000;  // mL
     std::ostringstream what;
     what << "built at end-diastole: " << builtSurface << " surface and " << builtVolume << " volume particles filling "
-         << builtMl << " mL of the " << cavityEd << " mL cavity; " << app::CardiacSeries::summary(c)
-         << "; truth EF " << truth;
+         << builtMl << " mL of the " << cavityEd << " mL cavity; " << app::CardiacSeries::summary(c) << "; truth EF "
+         << truth;
     INFO(what.str());
     WARN(what.str());  // the figures, printed whether or not the checks pass
     CHECK(std::abs(c.efVoxels - truth) < 0.01);

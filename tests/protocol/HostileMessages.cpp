@@ -1,12 +1,11 @@
 #include "HostileMessages.hpp"
 
 #include "codec/Ranges.hpp"
-#include "server/InboundRanges.hpp"
-
 #include "command_generated.h"
 #include "hello_generated.h"
 #include "map_request_generated.h"
 #include "probe_generated.h"
+#include "server/InboundRanges.hpp"
 
 namespace bop::test::hostile {
 namespace {
@@ -32,7 +31,8 @@ Buffer helloMessage(float rateHz) {
     bop::wire::FinishHelloBuffer(fbb, bop::wire::CreateHello(fbb, 1, bop::wire::Role::Haptic, rateHz));
     return finished(fbb);
 }
-Buffer commandMessage(flatbuffers::FlatBufferBuilder& fbb, bop::wire::CommandBody type, flatbuffers::Offset<void> body) {
+Buffer commandMessage(flatbuffers::FlatBufferBuilder& fbb, bop::wire::CommandBody type,
+                      flatbuffers::Offset<void> body) {
     bop::wire::FinishCommandBuffer(fbb, bop::wire::CreateCommand(fbb, 77, type, body));
     return finished(fbb);
 }
@@ -44,12 +44,14 @@ Buffer seedMessage(int species, const Eigen::Vector3d& x) {
 }
 Buffer birthMessage(int species) {
     flatbuffers::FlatBufferBuilder fbb;
-    return commandMessage(fbb, bop::wire::CommandBody::SetBirth, bop::wire::CreateSetBirth(fbb, std::uint8_t(species)).Union());
+    return commandMessage(fbb, bop::wire::CommandBody::SetBirth,
+                          bop::wire::CreateSetBirth(fbb, std::uint8_t(species)).Union());
 }
 Buffer parameterMessage(const char* name, double value, int a, int b) {
     flatbuffers::FlatBufferBuilder fbb;
-    return commandMessage(fbb, bop::wire::CommandBody::SetParameter,
-                          bop::wire::CreateSetParameterDirect(fbb, name, std::uint8_t(a), std::uint8_t(b), value).Union());
+    return commandMessage(
+        fbb, bop::wire::CommandBody::SetParameter,
+        bop::wire::CreateSetParameterDirect(fbb, name, std::uint8_t(a), std::uint8_t(b), value).Union());
 }
 Buffer singleStepMessage(std::uint32_t steps) {
     flatbuffers::FlatBufferBuilder fbb;
@@ -89,7 +91,8 @@ std::vector<Case> outOfRange(const SceneInfo& scene) {
         {"loop rate NaN", probeMessage(c, 1, 1, float(kNaN)), "Probe.loop"},
         {"loop error infinite", probeMessage(c, 1, 1, 1000, float(kInf)), "Probe.loop"},
         {"loop error just above", probeMessage(c, 1, 1, 1000, kMaxPeriodErrorUs * 1.001f), "Probe.loop"},
-        {"rendered force just above", probeMessage(c, 1, 1, 0, 0, {0, kMaxRenderedForce * above, 0}), "Probe.rendered_force"},
+        {"rendered force just above", probeMessage(c, 1, 1, 0, 0, {0, kMaxRenderedForce * above, 0}),
+         "Probe.rendered_force"},
         {"rendered force NaN", probeMessage(c, 1, 1, 0, 0, {kNaN, 0, 0}), "Probe.rendered_force"},
         {"rendered force huge", probeMessage(c, 1, 1, 0, 0, {0, 0, 1e300}), "Probe.rendered_force"},
         {"seed outside the box", seedMessage(1, {c.x(), c.y(), scene.boxHi.z() + 1e-3}), "SeedParticle.position"},
@@ -101,15 +104,20 @@ std::vector<Case> outOfRange(const SceneInfo& scene) {
         {"single steps 0", singleStepMessage(0), "RunControl.steps"},
         {"single steps just above", singleStepMessage(kMaxSingleSteps + 1), "RunControl.steps"},
         {"map request of 0 bytes", mapRequestMessage(0, 0), "MapRequest.length"},
-        {"map request just above 1 MiB", mapRequestMessage(0, std::uint32_t(kMaxMapPieceBytes + 1)), "MapRequest.length"},
+        {"map request just above 1 MiB", mapRequestMessage(0, std::uint32_t(kMaxMapPieceBytes + 1)),
+         "MapRequest.length"},
         {"map request beyond the file", mapRequestMessage(scene.mapBytes + 1, 10), "MapRequest.offset"},
         {"weight of species 0", parameterMessage("lj", 1, 0, 1), "SetParameter.species_a"},
         {"weight of species beyond the scene's", parameterMessage("co_planar", 1, 1, beyond), "SetParameter.species_b"},
         {"drag of species beyond the scene's", parameterMessage("drag_w", 1, beyond, 0), "SetParameter.species_a"},
     };
     const std::pair<const char*, std::pair<double, double>> bounded[] = {
-        {"lj", {0, kMaxWeight}},         {"co_normal", {0, kMaxWeight}}, {"co_planar", {0, kMaxWeight}},
-        {"drag_v", {0, kMaxDrag}},       {"drag_w", {0, kMaxDrag}},      {"k0", {kMinProbeK0, kMaxProbeK0}},
+        {"lj", {0, kMaxWeight}},
+        {"co_normal", {0, kMaxWeight}},
+        {"co_planar", {0, kMaxWeight}},
+        {"drag_v", {0, kMaxDrag}},
+        {"drag_w", {0, kMaxDrag}},
+        {"k0", {kMinProbeK0, kMaxProbeK0}},
         {"k1", {kMinProbeK1, kMaxProbeK1}},
     };
     for (const auto& [name, range] : bounded)

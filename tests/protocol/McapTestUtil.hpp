@@ -1,15 +1,13 @@
 #pragma once
 // Shared by the MCAP tests (TestMcap.cpp, TestMcapDamage.cpp): temporary files, byte helpers for
 // spelling out the format by hand, and a generated session with its expected content.
+#include "TestUtil.hpp"
+#include "bop/common/Error.hpp"
 #include "recording/McapReader.hpp"
 #include "recording/McapWriter.hpp"
 
-#include "bop/common/Error.hpp"
-
-#include "TestUtil.hpp"
-
-#include <zlib.h>
 #include <catch2/catch.hpp>
+#include <zlib.h>
 
 #include <fstream>
 #include <iterator>

@@ -79,8 +79,10 @@ SceneInfo sampleScene(int speciesCount) {
     if (std::size_t(speciesCount) <= kMaxTunedSpecies) {
         const std::size_t n = std::size_t(speciesCount);
         for (std::size_t k = 0; k < n * n; ++k)
-            s.tunables.lj.push_back(1 + 0.1 * double(k)), s.tunables.coNormal.push_back(0.3), s.tunables.coPlanar.push_back(0.2 * double(k));
-        for (std::size_t k = 0; k < n; ++k) s.tunables.dragV.push_back(1.5), s.tunables.dragW.push_back(0.25 * double(k));
+            s.tunables.lj.push_back(1 + 0.1 * double(k)), s.tunables.coNormal.push_back(0.3),
+                s.tunables.coPlanar.push_back(0.2 * double(k));
+        for (std::size_t k = 0; k < n; ++k)
+            s.tunables.dragV.push_back(1.5), s.tunables.dragW.push_back(0.25 * double(k));
         s.tunables.k0 = 1.25;
         s.tunables.k1 = 3;
     }
@@ -92,7 +94,9 @@ Probe sampleProbe() {
     return {42, 1'234'567'890'123, {1.25, -2.5, 0.75}, true, 1.5, 0.25, {999.5f, 12.25f, 3}, {0.5, -1.25, 2}};
 }
 
-MapRequest sampleMapRequest() { return {1 << 20, 65536}; }
+MapRequest sampleMapRequest() {
+    return {1 << 20, 65536};
+}
 
 MapChunk sampleMapChunk() {
     MapChunk m{4096, 10000, {}};
@@ -100,7 +104,9 @@ MapChunk sampleMapChunk() {
     return m;
 }
 
-Refusal sampleRefusal() { return {"Probe", 77, "Probe.k1: 1e+300 outside 0..50", 3}; }
+Refusal sampleRefusal() {
+    return {"Probe", 77, "Probe.k1: 1e+300 outside 0..50", 3};
+}
 
 Feedback sampleFeedback() {
     return {41, 9001, {-0.125, 3.5, 1e-3}, 9'876'543'210};
@@ -160,7 +166,8 @@ bool same(const SceneInfo& a, const SceneInfo& b) {
            a.endpoints.frameEndpoint == b.endpoints.frameEndpoint &&
            a.endpoints.udpFramePort == b.endpoints.udpFramePort &&
            a.endpoints.udpProbePort == b.endpoints.udpProbePort && a.particleCount == b.particleCount &&
-           a.units == b.units && a.publishRateHz == b.publishRateHz && a.probeReach == b.probeReach && a.mapBytes == b.mapBytes && a.mapKey == b.mapKey && a.sessionTimeoutS == b.sessionTimeoutS &&
+           a.units == b.units && a.publishRateHz == b.publishRateHz && a.probeReach == b.probeReach &&
+           a.mapBytes == b.mapBytes && a.mapKey == b.mapKey && a.sessionTimeoutS == b.sessionTimeoutS &&
            a.tunables.lj == b.tunables.lj && a.tunables.coNormal == b.tunables.coNormal &&
            a.tunables.coPlanar == b.tunables.coPlanar && a.tunables.dragV == b.tunables.dragV &&
            a.tunables.dragW == b.tunables.dragW && a.tunables.k0 == b.tunables.k0 && a.tunables.k1 == b.tunables.k1;
@@ -168,15 +175,16 @@ bool same(const SceneInfo& a, const SceneInfo& b) {
 
 bool same(const Probe& a, const Probe& b) {
     return a.seq == b.seq && a.clientTimeNs == b.clientTimeNs && a.position == b.position && a.active == b.active &&
-           a.k0 == b.k0 && a.k1 == b.k1 && same(a.loop, b.loop) &&
-           a.renderedForce == b.renderedForce;
+           a.k0 == b.k0 && a.k1 == b.k1 && same(a.loop, b.loop) && a.renderedForce == b.renderedForce;
 }
 
 bool same(const LoopStats& a, const LoopStats& b) {
     return a.rateHz == b.rateHz && a.periodErrorP99Us == b.periodErrorP99Us && a.missedDeadlines == b.missedDeadlines;
 }
 
-bool same(const MapRequest& a, const MapRequest& b) { return a.offset == b.offset && a.length == b.length; }
+bool same(const MapRequest& a, const MapRequest& b) {
+    return a.offset == b.offset && a.length == b.length;
+}
 
 bool same(const MapChunk& a, const MapChunk& b) {
     return a.offset == b.offset && a.total == b.total && a.data == b.data;
@@ -208,8 +216,7 @@ bool same(const StateFrame& a, const StateFrame& b) {
            a.stats.pressure == b.stats.pressure && a.stats.stepRateHz == b.stats.stepRateHz &&
            a.stats.particleCount == b.stats.particleCount && same(a.stats.haptic, b.stats.haptic) &&
            a.stats.cavityVolume == b.stats.cavityVolume && a.stats.mapFrame == b.stats.mapFrame &&
-           a.frameParticleCount == b.frameParticleCount &&
-           a.firstIndex == b.firstIndex && a.encoding == b.encoding &&
+           a.frameParticleCount == b.frameParticleCount && a.firstIndex == b.firstIndex && a.encoding == b.encoding &&
            (!quantised || (a.quantLo == b.quantLo && a.quantHi == b.quantHi)) && a.positions == b.positions &&
            a.normals == b.normals && a.species == b.species && a.ids == b.ids;
 }

@@ -2,11 +2,10 @@
 // answers Hello, commands and probes, and a PUB that the test drives with chunked frames and
 // tier topics (docs/protocol.md). Ports are ephemeral; CURVE both with the right and a wrong key.
 #include "ProtocolSamples.hpp"
-
 #include "bop/common/Error.hpp"
 #include "client/ClientSession.hpp"
-#include "security/CurveKeys.hpp"
 #include "codec/Codec.hpp"
+#include "security/CurveKeys.hpp"
 
 #include <catch2/catch.hpp>
 #include <zmq.hpp>
@@ -87,27 +86,27 @@ private:
             if (!router_.recv(id) || !router_.recv(body)) continue;
             const auto* data = static_cast<const std::uint8_t*>(body.data());
             switch (messageKind(data, body.size())) {
-            case MessageKind::Hello: {
-                ++hellos;
-                send(id, Buffer{'j', 'u', 'n', 'k', 0, 0, 0, 0, 0, 0});  // the client counts and skips it
-                SceneInfo s = samples::sampleScene();
-                s.endpoints.frameEndpoint = frames;
-                s.publishRateHz = publishHz_;
-                send(id, encodeSceneInfo(s));
-                break;
-            }
-            case MessageKind::Command: {
-                const Command c = decodeCommand(data, body.size()).value;
-                send(id, encodeFeedback(Feedback{3, 42, {1, 2, 3}, 99}));  // arrives before the reply
-                send(id, encodeCommandReply(CommandReply{c.requestId + 1000, ReplyStatus::Ok, 1, "not yours"}));
-                send(id, encodeCommandReply(CommandReply{c.requestId, ReplyStatus::Ok, 42, "done"}));
-                break;
-            }
-            case MessageKind::Probe:
-                send(id, encodeFeedback(Feedback{decodeProbe(data, body.size()).value.seq, 43, {0, 1, 0}, 100}));
-                break;
-            default:
-                break;
+                case MessageKind::Hello: {
+                    ++hellos;
+                    send(id, Buffer{'j', 'u', 'n', 'k', 0, 0, 0, 0, 0, 0});  // the client counts and skips it
+                    SceneInfo s = samples::sampleScene();
+                    s.endpoints.frameEndpoint = frames;
+                    s.publishRateHz = publishHz_;
+                    send(id, encodeSceneInfo(s));
+                    break;
+                }
+                case MessageKind::Command: {
+                    const Command c = decodeCommand(data, body.size()).value;
+                    send(id, encodeFeedback(Feedback{3, 42, {1, 2, 3}, 99}));  // arrives before the reply
+                    send(id, encodeCommandReply(CommandReply{c.requestId + 1000, ReplyStatus::Ok, 1, "not yours"}));
+                    send(id, encodeCommandReply(CommandReply{c.requestId, ReplyStatus::Ok, 42, "done"}));
+                    break;
+                }
+                case MessageKind::Probe:
+                    send(id, encodeFeedback(Feedback{decodeProbe(data, body.size()).value.seq, 43, {0, 1, 0}, 100}));
+                    break;
+                default:
+                    break;
             }
         }
     }
@@ -198,7 +197,8 @@ TEST_CASE("ClientSession: handshake, command reply, feedback and a reassembled f
     CHECK(stats.bytesReceived > 2 * kParticles * 33);  // two frames' particles at least
 }
 
-TEST_CASE("ClientSession: half the rate gets even frames only; the receiver thread keeps the newest", "[protocol][client]") {
+TEST_CASE("ClientSession: half the rate gets even frames only; the receiver thread keeps the newest",
+          "[protocol][client]") {
     FakeServer server;
     ClientSession half(optionsWith(30)), full(optionsWith(0));
     half.connect(server.control, 3000ms);
@@ -258,7 +258,8 @@ TEST_CASE("ClientSession: CURVE with the server's key works, a wrong key gets no
 
 TEST_CASE("ClientSession: no server, and tiers for rates", "[protocol][client]") {
     ClientSession client(optionsWith(0));
-    CHECK_THROWS_WITH(client.connect("tcp://127.0.0.1:1", 100ms), Catch::Contains("tcp://127.0.0.1:1: no SceneInfo within 100 ms"));
+    CHECK_THROWS_WITH(client.connect("tcp://127.0.0.1:1", 100ms),
+                      Catch::Contains("tcp://127.0.0.1:1: no SceneInfo within 100 ms"));
     CHECK_THROWS_WITH(client.connect("nonsense://x", 100ms), Catch::Contains("nonsense://x: cannot connect"));
     CHECK_FALSE(client.connected());
     CHECK_THROWS_AS(client.receiveFrame(1ms), std::logic_error);

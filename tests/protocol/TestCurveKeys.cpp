@@ -1,6 +1,5 @@
 // CURVE key files (security/CurveKeys.hpp): the pair bop-keys writes, and files that are not keys.
 #include "TestUtil.hpp"
-
 #include "bop/common/Error.hpp"
 #include "security/CurveKeys.hpp"
 

@@ -2,7 +2,6 @@
 // decoded as a receiver decodes them, fed in every order, with losses, stale frames, chunks that
 // disagree and hostile sizes.
 #include "ProtocolSamples.hpp"
-
 #include "client/FrameAssembler.hpp"
 #include "codec/Codec.hpp"
 
@@ -39,8 +38,7 @@ StateFrame decoded(const Buffer& b) {
 std::vector<StateFrame> chunksOf(const StateFrame& whole, std::size_t perChunk) {
     const std::size_t bpp = whole.encoding == FrameEncoding::Float32 ? kBytesPerParticle : kQuantisedBytesPerParticle;
     std::vector<StateFrame> out;
-    for (const Buffer& b : encodeStateFrameChunks(whole, kChunkOverhead + perChunk * bpp))
-        out.push_back(decoded(b));
+    for (const Buffer& b : encodeStateFrameChunks(whole, kChunkOverhead + perChunk * bpp)) out.push_back(decoded(b));
     return out;
 }
 
@@ -107,7 +105,8 @@ TEST_CASE("FrameAssembler: whole frames pass straight through, newest wins", "[p
     CHECK(a.add(decoded(encodeStateFrame(frameWith(4, 0)))).has_value());
 }
 
-TEST_CASE("FrameAssembler: a missing chunk holds its frame back; a newer whole frame makes it lost", "[protocol][client]") {
+TEST_CASE("FrameAssembler: a missing chunk holds its frame back; a newer whole frame makes it lost",
+          "[protocol][client]") {
     FrameAssembler a;
     const std::vector<StateFrame> five = chunksOf(frameWith(5, 40), 10), six = chunksOf(frameWith(6, 40), 10);
     for (int k : {0, 1, 3}) CHECK_FALSE(a.add(five[k]).has_value());
@@ -221,7 +220,8 @@ TEST_CASE("FrameAssembler: a run of stale chunks means the sender restarted its 
     FrameAssembler a;
     REQUIRE(a.add(decoded(encodeStateFrame(frameWith(100, 5)))).has_value());
     // A restarted server numbers from 1 again: 15 chunks are taken as stale, the 16th starts over.
-    for (std::uint64_t seq = 1; seq < 16; ++seq) CHECK_FALSE(a.add(decoded(encodeStateFrame(frameWith(seq, 5)))).has_value());
+    for (std::uint64_t seq = 1; seq < 16; ++seq)
+        CHECK_FALSE(a.add(decoded(encodeStateFrame(frameWith(seq, 5)))).has_value());
     const auto frame = a.add(decoded(encodeStateFrame(frameWith(16, 5))));
     REQUIRE(frame.has_value());
     CHECK(frame->frameSeq == 16);
@@ -236,7 +236,8 @@ TEST_CASE("FrameAssembler: a run of stale chunks means the sender restarted its 
     // And never, when asked.
     FrameAssembler strict(AssemblerLimits{3, std::size_t(1) << 20, 0});
     REQUIRE(strict.add(decoded(encodeStateFrame(frameWith(100, 5)))).has_value());
-    for (std::uint64_t seq = 1; seq < 50; ++seq) CHECK_FALSE(strict.add(decoded(encodeStateFrame(frameWith(seq, 5)))).has_value());
+    for (std::uint64_t seq = 1; seq < 50; ++seq)
+        CHECK_FALSE(strict.add(decoded(encodeStateFrame(frameWith(seq, 5)))).has_value());
     CHECK(strict.stats().restarts == 0);
 }
 

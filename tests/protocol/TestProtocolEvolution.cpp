@@ -3,7 +3,6 @@
 // buffers read with the draft-0 generated code. Fields are only appended, so each side reads
 // what it knows and the new fields take their schema defaults.
 #include "ProtocolSamples.hpp"
-
 #include "frame_v0_generated.h"
 #include "probe_v0_generated.h"
 

@@ -2,7 +2,6 @@
 // the generated code, since the encoders refuse such values), and encoders refusing bad values.
 #include "ProtocolSamples.hpp"
 #include "codec/Validate.hpp"
-
 #include "command_generated.h"
 #include "frame_generated.h"
 #include "hello_generated.h"

@@ -1,7 +1,6 @@
 // Every message survives encode -> decode unchanged; frames split into chunks and join again;
 // the largest valid messages stay within their caps.
 #include "ProtocolSamples.hpp"
-
 #include "codec/BufferPool.hpp"
 #include "codec/Quantise.hpp"
 

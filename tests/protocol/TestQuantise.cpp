@@ -1,7 +1,6 @@
 // Position quantisation and octahedral normals against the bounds stated in Quantise.hpp, and
 // the bytes per particle of each frame encoding.
 #include "ProtocolSamples.hpp"
-
 #include "codec/Quantise.hpp"
 
 #include <Eigen/Geometry>

@@ -5,7 +5,6 @@
 // counted and the front goes on; silent sessions are forgotten. Ports are ephemeral.
 #include "HostileMessages.hpp"
 #include "ProtocolSamples.hpp"
-
 #include "client/ClientSession.hpp"
 #include "codec/Codec.hpp"
 #include "codec/MessageKind.hpp"
@@ -86,7 +85,8 @@ FrontOptions ephemeral() {
 
 }  // namespace
 
-TEST_CASE("front: every number outside its range is refused with its field named, counted and never applied", "[protocol][front]") {
+TEST_CASE("front: every number outside its range is refused with its field named, counted and never applied",
+          "[protocol][front]") {
     const SceneInfo scene = smallScene();
     ServerFront front(ephemeral(), scene);
     const std::vector<Case> cases = outOfRange(scene);
@@ -120,9 +120,10 @@ TEST_CASE("front: the values at the bounds of every range are taken", "[protocol
     RawClient client(front.controlEndpoint());
     client.hello();
     const Eigen::AlignedBox3d reach = probeReachBox(scene);
-    const std::vector<Buffer> probes = {probeMessage(reach.min(), kMinProbeK0, kMinProbeK1, 0, 0, Eigen::Vector3d::Zero(), 1),
-                                        probeMessage(reach.max(), kMaxProbeK0, kMaxProbeK1, kMaxLoopRateHz,
-                                                     kMaxPeriodErrorUs, Eigen::Vector3d::Constant(-kMaxRenderedForce), 2)};
+    const std::vector<Buffer> probes = {
+        probeMessage(reach.min(), kMinProbeK0, kMinProbeK1, 0, 0, Eigen::Vector3d::Zero(), 1),
+        probeMessage(reach.max(), kMaxProbeK0, kMaxProbeK1, kMaxLoopRateHz, kMaxPeriodErrorUs,
+                     Eigen::Vector3d::Constant(-kMaxRenderedForce), 2)};
     for (const Buffer& p : probes) {
         client.send(p);
         std::optional<Probe> taken;
@@ -130,7 +131,7 @@ TEST_CASE("front: the values at the bounds of every range are taken", "[protocol
         REQUIRE(taken);
         CHECK(taken->seq == decodeProbe(p.data(), p.size()).value.seq);
     }
-    const std::vector<Buffer> commands = {seedMessage(2, scene.boxHi), parameterMessage("lj", kMaxWeight, 2, 2),
+    const std::vector<Buffer> commands = {seedMessage(2, scene.boxHi),         parameterMessage("lj", kMaxWeight, 2, 2),
                                           parameterMessage("drag_v", 0, 1, 0), parameterMessage("k0", kMaxProbeK0),
                                           parameterMessage("k1", kMaxProbeK1), singleStepMessage(kMaxSingleSteps),
                                           mapRequestMessage(scene.mapBytes, 1)};
@@ -140,7 +141,8 @@ TEST_CASE("front: the values at the bounds of every range are taken", "[protocol
     CHECK(front.stats().outOfRange == 0);
 }
 
-TEST_CASE("front: a probe datagram out of range is refused by a Refusal datagram, at most one a second", "[protocol][front][udp]") {
+TEST_CASE("front: a probe datagram out of range is refused by a Refusal datagram, at most one a second",
+          "[protocol][front][udp]") {
     ServerFront front(ephemeral(), smallScene());
     UdpSocket socket("127.0.0.1", 0);
     const Endpoint server{"127.0.0.1", std::uint16_t(front.udpProbePort())};
@@ -162,7 +164,8 @@ TEST_CASE("front: a probe datagram out of range is refused by a Refusal datagram
     CHECK_FALSE(front.takeProbe());
 }
 
-TEST_CASE("front: a feedback that is not finite and a reply that cannot be encoded are counted, and the front goes on", "[protocol][front]") {
+TEST_CASE("front: a feedback that is not finite and a reply that cannot be encoded are counted, and the front goes on",
+          "[protocol][front]") {
     ServerFront front(ephemeral(), smallScene());
     ClientSession client;
     client.connect(front.controlEndpoint(), 5s);
@@ -192,7 +195,8 @@ TEST_CASE("front: a feedback that is not finite and a reply that cannot be encod
     CHECK(s.lastInternalError.find("reply not sent") != std::string::npos);
 }
 
-TEST_CASE("front: a session silent for the timeout is forgotten; a client that polls keeps its own", "[protocol][front][sessions]") {
+TEST_CASE("front: a session silent for the timeout is forgotten; a client that polls keeps its own",
+          "[protocol][front][sessions]") {
     FrontOptions o = ephemeral();
     o.sessionTimeout = 300ms;
     const SceneInfo scene = smallScene();

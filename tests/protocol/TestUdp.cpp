@@ -1,8 +1,7 @@
 // Datagram mode without sockets: fragment layout, reassembly under loss, reordering,
 // duplicates and hostile input (UdpFragments.hpp). Real sockets: TestUdpSocket.cpp.
-#include "transport/UdpFragments.hpp"
-
 #include "bop/common/Error.hpp"
+#include "transport/UdpFragments.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -24,9 +23,8 @@ Bytes randomBytes(std::mt19937& rng, std::size_t n) {
 }
 
 // A datagram packed here by hand, independently of writeFragment, with every field chosen.
-Bytes handDatagram(std::uint8_t stream, std::uint32_t seq, std::uint32_t index,
-                   std::uint32_t count, std::uint32_t total, std::uint16_t stride,
-                   const Bytes& payload, std::uint8_t version = 1) {
+Bytes handDatagram(std::uint8_t stream, std::uint32_t seq, std::uint32_t index, std::uint32_t count,
+                   std::uint32_t total, std::uint16_t stride, const Bytes& payload, std::uint8_t version = 1) {
     Bytes d = {'B', 'F', version, stream};
     for (std::uint32_t v : {seq, index, count, total})
         for (int i = 0; i < 4; ++i) d.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
@@ -104,8 +102,10 @@ TEST_CASE("under 10 and 30 percent datagram loss only complete messages are deli
             std::size_t kept = 0;
             for (auto& x : d)
                 if (seq == messages || !drop(rng)) stream.push_back(std::move(x)), ++kept;
-            if (kept == d.size()) ++complete;
-            else if (kept > 0) ++incomplete;
+            if (kept == d.size())
+                ++complete;
+            else if (kept > 0)
+                ++incomplete;
         }
         Reassembler r;
         const auto got = feed(r, stream);
@@ -180,8 +180,7 @@ TEST_CASE("malformed datagrams are counted and never crash the reassembler", "[p
     Reassembler r;
     std::uint64_t bad = 0;
     for (const Bytes& x : d)  // every truncation of first, middle and last datagram
-        for (std::size_t n = 0; n < x.size(); ++n, ++bad)
-            CHECK(r.accept(std::span(x.data(), n)) == std::nullopt);
+        for (std::size_t n = 0; n < x.size(); ++n, ++bad) CHECK(r.accept(std::span(x.data(), n)) == std::nullopt);
     CHECK(r.stats().malformed == bad);
     CHECK(r.partialMessages() == 0);
 
@@ -190,11 +189,10 @@ TEST_CASE("malformed datagrams are counted and never crash the reassembler", "[p
         handDatagram(3, 77, 0, 3, 2500, 1000, p1000, 2),  // unknown header version
         handDatagram(3, 77, 3, 3, 2500, 1000, p1000),     // index >= count
         handDatagram(3, 77, 0, 4, 2500, 1000, p1000),     // count disagrees with total/stride
-        handDatagram(3, 77, 0, 2, 2500, 1000, p1000),
-        handDatagram(3, 77, 0, 3, 2500, 0, p1000),        // stride 0
-        handDatagram(3, 77, 2, 3, 2500, 1000, p1000),     // last carries 500, not 1000
-        handDatagram(3, 77, 0, 0, 0, 1000, {}),           // no fragments
-        handDatagram(3, 77, 0, 1, 0, 1000, p500),         // empty message with a payload
+        handDatagram(3, 77, 0, 2, 2500, 1000, p1000),    handDatagram(3, 77, 0, 3, 2500, 0, p1000),  // stride 0
+        handDatagram(3, 77, 2, 3, 2500, 1000, p1000),  // last carries 500, not 1000
+        handDatagram(3, 77, 0, 0, 0, 1000, {}),        // no fragments
+        handDatagram(3, 77, 0, 1, 0, 1000, p500),      // empty message with a payload
     };
     Bytes badMagic = d[0];
     badMagic[1] = 'X';

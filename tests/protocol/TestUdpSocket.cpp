@@ -1,9 +1,8 @@
 // Datagram mode over real sockets on 127.0.0.1 ephemeral ports: UdpSocket (bind, send,
 // receive with a timeout, errors) and UdpSender / UdpReceiver end to end.
+#include "bop/common/Error.hpp"
 #include "transport/UdpSocket.hpp"
 #include "transport/UdpStream.hpp"
-
-#include "bop/common/Error.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -87,12 +86,14 @@ TEST_CASE("loopback: a 3 MB message and 100 small messages arrive byte exact", "
         collect(1000);
     }
     sender.send(2, medium);
-    while (collect(1000) && !std::any_of(got.begin(), got.end(), [](auto& m) { return m.stream == 2; })) {}
+    while (collect(1000) && !std::any_of(got.begin(), got.end(), [](auto& m) { return m.stream == 2; })) {
+    }
     for (std::size_t i = 0; i < small.size(); ++i) {
         sender.send(1, small[i]);
         if (i % 10 == 9) collect(0);
     }
-    while (collect(200)) {}
+    while (collect(200)) {
+    }
 
     REQUIRE(bigArrived());
     std::size_t smallGot = 0, mediumGot = 0;

@@ -43,8 +43,10 @@ std::string writeKeyframeScene(const std::string& dir, double frameDuration, boo
     }
     shape::writeNifti4d(dir + "/ball.nii", frames, "uint8");
     std::ostringstream s;
-    s << "[grid]\nr0_voxels = 2.0\nsize_voxels = [24, 24, 24]\n[shape]\n[[shape.bag]]\nsource = 'nifti'\nfile = 'ball.nii'\n"
-      << "label = 1\n[keyframes]\nframe_duration = " << frameDuration << "\nblend = " << (blend ? "true" : "false") << "\n"
+    s << "[grid]\nr0_voxels = 2.0\nsize_voxels = [24, 24, 24]\n[shape]\n[[shape.bag]]\nsource = 'nifti'\nfile = "
+         "'ball.nii'\n"
+      << "label = 1\n[keyframes]\nframe_duration = " << frameDuration << "\nblend = " << (blend ? "true" : "false")
+      << "\n"
       << extra;
     return writeText(dir + "/keyframes.toml", s.str());
 }

@@ -1,6 +1,5 @@
 #include "ShapeTestUtil.hpp"
 
-
 namespace bop::test {
 
 Volume<std::uint8_t> depthFrom(const Dims& d, const std::vector<std::function<bool(const Eigen::Vector3d&)>>& inside) {

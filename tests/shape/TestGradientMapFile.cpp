@@ -15,9 +15,8 @@ using namespace bop::shape;
 
 TEST_CASE("gradient-map cache round trip and error cases", "[shape][cache]") {
     const Dims d{20, 18, 16};
-    const GradientMap m = test::mapFrom(test::depthFrom(d, {[](const Eigen::Vector3d& x) {
-        return (x - Eigen::Vector3d(10, 9, 8)).norm() < 6;
-    }}));
+    const GradientMap m = test::mapFrom(
+        test::depthFrom(d, {[](const Eigen::Vector3d& x) { return (x - Eigen::Vector3d(10, 9, 8)).norm() < 6; }}));
     test::TempDir dir("gmcache");
     const std::string path = dir.file("map.bopgm");
     writeGradientMaps(path, {m, m}, 42);
@@ -34,7 +33,7 @@ TEST_CASE("gradient-map cache round trip and error cases", "[shape][cache]") {
         CHECK(r.surface[s].normal == m.surface[s].normal);
         CHECK(r.surface[s].cpWeight == m.surface[s].cpWeight);
     }
-    CHECK_FALSE(readGradientMaps(path, 43));                     // another scene: stale
+    CHECK_FALSE(readGradientMaps(path, 43));                      // another scene: stale
     CHECK_FALSE(readGradientMaps(dir.file("absent.bopgm"), 42));  // nothing cached yet
 
     const auto size = std::filesystem::file_size(path);
@@ -51,10 +50,10 @@ TEST_CASE("gradient-map cache round trip and error cases", "[shape][cache]") {
     CHECK_THROWS_WITH(readGradientMaps(path, 42), Catch::Contains("not a BoP gradient-map file"));
 }
 
-TEST_CASE("the map file reads the same from its bytes in memory as from the file, and refuses damage by name", "[shape][cache]") {
-    const GradientMap m = test::mapFrom(test::depthFrom(Dims{14, 12, 10}, {[](const Eigen::Vector3d& x) {
-        return (x - Eigen::Vector3d(7, 6, 5)).norm() < 4;
-    }}));
+TEST_CASE("the map file reads the same from its bytes in memory as from the file, and refuses damage by name",
+          "[shape][cache]") {
+    const GradientMap m = test::mapFrom(test::depthFrom(
+        Dims{14, 12, 10}, {[](const Eigen::Vector3d& x) { return (x - Eigen::Vector3d(7, 6, 5)).norm() < 4; }}));
     test::TempDir dir("gmmemory");
     const std::string path = dir.file("map.bopgm");
     writeGradientMaps(path, {m}, 7);
@@ -68,7 +67,8 @@ TEST_CASE("the map file reads the same from its bytes in memory as from the file
     CHECK(fromMemory->front().surface.size() == fromFile->front().surface.size());
     CHECK_FALSE(readGradientMaps(bytes, 8, "the download"));  // another scene's
     bytes[bytes.size() / 2] ^= 0x40;
-    CHECK_THROWS_WITH(readGradientMaps(bytes, 7, "the download"), Catch::Contains("the download") && Catch::Contains("corrupt"));
+    CHECK_THROWS_WITH(readGradientMaps(bytes, 7, "the download"),
+                      Catch::Contains("the download") && Catch::Contains("corrupt"));
     bytes.resize(20);
     CHECK_THROWS_WITH(readGradientMaps(bytes, 7, "the download"), Catch::Contains("the download"));
 }

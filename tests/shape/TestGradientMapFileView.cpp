@@ -25,7 +25,9 @@ std::vector<GradientMap> twoFrames() {
                                                   [](const P& x) { return (x - P(9, 8, 7)).norm() < 3.5; }}))};
 }
 
-VoxelWindow window(int x0, int y0, int z0, int x1, int y1, int z1) { return {{x0, y0, z0}, {x1, y1, z1}}; }
+VoxelWindow window(int x0, int y0, int z0, int x1, int y1, int z1) {
+    return {{x0, y0, z0}, {x1, y1, z1}};
+}
 
 void requireSameHeader(const GradientMap& a, const GradientMap& b) {
     CHECK(a.dims() == b.dims());
@@ -118,7 +120,7 @@ TEST_CASE("gradient-map file view tells stale, absent, corrupt and truncated fil
     test::TempDir dir("gmview");
     const std::string path = dir.file("map.bopgm");
     writeGradientMaps(path, frames, 42);
-    CHECK_FALSE(GradientMapFileView::open(path, 43));                     // another scene: stale
+    CHECK_FALSE(GradientMapFileView::open(path, 43));                      // another scene: stale
     CHECK_FALSE(GradientMapFileView::open(dir.file("absent.bopgm"), 42));  // nothing cached yet
 
     const auto view = GradientMapFileView::open(path, 42);

@@ -1,9 +1,8 @@
 // Loading NIfTI / raw scalar images and rasterizing them into object masks.
 #include "TestUtil.hpp"
+#include "bop/common/Error.hpp"
 #include "shape/ImageRasterizer.hpp"
 #include "shape/ScalarImage.hpp"
-
-#include "bop/common/Error.hpp"
 
 #include <catch2/catch.hpp>
 

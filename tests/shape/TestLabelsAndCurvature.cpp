@@ -41,7 +41,10 @@ int components(const Dims& d, int connectivity, const std::function<bool(std::si
                         const int a = c.x() + dx, b = c.y() + dy, e = c.z() + dz;
                         if (!d.contains(a, b, e)) continue;
                         const std::size_t n = d.index(a, b, e);
-                        if (!seen[n] && keep(n)) { seen[n] = 1; q.push(n); }
+                        if (!seen[n] && keep(n)) {
+                            seen[n] = 1;
+                            q.push(n);
+                        }
                     }
         }
     }
@@ -94,7 +97,8 @@ TEST_CASE("curvature of voxelised spheres of radius 8 to 32 is within 10% of 1/R
         for (const auto& sv : m.surface) {
             h.push_back(sv.meanCurvature);
             kappa.push_back(sv.kappa);
-            const Eigen::Vector3d radial = (d.coords(sv.voxel).cast<double>() + Eigen::Vector3d::Constant(0.5) - c).normalized();
+            const Eigen::Vector3d radial =
+                (d.coords(sv.voxel).cast<double>() + Eigen::Vector3d::Constant(0.5) - c).normalized();
             normalErr.push_back(std::acos(std::clamp(radial.dot(sv.normal.cast<double>()), -1.0, 1.0)) * 180 / M_PI);
         }
         double meanH = 0;
@@ -121,7 +125,8 @@ TEST_CASE("nested bags: species are numbered outer to inner and GM forces point 
     CHECK(m.bagCount == 2);
     // Along rays from the centre outward the occupying species never increases, and every
     // species 4, 3, 2, 1, 0 appears in that order.
-    for (const Eigen::Vector3d& dir : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(-1, 0.3, 0.2), Eigen::Vector3d(0.5, -0.5, 0.7)}) {
+    for (const Eigen::Vector3d& dir :
+         {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(-1, 0.3, 0.2), Eigen::Vector3d(0.5, -0.5, 0.7)}) {
         std::vector<int> seq;
         for (double t = 0; t < 19; t += 0.25) {
             const Eigen::Vector3i v = (c + t * dir.normalized()).array().floor().cast<int>().matrix();
@@ -131,7 +136,7 @@ TEST_CASE("nested bags: species are numbered outer to inner and GM forces point 
         CHECK(seq == std::vector<int>{4, 3, 2, 1, 0});
     }
     // Every species in every voxel outside its own region gets a force with the radial sign
-    // that moves it toward its region (paper §3.4; physics.md §4.6).
+    // that moves it toward its region (paper §3.4; docs/physics.md §4.6).
     GmField field(m, Interpolation::Nearest);
     std::size_t tested = 0, wrong = 0;
     for (int species = 1; species <= 4; ++species) {
@@ -145,8 +150,13 @@ TEST_CASE("nested bags: species are numbered outer to inner and GM forces point 
             const double lo = species == 1 ? r1 - 1.5 : species == 2 ? r2 : species == 3 ? r2 - 1.5 : 0;
             const double hi = species == 1 ? r1 : species == 2 ? r1 - 0.5 : species == 3 ? r2 : r2 - 0.5;
             const double radial = field.ruleAtVoxel(v, kind, species, p).dot((p - c) / r);
-            if (r > hi + 0.5) { ++tested; wrong += !(radial < 0); }
-            else if (r < lo - 0.5) { ++tested; wrong += !(radial > 0); }
+            if (r > hi + 0.5) {
+                ++tested;
+                wrong += !(radial < 0);
+            } else if (r < lo - 0.5) {
+                ++tested;
+                wrong += !(radial > 0);
+            }
         }
     }
     INFO(tested << " off-target (species, voxel) cases");

@@ -43,10 +43,12 @@ TEST_CASE("the phantom's voxels give its ejection fraction within 1 percentage p
         LvPhantomParams p;
         p.voxelMm = voxelMm;
         const LvPhantom lv = makeLvPhantom(p);
-        INFO("voxel " << voxelMm << " mm: EF " << lv.ejectionFraction() << " exact, " << lv.voxelEjectionFraction() << " voxels");
+        INFO("voxel " << voxelMm << " mm: EF " << lv.ejectionFraction() << " exact, " << lv.voxelEjectionFraction()
+                      << " voxels");
         CHECK(lv.ejectionFraction() == Approx(70.0 / 120));
         CHECK(std::abs(lv.voxelEjectionFraction() - lv.ejectionFraction()) < 0.01);
-        for (std::size_t f = 0; f < lv.frames.size(); ++f) CHECK(lv.voxelVolumeMl[f] == Approx(lv.volumeMl[f]).epsilon(0.03));
+        for (std::size_t f = 0; f < lv.frames.size(); ++f)
+            CHECK(lv.voxelVolumeMl[f] == Approx(lv.volumeMl[f]).epsilon(0.03));
     }
 }
 
@@ -62,7 +64,8 @@ TEST_CASE("the shipped lv-phantom.nii.gz is the generator's default output", "[l
     }
 }
 
-TEST_CASE("the ventricle scene's 8 maps hold the cavity volumes: ejection fraction within 1 point of the truth", "[lv]") {
+TEST_CASE("the ventricle scene's 8 maps hold the cavity volumes: ejection fraction within 1 point of the truth",
+          "[lv]") {
     const app::Scene scene = app::loadScene(test::sourceDir() + "/config/scenes/ventricle.toml");
     CHECK(scene.model->keyframes.frames == 8);
     CHECK(scene.model->keyframes.frameDuration == Approx(4.0));
@@ -92,9 +95,11 @@ TEST_CASE("a numbered series of 3D files loads as the same 8 keyframes as the 4D
         writeNifti(dir.file(name), lv.frames[f], "uint8");
         files += (f ? ", '" : "'") + name + "'";
     }
-    const std::string scene = test::writeText(dir.file("series.toml"),
-        "[grid]\nr0_voxels = 2.0\n[shape]\n[[shape.bag]]\nsource = 'nifti'\nfiles = [" + files + "]\nlabel = 1\n"
-        "[keyframes]\nperiod = 32.0\n");
+    const std::string scene =
+        test::writeText(dir.file("series.toml"),
+                        "[grid]\nr0_voxels = 2.0\n[shape]\n[[shape.bag]]\nsource = 'nifti'\nfiles = [" + files +
+                            "]\nlabel = 1\n"
+                            "[keyframes]\nperiod = 32.0\n");
     const app::Scene s = app::loadScene(scene);
     CHECK(s.model->keyframes.frames == 8);
     CHECK(s.model->keyframes.frameDuration == Approx(4.0));

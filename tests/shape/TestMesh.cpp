@@ -1,9 +1,8 @@
 // Tests of mesh loading (OBJ, ASCII/binary STL), the closedness check and voxelization.
 #include "TestUtil.hpp"
+#include "bop/common/Error.hpp"
 #include "shape/MeshVoxelizer.hpp"
 #include "shape/TriangleMesh.hpp"
-
-#include "bop/common/Error.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -30,7 +29,9 @@ constexpr double kMajorMm = 30.0;  // torus major radius R, mm
 constexpr double kMinorMm = 12.0;  // torus minor radius r, mm
 const double kTorusVolumeMm3 = 2.0 * M_PI * M_PI * kMajorMm * kMinorMm * kMinorMm;
 
-std::string torusPath() { return bop::test::sourceDir() + "/config/models/torus.obj"; }
+std::string torusPath() {
+    return bop::test::sourceDir() + "/config/models/torus.obj";
+}
 
 // Signed volume by the divergence theorem, mm^3 (positive for outward orientation).
 double signedVolume(const TriangleMesh& mesh) {
@@ -200,8 +201,8 @@ TEST_CASE("a mesh with a missing or flipped triangle is rejected as not closed",
         writeObj(mesh, path);
         const TriangleMesh holed = loadMesh(path);
         const std::string message = errorMessage([&] { requireClosed(holed, path); });
-        CHECK_THAT(message, Catch::Contains(path) && Catch::Contains("not closed") &&
-                                Catch::Contains("3 boundary edges"));
+        CHECK_THAT(message,
+                   Catch::Contains(path) && Catch::Contains("not closed") && Catch::Contains("3 boundary edges"));
     }
     SECTION("one triangle flipped") {
         std::swap(mesh.triangles[7][0], mesh.triangles[7][1]);

@@ -27,10 +27,11 @@ const std::string kGrid = "[grid]\nvoxel_size_mm = 1.0\nr0_voxels = 2.0\nsize_vo
 TEST_CASE("the voxelised torus mesh agrees with the analytic torus", "[shape][scene][torus]") {
     test::TempDir dir("torus");
     const std::string model = test::sourceDir() + "/config/models/torus.obj";
-    const std::string meshScene = test::writeText(dir.file("mesh.toml"),
-        kGrid + "[[shape.bag]]\nsource = 'mesh'\nfile = '" + model + "'\n");
-    const std::string torusScene = test::writeText(dir.file("analytic.toml"),
-        kGrid + "[[shape.bag]]\nsource = 'torus'\nmajor_radius_mm = 30.0\nminor_radius_mm = 12.0\n");
+    const std::string meshScene =
+        test::writeText(dir.file("mesh.toml"), kGrid + "[[shape.bag]]\nsource = 'mesh'\nfile = '" + model + "'\n");
+    const std::string torusScene =
+        test::writeText(dir.file("analytic.toml"),
+                        kGrid + "[[shape.bag]]\nsource = 'torus'\nmajor_radius_mm = 30.0\nminor_radius_mm = 12.0\n");
     const ShapeBuild mesh = buildShape(loadShapeSpec(meshScene));
     const ShapeBuild torus = buildShape(loadShapeSpec(torusScene));
     const GradientMap &a = mesh.frames[0], &b = torus.frames[0];
@@ -53,9 +54,11 @@ TEST_CASE("superellipsoid voxel volumes match the analytic volume", "[shape][sce
         p.radiiMm = {20, 16, 12};
         p.e1 = e1;
         p.e2 = e2;
-        const std::string scene = test::writeText(dir.file("s.toml"),
+        const std::string scene = test::writeText(
+            dir.file("s.toml"),
             "[grid]\nvoxel_size_mm = 0.5\n[shape]\n[[shape.bag]]\nsource = 'superellipsoid'\nradii_mm = [20, 16, 12]\n"
-            "exponents = [" + std::to_string(e1) + ", " + std::to_string(e2) + "]\n");
+            "exponents = [" +
+                std::to_string(e1) + ", " + std::to_string(e2) + "]\n");
         const ShapeBuild s = buildShape(loadShapeSpec(scene));
         const double volume = double(objectVoxels(s.frames[0])) * 0.125;
         INFO("exponents " << e1 << ", " << e2);
@@ -80,16 +83,17 @@ TEST_CASE("image sequences give one map per frame on one grid", "[shape][scene][
         frames.push_back(img);
     }
     writeNifti4d(dir.file("lv4d.nii"), frames);
-    const std::string body = "[grid]\nr0_voxels = 2.0\npadding_voxels = 2\n[shape]\n[[shape.bag]]\nname = 'lv'\nlabel = 3\n";
-    const ShapeBuild series = buildShape(loadShapeSpec(test::writeText(dir.file("series.toml"),
-        body + "source = 'nifti'\nfiles = ['lv_0.nii.gz', 'lv_1.nii.gz', 'lv_2.nii.gz']\n")));
-    const ShapeBuild four = buildShape(loadShapeSpec(test::writeText(dir.file("four.toml"),
-        body + "source = 'nifti'\nfile = 'lv4d.nii'\n")));
+    const std::string body =
+        "[grid]\nr0_voxels = 2.0\npadding_voxels = 2\n[shape]\n[[shape.bag]]\nname = 'lv'\nlabel = 3\n";
+    const ShapeBuild series = buildShape(loadShapeSpec(test::writeText(
+        dir.file("series.toml"), body + "source = 'nifti'\nfiles = ['lv_0.nii.gz', 'lv_1.nii.gz', 'lv_2.nii.gz']\n")));
+    const ShapeBuild four = buildShape(
+        loadShapeSpec(test::writeText(dir.file("four.toml"), body + "source = 'nifti'\nfile = 'lv4d.nii'\n")));
     REQUIRE(series.frames.size() == 3);
     REQUIRE(four.frames.size() == 3);
     for (int f = 0; f < 3; ++f) {
         CHECK(series.frames[f].dims() == (Dims{36, 34, 32}));  // image grid plus 2 voxels each side
-        CHECK(series.frames[f].grid.voxelMm == 1.5);            // from the image spacing
+        CHECK(series.frames[f].grid.voxelMm == 1.5);           // from the image spacing
         CHECK(series.frames[f].occ == four.frames[f].occ);
         std::size_t inImage = 0;
         for (float x : frames[f].values) inImage += x == 3.f;
@@ -104,7 +108,10 @@ TEST_CASE("every shipped scene builds a map whose vectors are exact nearest-surf
     int scenes = 0;
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
         if (entry.path().extension() != ".toml") continue;
-        const std::string text = [&] { std::ifstream f(entry.path()); return std::string(std::istreambuf_iterator<char>(f), {}); }();
+        const std::string text = [&] {
+            std::ifstream f(entry.path());
+            return std::string(std::istreambuf_iterator<char>(f), {});
+        }();
         if (text.find("[shape]") == std::string::npos) continue;  // bulk material, no map
         ++scenes;
         const ShapeSpec spec = loadShapeSpec(entry.path().string());

@@ -29,7 +29,9 @@ const std::string kSphere = "[[shape.bag]]\nsource = 'sphere'\nradius_mm = 5.0\n
 
 TEST_CASE("shape input errors name the file and key", "[shape][errors]") {
     test::TempDir dir("errors");
-    auto scene = [&](const std::string& name, const std::string& text) { return test::writeText(dir.file(name), text); };
+    auto scene = [&](const std::string& name, const std::string& text) {
+        return test::writeText(dir.file(name), text);
+    };
     using Catch::Contains;
 
     SECTION("missing scene file") {
@@ -41,10 +43,12 @@ TEST_CASE("shape input errors name the file and key", "[shape][errors]") {
     }
     SECTION("missing mesh file") {
         const auto s = scene("mesh.toml", kGrid + "[[shape.bag]]\nsource = 'mesh'\nfile = 'absent.obj'\n");
-        CHECK_THAT(errorOf(s), Contains(s) && Contains("shape.bag[0].file") && Contains("absent.obj") && Contains("not found"));
+        CHECK_THAT(errorOf(s),
+                   Contains(s) && Contains("shape.bag[0].file") && Contains("absent.obj") && Contains("not found"));
     }
     SECTION("non-closed mesh") {
-        const auto obj = test::writeText(dir.file("open.obj"),
+        const auto obj = test::writeText(
+            dir.file("open.obj"),
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n");  // a tetrahedron missing a face
         const auto s = scene("open.toml", kGrid + "[[shape.bag]]\nsource = 'mesh'\nfile = 'open.obj'\n");
         CHECK_THAT(errorOf(s), Contains(obj) && Contains("not closed"));
@@ -56,11 +60,14 @@ TEST_CASE("shape input errors name the file and key", "[shape][errors]") {
         img.originMm.setZero();
         img.values.assign(img.dims.count(), 1.f);
         writeNifti(dir.file("dim.nii"), img);
-        const auto s = scene("empty.toml", "[grid]\n[shape]\n[[shape.bag]]\nsource = 'nifti'\nfile = 'dim.nii'\nthreshold = 2.0\n");
+        const auto s = scene("empty.toml",
+                             "[grid]\n[shape]\n[[shape.bag]]\nsource = 'nifti'\nfile = 'dim.nii'\nthreshold = 2.0\n");
         CHECK_THAT(errorOf(s), Contains(s) && Contains("shape.bag[0].threshold") && Contains("selects no voxels"));
     }
     SECTION("empty bitmap: an object too small for the voxels") {
-        const auto s = scene("tiny.toml", "[grid]\nvoxel_size_mm = 10.0\n[shape]\n[[shape.bag]]\nsource = 'sphere'\nradius_mm = 6.0\ncenter_mm = [3.0, 3.0, 3.0]\n");
+        const auto s = scene("tiny.toml",
+                             "[grid]\nvoxel_size_mm = 10.0\n[shape]\n[[shape.bag]]\nsource = 'sphere'\nradius_mm = "
+                             "6.0\ncenter_mm = [3.0, 3.0, 3.0]\n");
         CHECK_THAT(errorOf(s), Contains(s) && Contains("shape.bag[0]") && Contains("no object voxels"));
     }
     SECTION("unknown key") {
@@ -92,7 +99,9 @@ TEST_CASE("shape input errors name the file and key", "[shape][errors]") {
         CHECK_THAT(errorOf(s), Contains(s) && Contains("radius_mm': must be greater than 0"));
     }
     SECTION("an inner bag that is not inside the outer bag") {
-        const auto s = scene("nest.toml", kGrid + kSphere + "[[shape.bag]]\nsource = 'sphere'\nradius_mm = 3.0\ncenter_mm = [4.0, 0.0, 0.0]\n");
+        const auto s =
+            scene("nest.toml",
+                  kGrid + kSphere + "[[shape.bag]]\nsource = 'sphere'\nradius_mm = 3.0\ncenter_mm = [4.0, 0.0, 0.0]\n");
         CHECK_THAT(errorOf(s), Contains(s) && Contains("shape.bag[1]") && Contains("outside bag"));
     }
     SECTION("an inner bag touching the outer bag's outside") {

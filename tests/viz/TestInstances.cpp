@@ -1,9 +1,8 @@
 // The viewer's data-to-instances stage (viz_client/scene/Instances.hpp): kinds, colours, filters,
 // the cut plane, and quantised frames drawn where float ones are.
-#include "scene/Instances.hpp"
-
 #include "codec/Codec.hpp"
 #include "codec/Quantise.hpp"
+#include "scene/Instances.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -18,7 +17,8 @@ namespace {
 // Two species, a surface one (red) and a volume one (blue); r0 = sqrt 3.
 protocol::SceneInfo scene() {
     protocol::SceneInfo s;
-    s.species = {{"membrane", SpeciesKind::Surface, {220, 40, 30, 255}}, {"fill", SpeciesKind::Volume, {30, 60, 200, 128}}};
+    s.species = {{"membrane", SpeciesKind::Surface, {220, 40, 30, 255}},
+                 {"fill", SpeciesKind::Volume, {30, 60, 200, 128}}};
     s.boxLo = Eigen::Vector3d(-10, -10, -10);
     s.boxHi = Eigen::Vector3d(10, 10, 10);
     return s;

@@ -4,14 +4,13 @@
 // bag, that each species' colour shows, and that the surface has no holes (while discs too
 // small for the spacing leave many, so the check can fail).
 #include "app/EglHeadless.hpp"
+#include "bop/common/Canvas.hpp"
 #include "client/FrameAssembler.hpp"
 #include "recording/SessionReader.hpp"
 #include "render/InstanceRenderer.hpp"
 #include "render/Offscreen.hpp"
 #include "scene/Instances.hpp"
 #include "scene/SyntheticBag.hpp"
-
-#include "bop/common/Canvas.hpp"
 
 #include <catch2/catch.hpp>
 #include <stb/stb_image.h>
@@ -25,7 +24,7 @@ using namespace bop::viz;
 
 namespace {
 
-constexpr int kWidth = 480, kHeight = 360;                  // pixels
+constexpr int kWidth = 480, kHeight = 360;                      // pixels
 constexpr std::array<float, 3> kBackground{0.1f, 0.1f, 0.12f};  // RGB 0..1
 const std::array<std::uint8_t, 4> kRed{220, 40, 30, 255}, kBlue{30, 60, 200, 255};
 
@@ -42,7 +41,8 @@ struct Picture {
     std::vector<std::uint8_t> rgb;
     bool background(std::size_t p) const {
         const auto near = [](std::uint8_t v, float c) { return std::abs(int(v) - int(std::lround(c * 255))) <= 1; };
-        return near(rgb[3 * p], kBackground[0]) && near(rgb[3 * p + 1], kBackground[1]) && near(rgb[3 * p + 2], kBackground[2]);
+        return near(rgb[3 * p], kBackground[0]) && near(rgb[3 * p + 1], kBackground[1]) &&
+               near(rgb[3 * p + 2], kBackground[2]);
     }
     std::size_t size() const { return rgb.size() / 3; }
 };
@@ -93,7 +93,8 @@ std::size_t holesInside(const Picture& p, const Picture& reference, int erode) {
 // writes it first, unless `expect` says this picture is one that must differ): (pixels
 // differing by more than 24 levels in a channel, mean difference in levels).
 enum class Expect { Match, Differ };
-std::pair<std::size_t, double> compareWithReference(const Picture& q, const std::string& name, Expect expect = Expect::Match) {
+std::pair<std::size_t, double> compareWithReference(const Picture& q, const std::string& name,
+                                                    Expect expect = Expect::Match) {
     const std::string reference = std::string(BOP_SOURCE_DIR) + "/tests/viz/reference/" + name;
     if (const char* update = std::getenv("BOP_UPDATE_REFERENCE");
         expect == Expect::Match && update && std::string(update) == "1")
@@ -184,7 +185,8 @@ TEST_CASE("headless: the torus bag matches its reference picture", "[gui]") {
     CHECK(differing <= p.size() / 100);
     CHECK(mean < 2.0);
     cam.orbit(0.0, 0.1);  // the same bag tilted by 6 degrees is not the reference
-    const auto [tilted, tiltedMean] = compareWithReference(render(in, cam, "torus-tilted.png"), "torus.png", Expect::Differ);
+    const auto [tilted, tiltedMean] =
+        compareWithReference(render(in, cam, "torus-tilted.png"), "torus.png", Expect::Differ);
     INFO(tilted << " pixels differ when tilted; mean " << tiltedMean);
     CHECK(tilted > p.size() / 100);
 }
@@ -215,7 +217,8 @@ struct RecordedTorus {
     protocol::StateFrame frame;
     OrbitCamera cam;
     RecordedTorus() {
-        protocol::RecordedSession s = protocol::readSession(std::string(BOP_SOURCE_DIR) + "/tests/viz/data/torus-served.mcap");
+        protocol::RecordedSession s =
+            protocol::readSession(std::string(BOP_SOURCE_DIR) + "/tests/viz/data/torus-served.mcap");
         scene = s.scene;
         protocol::FrameAssembler assembler;
         for (protocol::RecordedChunk& c : s.chunks)
@@ -227,7 +230,8 @@ struct RecordedTorus {
     }
 };
 
-TEST_CASE("headless: a recorded frame of the served torus bag shows both species, no holes, and matches its reference", "[gui]") {
+TEST_CASE("headless: a recorded frame of the served torus bag shows both species, no holes, and matches its reference",
+          "[gui]") {
     EglHeadless gl;
     RecordedTorus t;
     REQUIRE(t.scene.species.size() == 2);

@@ -1,10 +1,10 @@
 // The viewer's GL-free model of its panel and pointer: rates and round trips measured from
 // given times, plot histories, the mouse probe on the camera's view plane, and sliders that
 // become exactly the commands for what changed.
+#include "client/RoundTrip.hpp"
 #include "scene/Controls.hpp"
 #include "scene/MouseProbe.hpp"
 #include "scene/Telemetry.hpp"
-#include "client/RoundTrip.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -104,7 +104,7 @@ TEST_CASE("sliders start from the server's values and send exactly what changed"
     Controls c(twoSpecies());
     CHECK(c.species() == 2);
     CHECK(c.commands().empty());  // nothing moved
-    c.now.lj[1] = 0.8;           // row 1 (skin receives), column 2 (from fill)
+    c.now.lj[1] = 0.8;            // row 1 (skin receives), column 2 (from fill)
     c.now.coPlanar[0] = 0.1;
     c.now.dragV[1] = 4.0;
     c.now.k0 = 1.5;

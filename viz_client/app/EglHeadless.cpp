@@ -45,8 +45,9 @@ EglHeadless::EglHeadless() {
     if (!eglInitialize(d, &major, &minor)) throw Error("EGL", eglError("eglInitialize"));
     display_ = d;
     if (!eglBindAPI(EGL_OPENGL_API)) throw Error("EGL", eglError("eglBindAPI(OpenGL)"));
-    const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                                 EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    const EGLint attributes[] = {
+        EGL_CONTEXT_MAJOR_VERSION,           3,       EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
     EGLContext c = eglCreateContext(d, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
     if (c == EGL_NO_CONTEXT) throw Error("EGL", eglError("creating an OpenGL 3.3 core context"));
     context_ = c;
@@ -60,7 +61,11 @@ EglHeadless::~EglHeadless() {
     eglTerminate(display_);
 }
 
-std::string EglHeadless::renderer() const { return reinterpret_cast<const char*>(glGetString(GL_RENDERER)); }
-std::string EglHeadless::version() const { return reinterpret_cast<const char*>(glGetString(GL_VERSION)); }
+std::string EglHeadless::renderer() const {
+    return reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+}
+std::string EglHeadless::version() const {
+    return reinterpret_cast<const char*>(glGetString(GL_VERSION));
+}
 
 }  // namespace bop::viz

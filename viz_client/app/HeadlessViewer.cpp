@@ -3,10 +3,9 @@
 #include "app/EglHeadless.hpp"
 #include "app/ViewerCore.hpp"
 #include "app/ViewerLoops.hpp"
-#include "render/Offscreen.hpp"
-
 #include "bop/common/Canvas.hpp"
 #include "bop/common/Error.hpp"
+#include "render/Offscreen.hpp"
 
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
@@ -22,7 +21,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double secondsSince(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 }  // namespace
 
@@ -82,12 +83,11 @@ int runHeadless(ViewerLink& link, const LoopOptions& o) {
             picture.writePng((std::filesystem::path(o.outDir) / name).string());
             if (written == o.frames && !o.screenshot.empty()) picture.writePng(o.screenshot);
             const protocol::StateFrame& f = *core.frame();
-            csv << name << ',' << f.step << ',' << f.simTime << ',' << f.stats.kinetic << ','
-                << f.stats.potential << ',' << f.stats.pressure << ',' << f.stats.stepRateHz << ',' << f.count()
-                << ',' << int(f.probeActive) << ',' << f.probePosition.x() << ',' << f.probePosition.y() << ','
-                << f.probePosition.z() << ',' << f.probeForce.x() << ',' << f.probeForce.y() << ','
-                << f.probeForce.z() << ',' << f.stats.cavityVolume << ',' << f.stats.mapFrame
-                << std::endl;  // whole lines for whoever follows the file
+            csv << name << ',' << f.step << ',' << f.simTime << ',' << f.stats.kinetic << ',' << f.stats.potential
+                << ',' << f.stats.pressure << ',' << f.stats.stepRateHz << ',' << f.count() << ',' << int(f.probeActive)
+                << ',' << f.probePosition.x() << ',' << f.probePosition.y() << ',' << f.probePosition.z() << ','
+                << f.probeForce.x() << ',' << f.probeForce.y() << ',' << f.probeForce.z() << ',' << f.stats.cavityVolume
+                << ',' << f.stats.mapFrame << std::endl;  // whole lines for whoever follows the file
             std::printf("frame %d: step %llu, %zu particles, probe force %.4g, drawn and written in %.1f ms\n", written,
                         (unsigned long long)f.step, f.count(), f.probeForce.norm(),
                         1000 * std::chrono::duration<double>(Clock::now() - t1).count());
@@ -95,11 +95,12 @@ int runHeadless(ViewerLink& link, const LoopOptions& o) {
         }
         std::printf("bop-viewer: %d frames and frames.csv in %s\n", o.frames, o.outDir.c_str());
         const protocol::ClientStats c = link.status().client;
-        std::printf("bop-viewer: frames received whole %llu, lost %llu (%llu of them sent as datagrams, from %llu "
-                    "datagrams read), malformed %llu, inconsistent %llu\n",
-                    (unsigned long long)c.framesReceived, (unsigned long long)(c.framesLost + c.udpFramesLost),
-                    (unsigned long long)c.udpFramesLost, (unsigned long long)c.udpDatagrams,
-                    (unsigned long long)c.malformed, (unsigned long long)c.inconsistentFrames);
+        std::printf(
+            "bop-viewer: frames received whole %llu, lost %llu (%llu of them sent as datagrams, from %llu "
+            "datagrams read), malformed %llu, inconsistent %llu\n",
+            (unsigned long long)c.framesReceived, (unsigned long long)(c.framesLost + c.udpFramesLost),
+            (unsigned long long)c.udpFramesLost, (unsigned long long)c.udpDatagrams, (unsigned long long)c.malformed,
+            (unsigned long long)c.inconsistentFrames);
     }
     ImGui_ImplOpenGL3_Shutdown();
     ImGui::DestroyContext();

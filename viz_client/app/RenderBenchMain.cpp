@@ -2,13 +2,12 @@
 // headless (EGL) into an offscreen target; scripts/bench/render.sh runs it. The bags are
 // synthetic tori (scene/SyntheticBag.hpp) sized to about the asked particle counts.
 #include "app/EglHeadless.hpp"
+#include "bop/common/ToolMain.hpp"
 #include "render/Gl.hpp"
 #include "render/InstanceRenderer.hpp"
 #include "render/Offscreen.hpp"
 #include "scene/Instances.hpp"
 #include "scene/SyntheticBag.hpp"
-
-#include "bop/common/ToolMain.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -23,7 +22,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double msSince(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -38,7 +39,8 @@ int main(int argc, char** argv) {
         std::vector<long long> counts{10000, 100000, 1000000};
         int frames = 10, width = 1280, height = 720;
         app.add_option("--particles", counts, "particle counts to draw (about; synthetic torus bags)")->delimiter(',');
-        app.add_option("--frames", frames, "frames drawn per count; the median is reported")->check(CLI::Range(1, 10000));
+        app.add_option("--frames", frames, "frames drawn per count; the median is reported")
+            ->check(CLI::Range(1, 10000));
         app.add_option("--width", width, "picture width, pixels")->check(CLI::Range(16, 8192));
         app.add_option("--height", height, "picture height, pixels")->check(CLI::Range(16, 8192));
         CLI11_PARSE(app, argc, argv);

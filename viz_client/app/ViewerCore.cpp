@@ -11,11 +11,12 @@ namespace bop::viz {
 namespace {
 
 constexpr std::array<float, 3> kBackground{0.1f, 0.1f, 0.12f};  // RGB 0..1
-constexpr double kOrbitRadPerNdc = 2.0;                          // a drag across the view turns 4 rad
+constexpr double kOrbitRadPerNdc = 2.0;                         // a drag across the view turns 4 rad
 constexpr double kZoomPerNotch = 0.9;
 
 std::int64_t nowNs() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
 }
 
 }  // namespace
@@ -52,7 +53,8 @@ bool ViewerCore::poll(double nowS) {
     perSpecies_.assign(scene_->species.size() + 1, 0);
     for (std::uint8_t s : f.species)
         if (s < perSpecies_.size()) ++perSpecies_[s];
-    plots_.push({f.simTime, f.stats.kinetic + f.stats.potential, f.stats.pressure, f.probeForce.norm(), f.stats.cavityVolume});
+    plots_.push(
+        {f.simTime, f.stats.kinetic + f.stats.potential, f.stats.pressure, f.probeForce.norm(), f.stats.cavityVolume});
     return true;
 }
 
@@ -63,8 +65,14 @@ void ViewerCore::draw(int width, int height, double nowS, bool showPanel, const 
     ImGui::NewFrame();
     if (showPanel) {
         const LinkStatus st = link_.status();
-        PanelFigures fig{&st, scene_.get(), frame_.get(), perSpecies_, received_.rateHz(nowS),
-                         drawn_.rateHz(nowS), frame_ ? nowS - lastFrameS_ : 0.0, &plots_};
+        PanelFigures fig{&st,
+                         scene_.get(),
+                         frame_.get(),
+                         perSpecies_,
+                         received_.rateHz(nowS),
+                         drawn_.rateHz(nowS),
+                         frame_ ? nowS - lastFrameS_ : 0.0,
+                         &plots_};
         drawPanel(panel, controls_, link_, fig);
     }
     ImGui::Render();
@@ -76,7 +84,8 @@ void ViewerCore::draw(int width, int height, double nowS, bool showPanel, const 
     panel.fitRequested = panel.resetRequested = false;
     panel.filter.cut.reset();
     if (panel.cutOn && scene_)
-        panel.filter.cut = CutPlane{camera.target() + panel.cutOffsetR0 * scene_->r0 * camera.forward(), -camera.forward()};
+        panel.filter.cut =
+            CutPlane{camera.target() + panel.cutOffsetR0 * scene_->r0 * camera.forward(), -camera.forward()};
     if (frame_ && scene_) {
         buildInstances(*frame_, *scene_, panel.filter, instances_);
     } else {
@@ -164,17 +173,25 @@ void ViewerCore::scroll(double notches) {
 
 void ViewerCore::key(char k) {
     switch (k) {
-    case 'F': panel.fitRequested = true; break;
-    case 'R': panel.resetRequested = true; break;
-    case 'P':
-        panel.paused = !panel.paused;
-        link_.submit(runCommand(panel.paused ? protocol::RunAction::Pause : protocol::RunAction::Resume));
-        break;
-    case 'N':
-        if (panel.paused) link_.submit(runCommand(protocol::RunAction::SingleStep, std::uint32_t(panel.singleSteps)));
-        break;
-    case 'S': panel.screenshotRequested = true; break;
-    default: break;
+        case 'F':
+            panel.fitRequested = true;
+            break;
+        case 'R':
+            panel.resetRequested = true;
+            break;
+        case 'P':
+            panel.paused = !panel.paused;
+            link_.submit(runCommand(panel.paused ? protocol::RunAction::Pause : protocol::RunAction::Resume));
+            break;
+        case 'N':
+            if (panel.paused)
+                link_.submit(runCommand(protocol::RunAction::SingleStep, std::uint32_t(panel.singleSteps)));
+            break;
+        case 'S':
+            panel.screenshotRequested = true;
+            break;
+        default:
+            break;
     }
 }
 

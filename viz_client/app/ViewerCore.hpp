@@ -4,11 +4,11 @@
 // framebuffer; pointer input (in NDC, from the window) drives the camera, the mouse probe and
 // seeding. The probe goes to the link whenever it changes, the sliders' commands at most every
 // 100 ms. Needs a current OpenGL context and an ImGui context with its OpenGL3 backend.
-#include "ui/ViewerPanel.hpp"
 #include "link/ViewerLink.hpp"
 #include "render/InstanceRenderer.hpp"
 #include "scene/Camera.hpp"
 #include "scene/MouseProbe.hpp"
+#include "ui/ViewerPanel.hpp"
 
 #include <functional>
 #include <memory>

@@ -19,11 +19,11 @@ struct ProbeScript {
 };
 
 struct LoopOptions {
-    int frames = 0;            // new frames to draw, then exit; 0 = until the window closes (window only)
-    int width = 960, height = 540;  // pixels
-    bool panel = true;         // draw the ImGui panel
-    std::string outDir;        // headless pictures and frames.csv; screenshots of the window
-    std::string screenshot;    // also write the last picture here (PNG); empty = no
+    int frames = 0;                    // new frames to draw, then exit; 0 = until the window closes (window only)
+    int width = 960, height = 540;     // pixels
+    bool panel = true;                 // draw the ImGui panel
+    std::string outDir;                // headless pictures and frames.csv; screenshots of the window
+    std::string screenshot;            // also write the last picture here (PNG); empty = no
     std::optional<ProbeScript> probe;  // headless only
 };
 

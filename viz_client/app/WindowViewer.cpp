@@ -2,11 +2,10 @@
 // backends, pointer and keys handed to ViewerCore unless the panel wants them.
 #include "app/ViewerCore.hpp"
 #include "app/ViewerLoops.hpp"
-#include "render/Gl.hpp"
-#include "render/Offscreen.hpp"
-
 #include "bop/common/Canvas.hpp"
 #include "bop/common/Error.hpp"
+#include "render/Gl.hpp"
+#include "render/Offscreen.hpp"
 
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>
@@ -20,7 +19,9 @@
 namespace bop::viz {
 namespace {
 
-ViewerCore& coreOf(GLFWwindow* w) { return *static_cast<ViewerCore*>(glfwGetWindowUserPointer(w)); }
+ViewerCore& coreOf(GLFWwindow* w) {
+    return *static_cast<ViewerCore*>(glfwGetWindowUserPointer(w));
+}
 
 // The pointer in NDC of the window (x right, y up, -1..1) and the window's aspect.
 void pointer(GLFWwindow* w, double& x, double& y, double& aspect) {
@@ -39,8 +40,10 @@ void onButton(GLFWwindow* w, int button, int action, int) {
     if (b < 0) return;
     double x, y, aspect;
     pointer(w, x, y, aspect);
-    if (action == GLFW_PRESS) coreOf(w).press(b, x, y, aspect);
-    else coreOf(w).release(b);
+    if (action == GLFW_PRESS)
+        coreOf(w).press(b, x, y, aspect);
+    else
+        coreOf(w).release(b);
 }
 
 void onMove(GLFWwindow* w, double, double) {
@@ -111,8 +114,10 @@ int runWindow(ViewerLink& link, const LoopOptions& o) {
             if (core.takeScreenshotRequest() || (last && !o.screenshot.empty())) {
                 char name[40];
                 std::snprintf(name, sizeof name, "screenshot-%03d.png", ++shots);
-                const std::string path = last && !o.screenshot.empty() ? o.screenshot : (std::filesystem::path(o.outDir) / name).string();
-                if (!std::filesystem::path(path).parent_path().empty()) std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+                const std::string path =
+                    last && !o.screenshot.empty() ? o.screenshot : (std::filesystem::path(o.outDir) / name).string();
+                if (!std::filesystem::path(path).parent_path().empty())
+                    std::filesystem::create_directories(std::filesystem::path(path).parent_path());
                 glReadBuffer(GL_BACK);
                 Canvas::fromRgb(width, height, readBoundRgb(width, height)).writePng(path);
                 std::printf("bop-viewer: screenshot %s\n", path.c_str());

@@ -10,15 +10,22 @@ using namespace std::chrono_literals;
 constexpr std::size_t kReplyLog = 8;
 constexpr auto kProbeRefresh = 200ms;  // re-send an active probe at least this often
 
-double seconds(Clock::time_point t) { return std::chrono::duration<double>(t.time_since_epoch()).count(); }
+double seconds(Clock::time_point t) {
+    return std::chrono::duration<double>(t.time_since_epoch()).count();
+}
 
 const char* statusName(protocol::ReplyStatus s) {
     switch (s) {
-    case protocol::ReplyStatus::Ok: return "ok";
-    case protocol::ReplyStatus::Rejected: return "rejected";
-    case protocol::ReplyStatus::Unsupported: return "unsupported";
-    case protocol::ReplyStatus::ReadOnly: return "read-only";
-    case protocol::ReplyStatus::Failed: return "failed";
+        case protocol::ReplyStatus::Ok:
+            return "ok";
+        case protocol::ReplyStatus::Rejected:
+            return "rejected";
+        case protocol::ReplyStatus::Unsupported:
+            return "unsupported";
+        case protocol::ReplyStatus::ReadOnly:
+            return "read-only";
+        case protocol::ReplyStatus::Failed:
+            return "failed";
     }
     return "?";
 }
@@ -32,10 +39,14 @@ const char* commandName(const protocol::CommandBody& b) {
 
 const char* linkStateName(LinkState s) {
     switch (s) {
-    case LinkState::Connecting: return "connecting";
-    case LinkState::Connected: return "connected";
-    case LinkState::Reconnecting: return "reconnecting";
-    case LinkState::GaveUp: return "gave up";
+        case LinkState::Connecting:
+            return "connecting";
+        case LinkState::Connected:
+            return "connected";
+        case LinkState::Reconnecting:
+            return "reconnecting";
+        case LinkState::GaveUp:
+            return "gave up";
     }
     return "?";
 }
@@ -66,7 +77,9 @@ std::shared_ptr<const protocol::SceneInfo> ViewerLink::scene() const {
     return scene_;
 }
 
-protocol::LatestFrame ViewerLink::latestFrame() const { return session_.latestFrame(); }
+protocol::LatestFrame ViewerLink::latestFrame() const {
+    return session_.latestFrame();
+}
 
 void ViewerLink::submit(protocol::Command command) {
     std::lock_guard lock(m_);

@@ -25,18 +25,18 @@ enum class LinkState { Connecting, Connected, Reconnecting, GaveUp };
 const char* linkStateName(LinkState s);
 
 struct LinkOptions {
-    std::chrono::seconds lostAfter{10};       // no frame for this long: connect again
-    std::chrono::milliseconds giveUpAfter{0};  // stop trying after this long without a connection; 0 = never
+    std::chrono::seconds lostAfter{10};              // no frame for this long: connect again
+    std::chrono::milliseconds giveUpAfter{0};        // stop trying after this long without a connection; 0 = never
     std::chrono::milliseconds commandTimeout{2000};  // wait for a command's reply
 };
 
 struct LinkStatus {
     LinkState state = LinkState::Connecting;
-    int attempt = 0;            // connection attempts since the last success
-    std::string message;        // the last connection error, or where we are connected
-    std::uint64_t sceneVersion = 0;  // increases with every new connection (a new SceneInfo)
-    std::vector<std::string> replies;  // the newest command replies, oldest first
-    std::optional<protocol::Feedback> feedback;  // the newest
+    int attempt = 0;                                   // connection attempts since the last success
+    std::string message;                               // the last connection error, or where we are connected
+    std::uint64_t sceneVersion = 0;                    // increases with every new connection (a new SceneInfo)
+    std::vector<std::string> replies;                  // the newest command replies, oldest first
+    std::optional<protocol::Feedback> feedback;        // the newest
     double rttP50Ms = 0, rttP99Ms = 0, rttLastMs = 0;  // probe -> feedback, ms
     std::size_t rttCount = 0;
     protocol::ClientStats client;
@@ -53,7 +53,7 @@ public:
     std::shared_ptr<const protocol::SceneInfo> scene() const;  // null before the first connection
     protocol::LatestFrame latestFrame() const;                 // never waits
     void submit(protocol::Command command);                    // queued; the request id is set here
-    void setProbe(protocol::Probe probe);  // the newest wins; its sequence number is set here
+    void setProbe(protocol::Probe probe);                      // the newest wins; its sequence number is set here
 
 private:
     void run();

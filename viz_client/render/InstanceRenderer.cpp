@@ -81,7 +81,8 @@ void InstanceRenderer::draw(const Instances& in, const OrbitCamera& camera, int 
         setCamera(surfelProgram_, camera, aspect);
         glBindVertexArray(surfelVao_);
         glBindBuffer(GL_ARRAY_BUFFER, surfelBuffer_);
-        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(in.surfels.size() * sizeof(Surfel)), in.surfels.data(), GL_STREAM_DRAW);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(in.surfels.size() * sizeof(Surfel)), in.surfels.data(),
+                     GL_STREAM_DRAW);
         glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(in.surfels.size()));
     }
     drawSpheres(in.spheres, camera, aspect);

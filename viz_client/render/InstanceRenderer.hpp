@@ -30,7 +30,7 @@ public:
 private:
     void drawSpheres(const std::vector<Sphere>& spheres, const OrbitCamera& camera, double aspect);
     unsigned surfelProgram_ = 0, sphereProgram_ = 0;
-    unsigned quad_ = 0;                     // the four corners, shared
+    unsigned quad_ = 0;  // the four corners, shared
     unsigned surfelVao_ = 0, surfelBuffer_ = 0;
     unsigned sphereVao_ = 0, sphereBuffer_ = 0;
 };

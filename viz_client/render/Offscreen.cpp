@@ -9,7 +9,8 @@
 namespace bop::viz {
 
 Offscreen::Offscreen(int width, int height) : width_(width), height_(height) {
-    if (width < 1 || height < 1) throw Error("Offscreen", "size " + std::to_string(width) + "x" + std::to_string(height));
+    if (width < 1 || height < 1)
+        throw Error("Offscreen", "size " + std::to_string(width) + "x" + std::to_string(height));
     glGenFramebuffers(1, &framebuffer_);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
     glGenRenderbuffers(1, &colour_);

@@ -46,9 +46,15 @@ Eigen::Vector3d OrbitCamera::forward() const {
     return -Eigen::Vector3d(std::cos(pitch_) * std::cos(yaw_), std::cos(pitch_) * std::sin(yaw_), std::sin(pitch_));
 }
 
-Eigen::Vector3d OrbitCamera::eye() const { return target_ - distance_ * forward(); }
-Eigen::Vector3d OrbitCamera::right() const { return forward().cross(Eigen::Vector3d::UnitZ()).normalized(); }
-Eigen::Vector3d OrbitCamera::up() const { return right().cross(forward()); }
+Eigen::Vector3d OrbitCamera::eye() const {
+    return target_ - distance_ * forward();
+}
+Eigen::Vector3d OrbitCamera::right() const {
+    return forward().cross(Eigen::Vector3d::UnitZ()).normalized();
+}
+Eigen::Vector3d OrbitCamera::up() const {
+    return right().cross(forward());
+}
 
 Eigen::Matrix4d OrbitCamera::view() const {
     const Eigen::Vector3d f = forward(), r = right(), u = up(), e = eye();
@@ -81,7 +87,8 @@ Eigen::Vector3d OrbitCamera::project(const Eigen::Vector3d& x, double aspect) co
     return c.head<3>() / c.w();
 }
 
-Eigen::Vector3d OrbitCamera::onViewPlane(double xNdc, double yNdc, const Eigen::Vector3d& through, double aspect) const {
+Eigen::Vector3d OrbitCamera::onViewPlane(double xNdc, double yNdc, const Eigen::Vector3d& through,
+                                         double aspect) const {
     const double tanHalf = std::tan(0.5 * fovY_);
     const Eigen::Vector3d f = forward();
     const Eigen::Vector3d ray = f + xNdc * tanHalf * aspect * right() + yNdc * tanHalf * up();  // f . ray = 1

@@ -42,7 +42,7 @@ public:
 private:
     struct Pose {
         Eigen::Vector3d target = Eigen::Vector3d::Zero();
-        double distance = 10;  // length
+        double distance = 10;           // length
         double yaw = 0.6, pitch = 0.4;  // rad
     };
     Eigen::Vector3d right() const;  // unit, to the right of the view

@@ -40,8 +40,10 @@ std::vector<protocol::Command> Controls::commands() {
     changedWeights("co_planar", now.coPlanar, sent_.coPlanar, n_, out);
     for (int a = 1; a <= n_; ++a) {
         const std::size_t k = std::size_t(a - 1);
-        if (now.dragV[k] != sent_.dragV[k]) out.push_back(parameter("drag_v", a, 0, now.dragV[k])), sent_.dragV[k] = now.dragV[k];
-        if (now.dragW[k] != sent_.dragW[k]) out.push_back(parameter("drag_w", a, 0, now.dragW[k])), sent_.dragW[k] = now.dragW[k];
+        if (now.dragV[k] != sent_.dragV[k])
+            out.push_back(parameter("drag_v", a, 0, now.dragV[k])), sent_.dragV[k] = now.dragV[k];
+        if (now.dragW[k] != sent_.dragW[k])
+            out.push_back(parameter("drag_w", a, 0, now.dragW[k])), sent_.dragW[k] = now.dragW[k];
     }
     if (now.k0 != sent_.k0) out.push_back(parameter("k0", 0, 0, now.k0)), sent_.k0 = now.k0;
     if (now.k1 != sent_.k1) out.push_back(parameter("k1", 0, 0, now.k1)), sent_.k1 = now.k1;
@@ -52,7 +54,9 @@ protocol::Command seedCommand(int species, const Eigen::Vector3d& position) {
     return {0, protocol::SeedParticle{species, position}};
 }
 
-protocol::Command birthCommand(int species, bool on) { return {0, protocol::SetBirth{species, on}}; }
+protocol::Command birthCommand(int species, bool on) {
+    return {0, protocol::SetBirth{species, on}};
+}
 
 protocol::Command runCommand(protocol::RunAction action, std::uint32_t steps) {
     return {0, protocol::RunControl{action, steps}};

@@ -44,7 +44,7 @@ struct Sphere {
 // Keeps the half space (x - point) . normal <= 0: particles in front of the plane (on the side
 // its normal points to) are removed, so the interior shows.
 struct CutPlane {
-    Eigen::Vector3d point = Eigen::Vector3d::Zero();   // length
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();    // length
     Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // any length > 0
 };
 
@@ -60,9 +60,9 @@ struct ViewFilter {
 struct Instances {
     std::vector<Surfel> surfels;
     std::vector<Sphere> spheres;
-    std::size_t cut = 0;             // particles removed by the cut plane
-    std::size_t hidden = 0;          // particles of a kind or species not shown
-    std::size_t unknownSpecies = 0;  // drawn grey as spheres: their species is not in the scene info
+    std::size_t cut = 0;                       // particles removed by the cut plane
+    std::size_t hidden = 0;                    // particles of a kind or species not shown
+    std::size_t unknownSpecies = 0;            // drawn grey as spheres: their species is not in the scene info
     std::vector<std::size_t> drawnPerSpecies;  // by species number (index 0 unused)
 };
 

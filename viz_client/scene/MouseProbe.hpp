@@ -25,7 +25,7 @@ public:
 
     bool active() const { return active_; }
     const Eigen::Vector3d& position() const { return position_; }  // length
-    bool changed() const { return changed_; }  // since the last message()
+    bool changed() const { return changed_; }                      // since the last message()
 
     // The probe to send (its sequence number is the sender's): the client's clock (ns), k0, k1.
     protocol::Probe message(std::int64_t clientNs, double k0, double k1);

@@ -28,10 +28,10 @@ private:
 // Histories for the live plots, one sample per new frame. A simulation time below the newest
 // one means the server started again: the histories start again too.
 struct PlotSample {
-    double simTime = 0;     // time
-    double energy = 0;      // kinetic + potential, energy
-    double pressure = 0;    // energy / length^3
-    double probeForce = 0;  // magnitude of the reaction on the probe, force
+    double simTime = 0;       // time
+    double energy = 0;        // kinetic + potential, energy
+    double pressure = 0;      // energy / length^3
+    double probeForce = 0;    // magnitude of the reaction on the probe, force
     double cavityVolume = 0;  // the bag(s) in the map(s) in force, length^3 (keyframed bags: it beats)
 };
 

@@ -55,7 +55,8 @@ void view(PanelState& s, const PanelFigures& f) {
         for (int k = 1; k <= int(f.scene->species.size()); ++k) {
             bool shown = !s.filter.hiddenSpecies[std::size_t(k)];
             ImGui::PushID(k);
-            if (ImGui::Checkbox(speciesLabel(*f.scene, k).c_str(), &shown)) s.filter.hiddenSpecies[std::size_t(k)] = !shown;
+            if (ImGui::Checkbox(speciesLabel(*f.scene, k).c_str(), &shown))
+                s.filter.hiddenSpecies[std::size_t(k)] = !shown;
             ImGui::PopID();
             if (k < int(f.scene->species.size())) ImGui::SameLine();
         }
@@ -104,7 +105,8 @@ void run(PanelState& s, ViewerLink& link) {
     }
     ImGui::SameLine();
     ImGui::BeginDisabled(!s.paused);
-    if (ImGui::Button("step (N)")) link.submit(runCommand(protocol::RunAction::SingleStep, std::uint32_t(s.singleSteps)));
+    if (ImGui::Button("step (N)"))
+        link.submit(runCommand(protocol::RunAction::SingleStep, std::uint32_t(s.singleSteps)));
     ImGui::SameLine();
     ImGui::SetNextItemWidth(90);
     ImGui::InputInt("steps", &s.singleSteps);
@@ -128,12 +130,15 @@ void tune(Controls& c, const protocol::SceneInfo& scene) {
     for (int t = 0; t < 3; ++t)
         for (int a = 1; a <= n; ++a)
             for (int b = 1; b <= n; ++b) {
-                const std::string label = std::string(tables[t]) + " " + speciesLabel(scene, a) + " <- " + speciesLabel(scene, b);
+                const std::string label =
+                    std::string(tables[t]) + " " + speciesLabel(scene, a) + " <- " + speciesLabel(scene, b);
                 sliderDouble(label.c_str(), &(*matrices[t])[std::size_t((a - 1) * n + (b - 1))], 0, 5);
             }
     for (int a = 1; a <= n; ++a) {
-        sliderDouble(("drag v " + speciesLabel(scene, a) + ", mass/time").c_str(), &c.now.dragV[std::size_t(a - 1)], 0, 10);
-        sliderDouble(("drag w " + speciesLabel(scene, a) + ", inertia/time").c_str(), &c.now.dragW[std::size_t(a - 1)], 0, 10);
+        sliderDouble(("drag v " + speciesLabel(scene, a) + ", mass/time").c_str(), &c.now.dragV[std::size_t(a - 1)], 0,
+                     10);
+        sliderDouble(("drag w " + speciesLabel(scene, a) + ", inertia/time").c_str(), &c.now.dragW[std::size_t(a - 1)],
+                     0, 10);
     }
     sliderDouble("probe k0 (range)", &c.now.k0, 0.2, 5);
     sliderDouble("probe k1 (strength)", &c.now.k1, 0.05, 20);

@@ -20,15 +20,15 @@ enum class MouseTool { View = 0, Probe = 1, Seed = 2 };
 // What the panel edits besides the sliders (Controls).
 struct PanelState {
     MouseTool tool = MouseTool::View;
-    int seedSpecies = 1;             // 1-based
-    std::vector<bool> birthOn;       // by species number; the panel's idea, unknown at connect
+    int seedSpecies = 1;        // 1-based
+    std::vector<bool> birthOn;  // by species number; the panel's idea, unknown at connect
     bool paused = false;
     int singleSteps = 1;
     bool recording = false;
-    std::string recordName;          // empty: the server's default name
+    std::string recordName;  // empty: the server's default name
     ViewFilter filter;
     bool cutOn = false;
-    float cutOffsetR0 = 0;           // the cut plane faces the eye, this far beyond the target, r0
+    float cutOffsetR0 = 0;  // the cut plane faces the eye, this far beyond the target, r0
     bool fitRequested = false, resetRequested = false, screenshotRequested = false;
 };
 

@@ -2,7 +2,6 @@
 // (spline fit, scaled to the peak in mmHg) over a typical left-ventricular curve, and below it
 // the cavity volume from the voxels and from the particles.
 #include "app/cardiac/CardiacSeries.hpp"
-
 #include "bop/common/Canvas.hpp"
 
 #include <algorithm>
@@ -35,7 +34,8 @@ void frame(Canvas& c, const Panel& p, const char* title, const char* unit, doubl
 }
 
 void curve(Canvas& c, const Panel& p, const std::vector<double>& x, const std::vector<double>& v, Rgb colour) {
-    for (std::size_t k = 1; k < x.size(); ++k) c.drawLine(p.x(x[k - 1]), p.y(v[k - 1]), p.x(x[k]), p.y(v[k]), colour, 3);
+    for (std::size_t k = 1; k < x.size(); ++k)
+        c.drawLine(p.x(x[k - 1]), p.y(v[k - 1]), p.x(x[k]), p.y(v[k]), colour, 3);
 }
 
 }  // namespace
@@ -61,7 +61,8 @@ void CardiacSeries::writePng(const std::string& path, const CardiacCycle& cy) {
     frame(c, volume, "Cavity volume", "mL", 40);
     curve(c, volume, cy.phase, cy.cavityMl, voxels);
     for (std::size_t k = 0; k < cy.phase.size(); ++k)
-        if (cy.particleMl[k] >= 0) c.fillRect(volume.x(cy.phase[k]) - 3, volume.y(cy.particleMl[k]) - 3, 7, 7, particles);
+        if (cy.particleMl[k] >= 0)
+            c.fillRect(volume.x(cy.phase[k]) - 3, volume.y(cy.particleMl[k]) - 3, 7, 7, particles);
     char label[160];
     std::snprintf(label, sizeof label, "voxels (EF %.1f%%)", 100 * cy.efVoxels);
     c.fillRect(560, 430, 20, 4, voxels);

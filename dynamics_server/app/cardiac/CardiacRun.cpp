@@ -23,7 +23,9 @@ std::vector<double> cavityMl(const std::vector<core::MapVolume>& frames, const G
 }  // namespace
 
 CardiacRun::CardiacRun(const Scene& scene, const GradientMap& map, const std::vector<core::MapVolume>& frames)
-    : settings_(scene.pressure.value_or(PressureSettings{})), dims_(map.wholeDims()), h_(voxelLength(map.r0Voxels)),
+    : settings_(scene.pressure.value_or(PressureSettings{})),
+      dims_(map.wholeDims()),
+      h_(voxelLength(map.r0Voxels)),
       mlPerLength3_(mlPerLength3(map)),
       series_(settings_, scene.model->keyframes, mlPerLength3_, cavityMl(frames, map)) {}
 

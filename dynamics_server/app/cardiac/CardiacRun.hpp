@@ -3,7 +3,6 @@
 // reductions and, every volume_every_steps, the particles to a CardiacSeries, and writes its
 // files at the end. Used by the single-process and the decomposed batch runs alike.
 #include "app/cardiac/CardiacSeries.hpp"
-
 #include "core/Model.hpp"
 #include "core/Particles.hpp"
 

@@ -1,11 +1,9 @@
 #include "app/cardiac/CardiacSeries.hpp"
 
 #include "app/cardiac/PeriodicSpline.hpp"
-
+#include "bop/common/Error.hpp"
 #include "core/BloodPressure.hpp"
 #include "shape/LvPhantom.hpp"
-
-#include "bop/common/Error.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -50,7 +48,9 @@ void CardiacSeries::add(const CardiacStep& s) {
     pendingParticleMl_ = -1;
 }
 
-void CardiacSeries::addParticleVolume(double ml) { pendingParticleMl_ = ml; }
+void CardiacSeries::addParticleVolume(double ml) {
+    pendingParticleMl_ = ml;
+}
 
 CardiacCycle CardiacSeries::cycle() const {
     if (!schedule_.animated()) throw std::runtime_error("the pressure cycle needs a keyframed scene ([keyframes])");
@@ -74,9 +74,10 @@ CardiacCycle CardiacSeries::cycle() const {
     }
     const int cycles = int(std::floor((last - from + spacing) / period + 1e-9));  // rows stand for their window
     if (*std::min_element(n.begin(), n.end()) == 0)
-        throw std::runtime_error("the pressure cycle needs one whole cycle after the " + std::to_string(settings_.skipCycles) +
-                                 " skipped (keyframes start at time " + std::to_string(schedule_.startTime) + ", period " +
-                                 std::to_string(period) + "): run longer");
+        throw std::runtime_error("the pressure cycle needs one whole cycle after the " +
+                                 std::to_string(settings_.skipCycles) + " skipped (keyframes start at time " +
+                                 std::to_string(schedule_.startTime) + ", period " + std::to_string(period) +
+                                 "): run longer");
     CardiacCycle c;
     c.cycles = std::max(1, cycles);
     std::vector<double> particleMeans;
@@ -99,7 +100,8 @@ CardiacCycle CardiacSeries::cycle() const {
     }
     c.scale = peak > 0 ? settings_.peakMmHg / peak : 0.0;
     for (double& v : c.fitMmHg) v *= c.scale;
-    c.minVolumePhase = c.phase[std::size_t(std::min_element(c.cavityMl.begin(), c.cavityMl.end()) - c.cavityMl.begin())];
+    c.minVolumePhase =
+        c.phase[std::size_t(std::min_element(c.cavityMl.begin(), c.cavityMl.end()) - c.cavityMl.begin())];
     c.efVoxels = shape::ejectionFraction(frameCavityMl_);
     c.efParticles = shape::ejectionFraction(particleMeans);
     return c;
@@ -114,8 +116,9 @@ void CardiacSeries::writeCsv(const std::string& path) const {
     for (const CardiacRow& r : rows_) {
         char part[32] = "";
         if (r.particleMl >= 0) std::snprintf(part, sizeof part, "%.4f", r.particleMl);
-        std::snprintf(line, sizeof line, "%lld,%.4f,%.4f,%.4f,%.4f,%s,%.6g,%.6g,%.6g,%.6g,%.0f\n", r.step, r.time, r.frame,
-                      r.cavityMl, r.bloodMl, part, r.pressure, r.pressureEq15, r.pressureWall, r.temperature, r.particles);
+        std::snprintf(line, sizeof line, "%lld,%.4f,%.4f,%.4f,%.4f,%s,%.6g,%.6g,%.6g,%.6g,%.0f\n", r.step, r.time,
+                      r.frame, r.cavityMl, r.bloodMl, part, r.pressure, r.pressureEq15, r.pressureWall, r.temperature,
+                      r.particles);
         out << line;
     }
     if (!out.flush()) throw Error(path, "cannot write the pressure series");

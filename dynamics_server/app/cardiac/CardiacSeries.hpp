@@ -5,7 +5,6 @@
 // a periodic cubic spline and scaled to the peak in mmHg, beside a typical left-ventricular
 // pressure curve; ejection fractions from the voxels and from the particles.
 #include "app/scene/SceneConfig.hpp"
-
 #include "core/Keyframes.hpp"
 
 #include <string>
@@ -13,31 +12,31 @@
 
 namespace bop::app {
 
-struct CardiacStep {            // one step's reductions (the same at every rank count)
+struct CardiacStep {  // one step's reductions (the same at every rank count)
     long long step = 0;
-    double time = 0;            // simulation time units
+    double time = 0;  // simulation time units
     core::KeyframeAt keyframe;
     double mv2 = 0, virialVolume = 0, wallVirial = 0, count = 0;  // energy, energy, energy, particles
-    double bloodVolume = 0, cavityVolume = 0;                    // length^3
+    double bloodVolume = 0, cavityVolume = 0;                     // length^3
 };
 
-struct CardiacRow {             // the mean over one averaging window
-    long long step = 0;         // last step of the window
-    double time = 0, frame = 0; // mean time, mean keyframe phase (frame + blend)
-    double cavityMl = 0, bloodMl = 0;            // voxel volumes of the map(s) in force, mL
-    double particleMl = -1;                      // particle-filled volume in this window, mL (-1: none)
+struct CardiacRow {                                           // the mean over one averaging window
+    long long step = 0;                                       // last step of the window
+    double time = 0, frame = 0;                               // mean time, mean keyframe phase (frame + blend)
+    double cavityMl = 0, bloodMl = 0;                         // voxel volumes of the map(s) in force, mL
+    double particleMl = -1;                                   // particle-filled volume in this window, mL (-1: none)
     double pressure = 0, pressureEq15 = 0, pressureWall = 0;  // standard, paper eq. 15, wall virial; energy / length^3
-    double temperature = 0, particles = 0;       // sum m v^2 / (3 N), energy; blood particles
+    double temperature = 0, particles = 0;                    // sum m v^2 / (3 N), energy; blood particles
 };
 
-struct CardiacCycle {           // one cycle averaged by phase (bins of equal width)
+struct CardiacCycle {                                           // one cycle averaged by phase (bins of equal width)
     std::vector<double> phase, pressure, cavityMl, particleMl;  // particleMl < 0 where no sample fell
-    std::vector<double> fitPhase, fitMmHg, typicalMmHg;        // the scaled spline and the reference, 400 points
-    double scale = 0;           // mmHg per pressure unit (peak / the spline's maximum); 0 if it has none
-    double peakPhase = 0;       // where the fitted pressure peaks, cycles
-    double minVolumePhase = 0;  // where the voxel cavity is smallest, cycles
+    std::vector<double> fitPhase, fitMmHg, typicalMmHg;         // the scaled spline and the reference, 400 points
+    double scale = 0;                      // mmHg per pressure unit (peak / the spline's maximum); 0 if it has none
+    double peakPhase = 0;                  // where the fitted pressure peaks, cycles
+    double minVolumePhase = 0;             // where the voxel cavity is smallest, cycles
     double efVoxels = 0, efParticles = 0;  // ejection fractions, fractions
-    int cycles = 0;             // cycles averaged
+    int cycles = 0;                        // cycles averaged
 };
 
 class CardiacSeries {
@@ -54,7 +53,7 @@ public:
     // std::runtime_error otherwise, saying how many more steps are needed.
     CardiacCycle cycle() const;
 
-    void writeCsv(const std::string& path) const;                          // every row
+    void writeCsv(const std::string& path) const;  // every row
     static void writeCycleCsv(const std::string& path, const CardiacCycle& c);
     static void writePng(const std::string& path, const CardiacCycle& c);  // CardiacPlot.cpp
     static std::string summary(const CardiacCycle& c);

@@ -24,7 +24,8 @@ public:
             a(i, (i + k - 1) % k) += 1;
             a(i, i) += 4;
             a(i, (i + 1) % k) += 1;
-            b(i) = 6 * (y_[std::size_t((i + k - 1) % k)] - 2 * y_[std::size_t(i)] + y_[std::size_t((i + 1) % k)]) / (dx * dx);
+            b(i) = 6 * (y_[std::size_t((i + k - 1) % k)] - 2 * y_[std::size_t(i)] + y_[std::size_t((i + 1) % k)]) /
+                   (dx * dx);
         }
         const Eigen::VectorXd m = a.partialPivLu().solve(b);
         m_.assign(m.data(), m.data() + k);

@@ -1,7 +1,6 @@
 #include "app/files/Checkpoint.hpp"
 
 #include "app/scene/SimulationSetup.hpp"
-
 #include "bop/common/Npy.hpp"  // writeFileAtomic
 
 #include <sstream>

@@ -116,7 +116,8 @@ XyzFrameInfo parseInfo(const Reader& r, long long line, const KeyValues& kv) {
             info.births.push_back(c == '1');
         }
     }
-    if (auto sd = kv.find("seeds"); sd != kv.end() && (!parseWhole(std::string_view(sd->second), info.seeds) || info.seeds < 0))
+    if (auto sd = kv.find("seeds");
+        sd != kv.end() && (!parseWhole(std::string_view(sd->second), info.seeds) || info.seeds < 0))
         r.fail(line, "Seeds=" + sd->second + ", expected a count of 0 or more");
     return info;
 }

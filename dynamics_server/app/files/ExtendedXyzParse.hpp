@@ -2,7 +2,6 @@
 // Internal to the extended XYZ reader: text helpers, the comment line (key=value pairs, values
 // bare or in double quotes) and the Properties column list. Errors: bop::Error(path, "line N: ...").
 #include "app/files/ExtendedXyz.hpp"
-
 #include "bop/common/Error.hpp"
 
 #include <charconv>

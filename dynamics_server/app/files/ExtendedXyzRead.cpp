@@ -2,7 +2,6 @@
 // (ExtendedXyzParse) and its particle lines.
 #include "app/files/ExtendedXyz.hpp"
 #include "app/files/ExtendedXyzParse.hpp"
-
 #include "bop/common/Error.hpp"
 
 #include <Eigen/Geometry>

@@ -1,10 +1,10 @@
 #include "app/runs/DecomposedBatch.hpp"
 
-#include "app/runs/BatchReport.hpp"
 #include "app/files/Checkpoint.hpp"
+#include "app/files/ExtendedXyz.hpp"
+#include "app/runs/BatchReport.hpp"
 #include "app/runs/ExitCodes.hpp"
 #include "app/runs/SingleBatch.hpp"
-#include "app/files/ExtendedXyz.hpp"
 #include "app/scene/SimulationSetup.hpp"
 #include "bop/common/GradientMapFile.hpp"
 
@@ -35,7 +35,8 @@ void recordCardiac(CardiacRun& cardiac, parallel::DecomposedRun& run, const core
 int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOptions& o) {
     const core::Model& model = *scene.model;
     const long long firstStep = start.firstStep;
-    const std::optional<GradientMap> header = start.options.map ? std::optional(start.options.map->header) : std::nullopt;
+    const std::optional<GradientMap> header =
+        start.options.map ? std::optional(start.options.map->header) : std::nullopt;
     parallel::DecomposedRun run(scene.model, start.particles, std::move(start.options));
     start.particles = {};
     run.setProbe(scene.probe);
@@ -43,9 +44,12 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     const bool root = run.rank() == 0;
     const auto dims = run.dims();
     const parallel::RunCounters c0 = run.counters();
-    spdlog::info("decomposed over {} ranks, grid {} x {} x {}; particles per rank max/mean {:.3f} with uniform cuts, "
-                 "{:.3f} balanced", run.size(), dims[0], dims[1], dims[2], c0.initialImbalance, c0.imbalance);
-    if (c0.mapBytesMax > 0) spdlog::info("gradient map: at most {:.3f} MB per rank (its subdomain's window)", c0.mapBytesMax / 1e6);
+    spdlog::info(
+        "decomposed over {} ranks, grid {} x {} x {}; particles per rank max/mean {:.3f} with uniform cuts, "
+        "{:.3f} balanced",
+        run.size(), dims[0], dims[1], dims[2], c0.initialImbalance, c0.imbalance);
+    if (c0.mapBytesMax > 0)
+        spdlog::info("gradient map: at most {:.3f} MB per rank (its subdomain's window)", c0.mapBytesMax / 1e6);
     run.setEnergyEvery(std::numeric_limits<long long>::max());
     const std::vector<std::string> names = speciesNames(model);
     const std::string trajectory = o.outDir + "/trajectory.xyz";
@@ -67,7 +71,7 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     for (long long s = 1; s <= o.steps; ++s) {
         try {
             run.step();
-        } catch (const core::UnsoundState& e) {  // on every rank
+        } catch (const core::UnsoundState& e) {                               // on every rank
             const std::optional<core::SoundSnapshot> last = run.lastSound();  // collective
             return root ? stopUnsound(e, last, model, checkpoint, o.outDir) : kExitUnsound;
         }
@@ -89,7 +93,8 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
                           << std::setprecision(4) << t.kinetic << "  E_pair " << t.pairEnergy << "  "
                           << std::setprecision(1) << double(s) / std::max(elapsed, 1e-9) << " steps/s" << std::endl;
             if (root && (c.births > 0 || c.deaths > 0))
-                std::cout << "  construction so far: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths\n";
+                std::cout << "  construction so far: " << std::setprecision(0) << c.births << " births, " << c.deaths
+                          << " deaths\n";
         }
         // Rank 0's signal decides for every rank (mpirun passes SIGTERM to them all, not at once).
         stopped = run.agree({batchStopRequested() ? 1 : 0}).stop != 0;
@@ -102,8 +107,9 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
             // Go on from it as a restart from the file would (the same decomposition and lists): the
             // gathered values are the file's (%.17g reads back exactly), so no rank reads the file.
             core::Construction construction(scene.construction, scene.timeline, model.speciesCount());
-            construction.restore({run.construction().birthSwitches().begin() + 1, run.construction().birthSwitches().end()},
-                                 run.construction().seedCount());
+            construction.restore(
+                {run.construction().birthSwitches().begin() + 1, run.construction().birthSwitches().end()},
+                run.construction().seedCount());
             construction.addToTotals(run.construction().totals());
             run.reseat(all, construction, step);
             run.refreshForces();
@@ -111,7 +117,9 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     }
     if (stopped) {
         run.refreshForces();  // the summary's energies of this state
-        if (root) std::cout << "stopped by a signal after step " << firstStep + done << "; checkpoint: " << checkpoint << std::endl;
+        if (root)
+            std::cout << "stopped by a signal after step " << firstStep + done << "; checkpoint: " << checkpoint
+                      << std::endl;
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const parallel::Totals t = run.totals();
@@ -130,8 +138,8 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
               << run.size() << " ranks: halo " << std::setprecision(0) << c.haloBytesPerStep
               << " bytes per step, particles per rank max/mean " << std::setprecision(3) << c.imbalance << ", "
               << std::setprecision(0) << c.rebuilds << " rebuilds, " << c.rebalances << " balancings, " << c.migrations
-              << " migrations; exchanges took "
-              << std::setprecision(1) << 100.0 * c.exchangeSecondsMax / std::max(seconds, 1e-12) << "% of the run on the busiest rank\n"
+              << " migrations; exchanges took " << std::setprecision(1)
+              << 100.0 * c.exchangeSecondsMax / std::max(seconds, 1e-12) << "% of the run on the busiest rank\n"
               << "E_kin " << std::setprecision(5) << t.kinetic << ", E_pair " << t.pairEnergy << ", virial " << t.virial
               << "\n";
     if (c.mapBytesMax > 0)
@@ -141,7 +149,8 @@ int runDecomposedBatch(const Scene& scene, DecomposedStart start, const BatchOpt
     if (scene.shape && !o.cache.empty())
         if (auto maps = bop::readGradientMaps(o.cache, bop::hashText(scene.shape->canonical))) {
             core::Model whole = model;
-            whole.map = std::make_shared<GradientMap>(std::move(maps->at(std::size_t(t.keyframe.a))));  // the frame in force
+            whole.map =
+                std::make_shared<GradientMap>(std::move(maps->at(std::size_t(t.keyframe.a))));  // the frame in force
             printFidelity(std::cout, measureFidelity(whole, all));
         }
     if (cardiac) cardiac->finish(o.outDir, std::cout);

@@ -2,8 +2,8 @@
 // bop-server's batch run at more than one rank (mpirun -np N): the scene's particles are split
 // over a Cartesian grid of subdomains (parallel/), stepped, and reported from rank 0 with the
 // same summary line as a single-process run plus the decomposition's own figures.
-#include "app/scene/SceneConfig.hpp"
 #include "app/cardiac/CardiacRun.hpp"
+#include "app/scene/SceneConfig.hpp"
 #include "app/scene/SimulationSetup.hpp"
 #include "parallel/DecomposedRun.hpp"
 
@@ -14,8 +14,8 @@ namespace bop::app {
 struct BatchOptions {
     long long steps = 0, snapshotEvery = 0, reportEvery = 1;
     long long checkpointEvery = 0;  // steps between checkpoints (0: only on SIGINT/SIGTERM)
-    std::string outDir;  // final.xyz and trajectory.xyz go here (written by rank 0)
-    std::string cache;   // the gradient-map cache (rank 0 reads it whole at the end for the fidelity figures)
+    std::string outDir;             // final.xyz and trajectory.xyz go here (written by rank 0)
+    std::string cache;  // the gradient-map cache (rank 0 reads it whole at the end for the fidelity figures)
 };
 
 // Collective: every rank calls it with the same scene and start. Returns the exit code.

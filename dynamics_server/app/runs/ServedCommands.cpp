@@ -7,7 +7,8 @@
 namespace bop::app {
 namespace {
 
-protocol::CommandReply answer(const protocol::Command& c, protocol::ReplyStatus s, long long step, std::string why = {}) {
+protocol::CommandReply answer(const protocol::Command& c, protocol::ReplyStatus s, long long step,
+                              std::string why = {}) {
     protocol::CommandReply r;
     r.requestId = c.requestId;
     r.status = s;
@@ -38,8 +39,9 @@ protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::D
             const std::string& n = p->name;
             if (n == "lj" || n == "co_normal" || n == "co_planar") {
                 rc.kind = parallel::Command::Kind::Weight;
-                rc.table = n == "lj" ? parallel::Command::Table::Lj
-                         : n == "co_normal" ? parallel::Command::Table::CoNormal : parallel::Command::Table::CoPlanar;
+                rc.table = n == "lj"          ? parallel::Command::Table::Lj
+                           : n == "co_normal" ? parallel::Command::Table::CoNormal
+                                              : parallel::Command::Table::CoPlanar;
                 rc.species = p->speciesA;
                 rc.other = p->speciesB;
                 rc.value = p->value;
@@ -60,9 +62,12 @@ protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::D
                 return answer(c, ReplyStatus::Unsupported, next, "unknown parameter '" + n + "'");
             }
         } else if (const auto* r = std::get_if<protocol::RunControl>(&c.body)) {
-            if (r->action == protocol::RunAction::Pause) desk.paused = true;
-            else if (r->action == protocol::RunAction::Resume) desk.paused = false, desk.singleSteps = 0;
-            else desk.singleSteps += r->steps;
+            if (r->action == protocol::RunAction::Pause)
+                desk.paused = true;
+            else if (r->action == protocol::RunAction::Resume)
+                desk.paused = false, desk.singleSteps = 0;
+            else
+                desk.singleSteps += r->steps;
             return answer(c, ReplyStatus::Ok, next);
         } else {
             return answer(c, ReplyStatus::Unsupported, next, "not supported by this server yet");
@@ -81,8 +86,9 @@ protocol::CommandReply record(const protocol::Command& c, const protocol::Record
                               const std::string& outDir, const std::string& operatorRecording, long long step) {
     using protocol::ReplyStatus;
     if (!operatorRecording.empty())
-        return answer(c, ReplyStatus::Rejected, step, "the server records the whole session to " + operatorRecording +
-                                                          " (--record); clients cannot start or stop it");
+        return answer(c, ReplyStatus::Rejected, step,
+                      "the server records the whole session to " + operatorRecording +
+                          " (--record); clients cannot start or stop it");
     try {
         if (!r.start) {
             const std::string file = front.stopRecording();

@@ -24,7 +24,7 @@ struct Desk {
     protocol::LoopStats loop;  // the newest probe's device loop (haptic clients), shown in frames
     bool clientProbe = false;  // the probe was last set by a client (not the scene)...
     std::chrono::steady_clock::time_point lastClientProbe{};  // ...at this time
-    std::vector<std::pair<double, double>> drags;  // per species: beta_v, beta_tau
+    std::vector<std::pair<double, double>> drags;             // per species: beta_v, beta_tau
 };
 
 // One client command (not Record): run commands submitted, or the desk changed. Checked again

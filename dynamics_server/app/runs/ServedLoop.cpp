@@ -29,10 +29,13 @@ protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t,
     f.probeActive = desk.probe.active;
     // In a bag: the blood's pressure (core/BloodPressure.hpp; the scene's formula); in a bulk box: the whole box's.
     const double pressure = t.bloodVolume <= 0 ? (2 * t.kinetic + t.virial) / (3 * volume)
-                            : paperEq15     ? core::paperEq15Pressure(t.bloodMv2, t.virialVolume, t.bloodCount, t.bloodVolume)
-                                            : core::virialPressure(t.bloodMv2, t.virialVolume, t.bloodVolume);
-    f.stats = {t.kinetic, t.pairEnergy + t.probeEnergy, pressure, stepRate, std::uint64_t(n), desk.loop, t.cavityVolume,
-               t.keyframe.phase()};
+                            : paperEq15
+                                ? core::paperEq15Pressure(t.bloodMv2, t.virialVolume, t.bloodCount, t.bloodVolume)
+                                : core::virialPressure(t.bloodMv2, t.virialVolume, t.bloodVolume);
+    f.stats = {t.kinetic,        t.pairEnergy + t.probeEnergy,
+               pressure,         stepRate,
+               std::uint64_t(n), desk.loop,
+               t.cavityVolume,   t.keyframe.phase()};
     f.frameParticleCount = std::uint32_t(n);
     f.positions = std::move(a.positions);
     f.normals = std::move(a.normals);
@@ -46,8 +49,16 @@ protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t,
 ServedLoop::ServedLoop(const Scene& scene, parallel::DecomposedRun& run, protocol::ServerFront* front,
                        const ServeOptions& o, std::function<bool()> stopRequested, CardiacRun* cardiac,
                        std::chrono::microseconds idle)
-    : scene_(scene), model_(*scene.model), run_(run), front_(front), o_(o), stopRequested_(std::move(stopRequested)),
-      cardiac_(cardiac), idle_(idle), info_(sceneInfoOf(scene, nullptr)), volume_(model_.box.size().prod()),
+    : scene_(scene),
+      model_(*scene.model),
+      run_(run),
+      front_(front),
+      o_(o),
+      stopRequested_(std::move(stopRequested)),
+      cardiac_(cardiac),
+      idle_(idle),
+      info_(sceneInfoOf(scene, nullptr)),
+      volume_(model_.box.size().prod()),
       rateClock_(Clock::now()) {
     desk_.probe = scene.probe;
     for (const auto& s : model_.species) desk_.drags.emplace_back(s.dragV, s.dragW);
@@ -73,7 +84,8 @@ void ServedLoop::takeProbe(const protocol::Probe& p) {
 ServedLoop::Decision ServedLoop::replayInputs() {
     const long long now = run_.stepNumber();
     const auto& r = *o_.replay;
-    for (; nextCommand_ < r.commands.size() && (long long)(r.commands[nextCommand_].reply.step) <= now; ++nextCommand_) {
+    for (; nextCommand_ < r.commands.size() && (long long)(r.commands[nextCommand_].reply.step) <= now;
+         ++nextCommand_) {
         const auto& rc = r.commands[nextCommand_];
         if ((long long)(rc.reply.step) < now || rc.reply.status != protocol::ReplyStatus::Ok) continue;
         front_->reply({"", rc.command}, apply(rc.command, desk_, run_, info_));
@@ -170,8 +182,8 @@ void ServedLoop::publish(const parallel::Totals& t) {
     if (o_.replay)  // a replay is compared frame by frame: none may be replaced unsent
         while (front_->framePending()) std::this_thread::sleep_for(std::chrono::microseconds(200));
     front_->setParticleCount(arrays.species.size());
-    front_->offerFrame(frameOf(std::move(arrays), t, desk_, run_.stepNumber(), model_.integration.dt, volume_, stepRate_,
-                               scene_.pressure && scene_.pressure->paperEq15));
+    front_->offerFrame(frameOf(std::move(arrays), t, desk_, run_.stepNumber(), model_.integration.dt, volume_,
+                               stepRate_, scene_.pressure && scene_.pressure->paperEq15));
 }
 
 }  // namespace bop::app

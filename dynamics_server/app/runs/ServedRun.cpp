@@ -1,12 +1,11 @@
 #include "app/runs/ServedRun.hpp"
 
-#include "app/runs/ServedLoop.hpp"
-
 #include "app/files/Checkpoint.hpp"
-#include "app/runs/DecomposedBatch.hpp"
 #include "app/files/ExtendedXyz.hpp"
-#include "core/BloodPressure.hpp"
+#include "app/runs/DecomposedBatch.hpp"
+#include "app/runs/ServedLoop.hpp"
 #include "bop/common/GradientMapFile.hpp"
+#include "core/BloodPressure.hpp"
 #include "parallel/DecomposedRun.hpp"
 
 #include <spdlog/spdlog.h>
@@ -21,7 +20,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 volatile std::sig_atomic_t gStop = 0;
-void onSignal(int) { gStop = 1; }
+void onSignal(int) {
+    gStop = 1;
+}
 
 }  // namespace
 
@@ -94,14 +95,17 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
                   << std::endl;
         if (o.waitForClient) {
             spdlog::info("waiting for a client (--wait-for-client)");
-            while (!gStop && !front->waitForClient(std::chrono::milliseconds(200))) {}
+            while (!gStop && !front->waitForClient(std::chrono::milliseconds(200))) {
+            }
         }
     }
-    ServedLoop loop(scene, run, front.get(), o, [] { return gStop != 0; }, cardiac ? &*cardiac : nullptr);
+    ServedLoop loop(
+        scene, run, front.get(), o, [] { return gStop != 0; }, cardiac ? &*cardiac : nullptr);
     int code = 0;
     std::string why;
     try {
-        while (loop.pass()) {}
+        while (loop.pass()) {
+        }
         if (!loop.error().empty()) code = kExitStoppedByError, why = loop.error();
     } catch (const core::UnsoundState& e) {  // every rank, at the same step
         code = kExitUnsound, why = e.what();
@@ -116,18 +120,21 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
     if (!root) return code;
     std::filesystem::create_directories(o.outDir);
     const std::string checkpoint = o.outDir + "/checkpoint.xyz", finalFile = o.outDir + "/final.xyz";
-    if (code != kExitUnsound) writeCheckpoint(checkpoint, all, model, run.construction(), run.stepNumber());
-    else if (last) writeCheckpoint(checkpoint, last->particles, model, last->construction, last->step);
+    if (code != kExitUnsound)
+        writeCheckpoint(checkpoint, all, model, run.construction(), run.stepNumber());
+    else if (last)
+        writeCheckpoint(checkpoint, last->particles, model, last->construction, last->step);
     front->finish();  // the recording, if any, is complete from here
     const protocol::FrontStats s = front->stats();
     front.reset();
     if (!o.front.recordPath.empty())
         std::cout << (s.recordError.empty() ? "recorded the session in " + o.front.recordPath
-                                            : "recording stopped early (" + s.recordError + "); what was written is in " +
-                                                  o.front.recordPath + ".partial")
+                                            : "recording stopped early (" + s.recordError +
+                                                  "); what was written is in " + o.front.recordPath + ".partial")
                   << "\n";
     std::filesystem::remove(finalFile);
-    if (code != kExitUnsound) appendExtendedXyz(finalFile, all, speciesNames(model), snapshotInfo(model, run.stepNumber()));
+    if (code != kExitUnsound)
+        appendExtendedXyz(finalFile, all, speciesNames(model), snapshotInfo(model, run.stepNumber()));
     std::cout << "served " << loop.stepsDone() << " steps to " << s.sessionsOpened << " clients (" << s.sessionsExpired
               << " sessions expired, " << s.clients << " open at the end): " << s.framesSent << " frames ("
               << s.bytesSent / 1e6 << " MB, " << s.framesDropped << " replaced before sending), " << s.commands
@@ -139,13 +146,15 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
     if (cardiac && code != kExitUnsound) cardiac->finish(o.outDir, std::cout);
     if (code == kExitUnsound) {
         spdlog::error("stopped: {}", why);
-        if (last) spdlog::error("the last sound state (step {}) is in {}; nothing unsound was streamed or recorded",
-                                last->step, checkpoint);
-        else spdlog::error("the run's start was not sound: no checkpoint written");
+        if (last)
+            spdlog::error("the last sound state (step {}) is in {}; nothing unsound was streamed or recorded",
+                          last->step, checkpoint);
+        else
+            spdlog::error("the run's start was not sound: no checkpoint written");
         return code;
     }
-    if (code == kExitStoppedByError) spdlog::error("stopped by an error: {}; the state at step {} is in {}", why,
-                                                   run.stepNumber(), checkpoint);
+    if (code == kExitStoppedByError)
+        spdlog::error("stopped by an error: {}; the state at step {} is in {}", why, run.stepNumber(), checkpoint);
     spdlog::info("final state: {}; checkpoint: {}", finalFile, checkpoint);
     return code;
 }

@@ -14,9 +14,9 @@ namespace bop::app {
 
 struct ServeOptions {
     protocol::FrontOptions front;
-    long long steps = 0;          // stop after this many steps; 0 = until SIGINT or SIGTERM
-    bool waitForClient = false;   // hold the first step until a client said Hello
-    std::string outDir;           // final.xyz goes here
+    long long steps = 0;         // stop after this many steps; 0 = until SIGINT or SIGTERM
+    bool waitForClient = false;  // hold the first step until a client said Hello
+    std::string outDir;          // final.xyz goes here
     // Replay a recorded session's inputs instead of listening to clients' (bop-replay check):
     // its commands and probes at the steps they were applied, frames at the steps it has
     // frames of, and stop after the last of them.

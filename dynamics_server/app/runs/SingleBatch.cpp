@@ -1,12 +1,12 @@
 #include "app/runs/SingleBatch.hpp"
 
-#include "app/runs/BatchReport.hpp"
 #include "app/cardiac/CardiacRun.hpp"
 #include "app/files/Checkpoint.hpp"
-#include "app/runs/ExitCodes.hpp"
 #include "app/files/ExtendedXyz.hpp"
-#include "core/SoundState.hpp"
+#include "app/runs/BatchReport.hpp"
+#include "app/runs/ExitCodes.hpp"
 #include "bop/common/GradientMapCrop.hpp"
+#include "core/SoundState.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -40,7 +40,9 @@ void installBatchSignals() {
     std::signal(SIGUSR1, onSignal);  // mpirun passes it to the ranks without killing them after 1 s
 }
 
-bool batchStopRequested() { return gStop != 0; }
+bool batchStopRequested() {
+    return gStop != 0;
+}
 
 int stopUnsound(const core::UnsoundState& e, const std::optional<core::SoundSnapshot>& last, const core::Model& model,
                 const std::string& checkpoint, const std::string& outDir) {
@@ -95,7 +97,7 @@ int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions&
     long long done = 0;
     bool stopped = false;
     if (o.steps == 0) takeCheckpoint(false);
-    installBatchSignals();  // from here a signal ends the run with a checkpoint
+    installBatchSignals();                     // from here a signal ends the run with a checkpoint
     std::optional<core::SoundSnapshot> sound;  // the last sound state (core/SoundState.hpp)
     const auto keep = [&] { sound = core::SoundSnapshot{sim->particles(), sim->construction(), sim->stats().step}; };
     if (core::sound(model, sim->particles(), sim->stats().forces.probeReaction)) keep();
@@ -111,7 +113,8 @@ int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions&
             const core::StepStats& st = sim->stats();
             if (cardiac->wantsParticles(st.step)) cardiac->particles(sim->model(), sim->particles());
             cardiac->step({st.step, double(st.step) * model.integration.dt, st.keyframe, st.blood.mv2,
-                           st.forces.virialVolume, st.forces.wallVirial, st.blood.count, st.bloodVolume, st.cavityVolume});
+                           st.forces.virialVolume, st.forces.wallVirial, st.blood.count, st.bloodVolume,
+                           st.cavityVolume});
         }
         // Periods count absolute steps, so that a restarted run reports where the run did.
         const long long step = sim->stats().step;
@@ -139,7 +142,8 @@ int runSingleBatch(Scene& scene, const std::string& restart, const BatchOptions&
         for (const auto& f : sim->model().frames) bytes += bop::gradientMapBytes(*f);
         if (bytes == 0) bytes = bop::gradientMapBytes(*model.map);
         std::cout << "gradient map: " << std::fixed << std::setprecision(3) << bytes / 1e6 << " MB (the whole map"
-                  << (sim->model().frames.size() > 1 ? ", every keyframe" : "") << ", one process)\n" << std::defaultfloat;
+                  << (sim->model().frames.size() > 1 ? ", every keyframe" : "") << ", one process)\n"
+                  << std::defaultfloat;
         printFidelity(std::cout, measureFidelity(sim->model(), sim->particles()));
     }
     if (cardiac) cardiac->finish(o.outDir, std::cout);

@@ -1,9 +1,8 @@
 #pragma once
-// bop-server's batch run in one process (--no-listen at one rank): the core Simulation stepped with progress reports, snapshots, checkpoints (every
-// `checkpointEvery` steps and on SIGINT/SIGTERM, app/Checkpoint.hpp), the ventricle's pressure
-// series when the scene asks for it, and the Table-1 style summary.
+// bop-server's batch run in one process (--no-listen at one rank): the core Simulation stepped with progress reports,
+// snapshots, checkpoints (every `checkpointEvery` steps and on SIGINT/SIGTERM, app/Checkpoint.hpp), the ventricle's
+// pressure series when the scene asks for it, and the Table-1 style summary.
 #include "app/runs/DecomposedBatch.hpp"
-
 #include "core/SoundState.hpp"
 #include "shape/ShapeBuilder.hpp"
 

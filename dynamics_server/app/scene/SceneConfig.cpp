@@ -1,9 +1,8 @@
 #include "app/scene/SceneConfig.hpp"
 
+#include "bop/common/ConfigTable.hpp"
 #include "codec/Ranges.hpp"
 #include "core/Construction.hpp"
-
-#include "bop/common/ConfigTable.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -33,7 +32,8 @@ void readMatrix(const ConfigTable& t, const std::string& key, core::WeightMatrix
         t.fail(key, "expected " + std::to_string(n) + " rows of " + std::to_string(n) + " numbers (one per species)");
     for (int a = 0; a < n; ++a) {
         const toml::array* row = (*rows)[std::size_t(a)].as_array();
-        if (!row || int(row->size()) != n) t.fail(key, "row " + std::to_string(a + 1) + ": expected " + std::to_string(n) + " numbers");
+        if (!row || int(row->size()) != n)
+            t.fail(key, "row " + std::to_string(a + 1) + ": expected " + std::to_string(n) + " numbers");
         for (int b = 0; b < n; ++b) {
             const auto v = (*row)[std::size_t(b)].value<double>();
             if (!v || *v < 0) t.fail(key, "row " + std::to_string(a + 1) + ": expected numbers >= 0");
@@ -47,17 +47,20 @@ void readSpecies(const ConfigTable& root, core::Model& m, bool kindsFromMap) {
     if (!root.has("species")) return;
     const std::vector<ConfigTable> list = root.tableArray("species");
     if (int(list.size()) != m.speciesCount())
-        root.fail("species", "expected " + std::to_string(m.speciesCount()) + " [[species]] tables (one per species number" +
-                                 (kindsFromMap ? ", 2 per bag" : "") + "), got " + std::to_string(list.size()));
+        root.fail("species", "expected " + std::to_string(m.speciesCount()) +
+                                 " [[species]] tables (one per species number" + (kindsFromMap ? ", 2 per bag" : "") +
+                                 "), got " + std::to_string(list.size()));
     for (std::size_t i = 0; i < list.size(); ++i) {
         const ConfigTable& t = list[i];
         core::Species& s = m.species[i + 1];
         s.name = t.string("name", s.name);
         if (s.name.find_first_of(" \t\"") != std::string::npos) t.fail("name", "must not contain spaces or quotes");
-        const std::string kind = t.choice("kind", {"surface", "volume"}, s.kind == core::ParticleKind::Surface ? "surface" : "volume");
+        const std::string kind =
+            t.choice("kind", {"surface", "volume"}, s.kind == core::ParticleKind::Surface ? "surface" : "volume");
         const auto wanted = kind == "surface" ? core::ParticleKind::Surface : core::ParticleKind::Volume;
         if (kindsFromMap && wanted != s.kind)
-            t.fail("kind", "species " + std::to_string(i + 1) + " is a " + (s.kind == core::ParticleKind::Surface ? "surface" : "volume") +
+            t.fail("kind", "species " + std::to_string(i + 1) + " is a " +
+                               (s.kind == core::ParticleKind::Surface ? "surface" : "volume") +
                                " species of the map (bag k has surface species 2k-1 and volume species 2k)");
         s.kind = wanted;
         if (t.has("colour")) {
@@ -81,20 +84,25 @@ void readDynamics(const ConfigTable& root, core::Model& m, std::uint64_t& seed) 
     m.integration.dt = positive(*t, "time_step", t->number("time_step", m.integration.dt));
     m.integration.inertia = positive(*t, "inertia", t->number("inertia", m.integration.inertia));
     m.integration.skinR0 = t->number("neighbour_skin_r0", m.integration.skinR0);
-    if (!(m.integration.skinR0 >= 0 && m.integration.skinR0 <= 2)) t->fail("neighbour_skin_r0", "expected a skin from 0 to 2 r0");
+    if (!(m.integration.skinR0 >= 0 && m.integration.skinR0 <= 2))
+        t->fail("neighbour_skin_r0", "expected a skin from 0 to 2 r0");
     m.integration.maxStepR0 = t->number("max_step_r0", m.integration.maxStepR0);
     if (!(m.integration.maxStepR0 >= 0 && m.integration.maxStepR0 <= 10))
         t->fail("max_step_r0", "expected 0 (no limit) or the most a particle moves in a step, up to 10 r0");
     m.integration.maxTurn = t->number("max_turn_rad", m.integration.maxTurn);
     if (!(m.integration.maxTurn >= 0 && m.integration.maxTurn <= 3.15))
         t->fail("max_turn_rad", "expected 0 (no limit) or the most a particle turns in a step, up to pi radians");
-    const std::string mode = t->choice("lj_cutoff", {"switched", "paper", "energy_shifted", "shifted_force"}, "switched");
-    m.ljParams.mode = mode == "switched" ? core::LjCutoff::Switched
-                      : mode == "paper" ? core::LjCutoff::Truncated
-                      : mode == "energy_shifted" ? core::LjCutoff::EnergyShifted : core::LjCutoff::ShiftedForce;
+    const std::string mode =
+        t->choice("lj_cutoff", {"switched", "paper", "energy_shifted", "shifted_force"}, "switched");
+    m.ljParams.mode = mode == "switched"         ? core::LjCutoff::Switched
+                      : mode == "paper"          ? core::LjCutoff::Truncated
+                      : mode == "energy_shifted" ? core::LjCutoff::EnergyShifted
+                                                 : core::LjCutoff::ShiftedForce;
     if (mode == "switched") {
-        const std::vector<double> sw = t->has("lj_switch_r0") ? t->numbers("lj_switch_r0") : std::vector<double>{1.2, 1.6};
-        if (sw.size() != 2 || !(0 < sw[0] && sw[0] < sw[1])) t->fail("lj_switch_r0", "expected [start, cutoff] with 0 < start < cutoff");
+        const std::vector<double> sw =
+            t->has("lj_switch_r0") ? t->numbers("lj_switch_r0") : std::vector<double>{1.2, 1.6};
+        if (sw.size() != 2 || !(0 < sw[0] && sw[0] < sw[1]))
+            t->fail("lj_switch_r0", "expected [start, cutoff] with 0 < start < cutoff");
         m.ljParams.rOnR0 = sw[0];
         m.ljParams.rCutR0 = sw[1];
     } else {
@@ -103,7 +111,8 @@ void readDynamics(const ConfigTable& root, core::Model& m, std::uint64_t& seed) 
     m.oriented.sigmaR0 = positive(*t, "oriented_sigma_r0", t->number("oriented_sigma_r0", m.oriented.sigmaR0));
     if (t->has("oriented_taper_r0")) {
         const std::vector<double> tp = t->numbers("oriented_taper_r0");
-        if (tp.size() != 2 || !(0 < tp[0] && tp[0] < tp[1])) t->fail("oriented_taper_r0", "expected [start, cutoff] with 0 < start < cutoff");
+        if (tp.size() != 2 || !(0 < tp[0] && tp[0] < tp[1]))
+            t->fail("oriented_taper_r0", "expected [start, cutoff] with 0 < start < cutoff");
         m.oriented.taperOnR0 = tp[0];
         m.oriented.cutoffR0 = tp[1];
     }
@@ -129,8 +138,9 @@ void readConstruction(const ConfigTable& root, Scene& s) {
             ev.step = e.integer("step");
             if (ev.step < 0) e.fail("step", "must be 0 or more");
             const std::string a = e.choice("action", {"seed", "birth_on", "birth_off"}, "");
-            ev.action = a == "seed" ? core::ConstructionEvent::Action::Seed
-                        : a == "birth_on" ? core::ConstructionEvent::Action::BirthOn : core::ConstructionEvent::Action::BirthOff;
+            ev.action = a == "seed"       ? core::ConstructionEvent::Action::Seed
+                        : a == "birth_on" ? core::ConstructionEvent::Action::BirthOn
+                                          : core::ConstructionEvent::Action::BirthOff;
             ev.species = int(e.integer("species"));
             if (ev.species < 1 || ev.species > s.model->speciesCount())
                 e.fail("species", "expected a species number from 1 to " + std::to_string(s.model->speciesCount()));
@@ -148,7 +158,9 @@ void readKeyframes(const ConfigTable& root, Scene& s) {
     if (!s.shape) root.fail("keyframes", "keyframes cycle the frames of a [shape]; the scene has none");
     core::KeyframeSchedule& k = s.model->keyframes;
     for (const auto& bag : s.shape->bags) k.frames = std::max(k.frames, bag.source->frameCount());
-    if (k.frames < 2) root.fail("keyframes", "the shape has one frame; keyframes need an image sequence (a 4D NIfTI or files = [...])");
+    if (k.frames < 2)
+        root.fail("keyframes",
+                  "the shape has one frame; keyframes need an image sequence (a 4D NIfTI or files = [...])");
     if (t->has("period") == t->has("frame_duration"))
         t->fail("frame_duration", "give either period or frame_duration (simulation time units), not both or neither");
     const auto finite = [&](const std::string& key, double v) {
@@ -159,13 +171,14 @@ void readKeyframes(const ConfigTable& root, Scene& s) {
     k.frameDuration = t->has("period") ? finite("period", t->number("period")) / k.frames
                                        : finite("frame_duration", t->number("frame_duration"));
     if (!(k.frameDuration >= dt))
-        t->fail(t->has("period") ? "period" : "frame_duration",
-                "each frame must last at least one time step (" + std::to_string(dt) + "), got " +
-                    std::to_string(k.frameDuration) + " per frame");
+        t->fail(t->has("period") ? "period" : "frame_duration", "each frame must last at least one time step (" +
+                                                                    std::to_string(dt) + "), got " +
+                                                                    std::to_string(k.frameDuration) + " per frame");
     k.startTime = finite("start_time", t->number("start_time", 0.0));
     if (k.startTime < 0) t->fail("start_time", "expected 0 or more (simulation time units)");
     const long long first = t->integer("first_frame", 0);
-    if (first < 0 || first >= k.frames) t->fail("first_frame", "expected a frame in [0, " + std::to_string(k.frames - 1) + "]");
+    if (first < 0 || first >= k.frames)
+        t->fail("first_frame", "expected a frame in [0, " + std::to_string(k.frames - 1) + "]");
     k.firstFrame = int(first);
     k.blend = t->boolean("blend", true);
     t->finish();
@@ -185,7 +198,7 @@ void defaultSpecies(core::Model& m, int bags) {
     m.lj = core::WeightMatrix(n, 1.0);
     m.coNormal = core::WeightMatrix(n, 0.0);
     m.coPlanar = core::WeightMatrix(n, 0.0);
-    for (int s = 1; s <= n; s += 2) m.coNormal(s, s) = m.coPlanar(s, s) = 0.3;  // physics.md §7.4
+    for (int s = 1; s <= n; s += 2) m.coNormal(s, s) = m.coPlanar(s, s) = 0.3;  // docs/physics.md §7.4
 }
 
 Scene loadScene(const std::string& path) {
@@ -196,7 +209,8 @@ Scene loadScene(const std::string& path) {
     s.model = std::make_shared<core::Model>();
     core::Model& m = *s.model;
     if (root.has("box")) {
-        if (root.has("shape")) root.fail("box", "give either [box] (bulk material) or [grid] and [shape] (bags), not both");
+        if (root.has("shape"))
+            root.fail("box", "give either [box] (bulk material) or [grid] and [shape] (bags), not both");
         const ConfigTable b = root.table("box");
         BulkBox bulk;
         bulk.sizeR0 = b.vec3("size_r0", bulk.sizeR0);
@@ -241,7 +255,8 @@ Scene loadScene(const std::string& path) {
         const auto within = [&](const char* key, double lo, double hi) {
             const double v = t->number(key, 1.0);
             if (!(v >= lo && v <= hi))
-                t->fail(key, "expected a value in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + std::to_string(v));
+                t->fail(key, "expected a value in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " +
+                                 std::to_string(v));
             return v;
         };
         s.probe.params.k0 = within("k0", protocol::ranges::kMinProbeK0, protocol::ranges::kMaxProbeK0);
@@ -287,10 +302,12 @@ core::Particles bulkLattice(const Scene& scene) {
         for (int j = 0; j < n.y(); ++j)
             for (int i = 0; i < n.x(); ++i)
                 for (const auto& bs : basis) {
-                    Eigen::Vector3d x = (Eigen::Vector3d(i + bs[0] + 0.25, j + bs[1] + 0.25, k + bs[2] + 0.25)).cwiseProduct(cell);
+                    Eigen::Vector3d x =
+                        (Eigen::Vector3d(i + bs[0] + 0.25, j + bs[1] + 0.25, k + bs[2] + 0.25)).cwiseProduct(cell);
                     if (b.jitterR0 > 0)
                         for (int c = 0; c < 3; ++c)
-                            x[c] += b.jitterR0 * kR0 * (double(core::mixHash(scene.seed, id, std::uint64_t(c)) >> 11) * 0x1.0p-53 - 0.5);
+                            x[c] += b.jitterR0 * kR0 *
+                                    (double(core::mixHash(scene.seed, id, std::uint64_t(c)) >> 11) * 0x1.0p-53 - 0.5);
                     p.add(x, b.speciesNumber, id++);
                 }
     return p;

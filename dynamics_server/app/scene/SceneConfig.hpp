@@ -22,25 +22,25 @@ struct BulkBox {
 };
 
 struct RunSettings {
-    long long steps = 0;                 // default for --steps
-    long long snapshotEverySteps = 0;    // extended XYZ snapshot period, steps (0 = none)
-    long long reportEverySteps = 0;      // progress line period, steps (0 = about 10 per run)
+    long long steps = 0;               // default for --steps
+    long long snapshotEverySteps = 0;  // extended XYZ snapshot period, steps (0 = none)
+    long long reportEverySteps = 0;    // progress line period, steps (0 = about 10 per run)
 };
 
 // The ventricle's blood-pressure curve and volumes (paper §5.2; app/CardiacSeries.hpp).
 struct PressureSettings {
-    long long averageSteps = 10;   // steps per averaged sample (the paper: 10)
-    double peakMmHg = 120;         // the fitted curve is scaled to this peak, mmHg
-    bool paperEq15 = false;        // the paper's eq. 15 (1/N on the virial) instead of the standard formula
-    int skipCycles = 1;            // keyframe cycles left out of the averaged cycle (settling)
+    long long averageSteps = 10;      // steps per averaged sample (the paper: 10)
+    double peakMmHg = 120;            // the fitted curve is scaled to this peak, mmHg
+    bool paperEq15 = false;           // the paper's eq. 15 (1/N on the virial) instead of the standard formula
+    int skipCycles = 1;               // keyframe cycles left out of the averaged cycle (settling)
     long long volumeEverySteps = 50;  // period of the particle-filled volume measurement, steps
 };
 
 struct Scene {
     std::string file;
-    std::optional<shape::ShapeSpec> shape;   // the bag(s), or nothing for bulk material
+    std::optional<shape::ShapeSpec> shape;  // the bag(s), or nothing for bulk material
     std::optional<BulkBox> bulk;
-    std::shared_ptr<core::Model> model;      // without its map: the server builds or loads it
+    std::shared_ptr<core::Model> model;  // without its map: the server builds or loads it
     core::ConstructionParams construction;
     std::vector<core::ConstructionEvent> timeline;
     core::ProbeState probe;

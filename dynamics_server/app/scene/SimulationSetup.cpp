@@ -1,15 +1,15 @@
 #include "app/scene/SimulationSetup.hpp"
 
 #include "app/files/ExtendedXyz.hpp"
-#include "core/SoundState.hpp"
-#include "bop/common/GradientMapFile.hpp"
-#include "shape/GradientMapFileView.hpp"
 #include "bop/common/Error.hpp"
+#include "bop/common/GradientMapFile.hpp"
+#include "core/SoundState.hpp"
+#include "shape/GradientMapFileView.hpp"
 
 #include <algorithm>
-#include <ostream>
-#include <iomanip>
 #include <cmath>
+#include <iomanip>
+#include <ostream>
 
 namespace bop::app {
 
@@ -64,13 +64,15 @@ DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const st
             shape::loadOrBuildShape(*scene.shape, cache, true, progress);  // builds and writes; the map is let go
         waitForAll();
         auto view = shape::GradientMapFileView::open(cache, key);
-        if (!view) throw Error(cache, "gradient-map cache not found by this rank: put --cache on a filesystem every rank sees");
+        if (!view)
+            throw Error(cache,
+                        "gradient-map cache not found by this rank: put --cache on a filesystem every rank sees");
         auto shared = std::make_shared<const shape::GradientMapFileView>(std::move(*view));
         placeInMap(scene, shared->header(0));
         // Every frame when the scene cycles them (keyframes), else the first.
         const int frames = scene.model->keyframes.animated() ? shared->frames() : 1;
-        s.options.map = parallel::MapSource{shared->header(0),
-                                            [shared](int f, const bop::VoxelWindow& w) { return shared->crop(f, w); }, frames};
+        s.options.map = parallel::MapSource{
+            shared->header(0), [shared](int f, const bop::VoxelWindow& w) { return shared->crop(f, w); }, frames};
     }
     core::Construction construction({}, {}, scene.model->speciesCount());
     s.particles = initialParticles(scene, restart, s.firstStep, construction);
@@ -85,7 +87,8 @@ std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::strin
     if (scene.shape) {
         shape::ShapeBuild maps = shape::loadOrBuildShape(*scene.shape, cache, false, progress);
         if (model.keyframes.animated()) {  // every frame, the first one's map in force
-            for (GradientMap& m : maps.frames) model.frames.push_back(std::make_shared<const GradientMap>(std::move(m)));
+            for (GradientMap& m : maps.frames)
+                model.frames.push_back(std::make_shared<const GradientMap>(std::move(m)));
             model.map = model.frames[std::size_t(model.keyframes.firstFrame)];
         } else {
             model.map = std::make_shared<GradientMap>(std::move(maps.frames.front()));
@@ -95,7 +98,8 @@ std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::strin
     long long firstStep = 0;
     core::Construction construction({}, {}, model.speciesCount());
     core::Particles particles = initialParticles(scene, restart, firstStep, construction);
-    auto sim = std::make_unique<core::Simulation>(scene.model, std::move(particles), std::move(construction), firstStep);
+    auto sim =
+        std::make_unique<core::Simulation>(scene.model, std::move(particles), std::move(construction), firstStep);
     sim->probe() = scene.probe;
     return sim;
 }
@@ -104,7 +108,8 @@ void printFidelity(std::ostream& out, const Fidelity& f) {
     out << "shape fidelity: " << std::setprecision(3) << 100 * f.surfaceInOwnVoxels
         << "% of surface particles in their surface voxels, " << 100 * f.volumeInOwnVoxels
         << "% of volume particles in their volume voxels, median normal angle " << std::setprecision(2)
-        << f.medianNormalAngleDeg << " deg\n" << std::setprecision(6);
+        << f.medianNormalAngleDeg << " deg\n"
+        << std::setprecision(6);
 }
 
 Fidelity measureFidelity(const core::Model& model, const core::Particles& p) {

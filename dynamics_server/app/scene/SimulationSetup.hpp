@@ -3,13 +3,12 @@
 // the box around it, the initial particles (a restart file, a bulk lattice, or none for a bag
 // built by its construction timeline) and the probe.
 #include "app/scene/SceneConfig.hpp"
-
 #include "core/Simulation.hpp"
 #include "parallel/DecomposedOptions.hpp"
 #include "shape/ShapeBuilder.hpp"
 
-#include <memory>
 #include <iosfwd>
+#include <memory>
 #include <string>
 
 namespace bop::app {
@@ -45,9 +44,9 @@ std::vector<std::string> speciesNames(const core::Model& model);
 // of their own species, and the median angle between a surface particle's normal and the map
 // normal at its voxel.
 struct Fidelity {
-    double surfaceInOwnVoxels = 0;   // fraction
-    double volumeInOwnVoxels = 0;    // fraction
-    double medianNormalAngleDeg = 0; // degrees
+    double surfaceInOwnVoxels = 0;    // fraction
+    double volumeInOwnVoxels = 0;     // fraction
+    double medianNormalAngleDeg = 0;  // degrees
     std::size_t surface = 0, volume = 0;
 };
 Fidelity measureFidelity(const core::Model& model, const core::Particles& p);

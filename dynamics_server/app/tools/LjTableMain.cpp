@@ -28,16 +28,21 @@ int main(int argc, char** argv) {
     // LAMMPS aborts on "Pair distance > table outer cutoff": extend the table slightly past rc.
     const double rMax = lj.cutoff() * 1.001;
     std::ofstream f(out);
-    if (!f) { std::cerr << "bop-lj-table: error: cannot write " << out << "\n"; return 2; }
+    if (!f) {
+        std::cerr << "bop-lj-table: error: cannot write " << out << "\n";
+        return 2;
+    }
     f << "# BoP LJ-form potential 1.5 (r^-3 - r^-1), " << mode << ", cutoff " << rCut << " r0\n\nLJ\nN " << points
       << " R " << rMin << " " << rMax << "\n\n";
     char line[160];
     for (int i = 0; i < points; ++i) {
         const double r = rMin + (rMax - rMin) * i / (points - 1);
         const bool in = r < lj.cutoff();
-        std::snprintf(line, sizeof line, "%d %.10f %.12e %.12e\n", i + 1, r, in ? lj.energy(r) : 0.0, in ? lj.force(r) : 0.0);
+        std::snprintf(line, sizeof line, "%d %.10f %.12e %.12e\n", i + 1, r, in ? lj.energy(r) : 0.0,
+                      in ? lj.force(r) : 0.0);
         f << line;
     }
-    std::cout << "wrote " << out << ": " << points << " points, r in [" << rMin << ", " << rMax << "], cutoff " << lj.cutoff() << "\n";
+    std::cout << "wrote " << out << ": " << points << " points, r in [" << rMin << ", " << rMax << "], cutoff "
+              << lj.cutoff() << "\n";
     return 0;
 }

@@ -1,10 +1,9 @@
 // bop-lv-phantom: writes a synthetic gated left ventricle (shape/LvPhantom.hpp) as NIfTI, one
 // 4D file or a numbered series of 3D files, with its ground truth (volumes and ejection
 // fraction) as CSV, for the ventricle scene (config/scenes/ventricle.toml) and for tests.
-#include "shape/LvPhantom.hpp"
-
 #include "bop/common/Error.hpp"
 #include "bop/common/ToolMain.hpp"
+#include "shape/LvPhantom.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -18,20 +17,23 @@ namespace fs = std::filesystem;
 namespace {
 
 int run(int argc, char** argv) {
-    CLI::App app{"bop-lv-phantom: write a synthetic gated left ventricle (a truncated prolate spheroid cavity whose "
-                 "volume follows a physiological curve) as NIfTI with its ground-truth volumes"};
+    CLI::App app{
+        "bop-lv-phantom: write a synthetic gated left ventricle (a truncated prolate spheroid cavity whose "
+        "volume follows a physiological curve) as NIfTI with its ground-truth volumes"};
     bop::shape::LvPhantomParams p;
     std::string out = "lv-phantom.nii.gz", truth;
     bool series = false;
-    app.add_option("output", out, "4D NIfTI file to write (.nii or .nii.gz); with --series, the first of the "
-                                  "numbered 3D files (NAME-00.nii.gz, NAME-01.nii.gz, ...)");
+    app.add_option("output", out,
+                   "4D NIfTI file to write (.nii or .nii.gz); with --series, the first of the "
+                   "numbered 3D files (NAME-00.nii.gz, NAME-01.nii.gz, ...)");
     app.add_flag("--series", series, "write one 3D file per frame instead of one 4D file");
     app.add_option("--frames", p.frames, "gated frames over one cycle")->check(CLI::Range(2, 64));
     app.add_option("--edv-ml", p.edvMl, "end-diastolic volume, mL")->check(CLI::PositiveNumber);
     app.add_option("--esv-ml", p.esvMl, "end-systolic volume, mL")->check(CLI::PositiveNumber);
     app.add_option("--voxel-mm", p.voxelMm, "voxel edge, mm")->check(CLI::Range(0.25, 10.0));
     app.add_option("--aspect", p.aspectEd, "long over short semi-axis at end-diastole")->check(CLI::Range(1.0, 4.0));
-    app.add_option("--shortening", p.axialShortening, "fraction of the long axis lost in systole")->check(CLI::Range(0.0, 0.5));
+    app.add_option("--shortening", p.axialShortening, "fraction of the long axis lost in systole")
+        ->check(CLI::Range(0.0, 0.5));
     app.add_option("--truth", truth, "ground-truth CSV (default: next to the output, NAME-truth.csv)");
     CLI11_PARSE(app, argc, argv);
     if (p.esvMl >= p.edvMl) throw bop::Error("--esv-ml", "expected an end-systolic volume below the end-diastolic one");
@@ -74,4 +76,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) { return bop::runTool("bop-lv-phantom", [&] { return run(argc, argv); }); }
+int main(int argc, char** argv) {
+    return bop::runTool("bop-lv-phantom", [&] { return run(argc, argv); });
+}

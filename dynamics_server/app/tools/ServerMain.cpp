@@ -3,30 +3,29 @@
 // construction timeline, prints progress, per-phase timings and a Table-1 style summary, and
 // writes extended XYZ snapshots. Under mpirun with more than one rank the run is decomposed
 // over the ranks (DecomposedBatch.cpp, parallel/).
-#include "app/runs/BatchReport.hpp"
-#include "app/runs/SingleBatch.hpp"
-#include "app/runs/DecomposedBatch.hpp"
 #include "app/files/ExtendedXyz.hpp"
-#include "app/scene/SceneConfig.hpp"
+#include "app/runs/BatchReport.hpp"
+#include "app/runs/DecomposedBatch.hpp"
 #include "app/runs/ServedRun.hpp"
-#include "security/CurveKeys.hpp"
+#include "app/runs/SingleBatch.hpp"
+#include "app/scene/SceneConfig.hpp"
 #include "app/scene/SimulationSetup.hpp"
-#include "bop/common/GradientMapCrop.hpp"
-#include "parallel/Session.hpp"
-
 #include "bop/common/Error.hpp"
+#include "bop/common/GradientMapCrop.hpp"
 #include "bop/common/ToolMain.hpp"
+#include "parallel/Session.hpp"
+#include "security/CurveKeys.hpp"
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
 #include <cmath>
-#include <limits>
-#include <optional>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <limits>
+#include <optional>
 
 namespace fs = std::filesystem;
 using namespace bop;
@@ -34,10 +33,11 @@ using namespace bop;
 namespace {
 
 int run(int argc, char** argv) {
-    CLI::App app{"bop-server: the BoP dynamics host. Served: bop-server SCENE.toml [--port P] streams to viewers and "
-                 "haptic clients (docs/protocol.md) until SIGINT/SIGTERM or --steps K; batch: bop-server SCENE.toml "
-                 "--steps K --no-listen; under mpirun -np N the box is split into one subdomain per rank "
-                 "(docs/parallel.md)"};
+    CLI::App app{
+        "bop-server: the BoP dynamics host. Served: bop-server SCENE.toml [--port P] streams to viewers and "
+        "haptic clients (docs/protocol.md) until SIGINT/SIGTERM or --steps K; batch: bop-server SCENE.toml "
+        "--steps K --no-listen; under mpirun -np N the box is split into one subdomain per rank "
+        "(docs/parallel.md)"};
     std::string scenePath, outDir, restart, cache;
     long long steps = -1, snapshotEvery = -1, reportEvery = -1;
     bool noListen = false, waitForClient = false, readOnlyViewers = false, quantised = false;
@@ -46,13 +46,16 @@ int run(int argc, char** argv) {
     app.add_option("--steps", steps, "steps to run (default: [run].steps of the scene)");
     app.add_flag("--no-listen", noListen, "batch run without the network front");
     app.add_option("-o,--out", outDir, "output folder (default: out/<scene name>)");
-    app.add_option("--snapshot-every", snapshotEvery, "extended XYZ snapshot period in steps (0 = only the final state)");
+    app.add_option("--snapshot-every", snapshotEvery,
+                   "extended XYZ snapshot period in steps (0 = only the final state)");
     app.add_option("--report-every", reportEvery, "progress line period in steps");
-    app.add_option("--restart", restart, "start from the last frame of an extended XYZ file (a checkpoint.xyz goes "
-                                         "on where its run stopped, at any rank count)");
+    app.add_option("--restart", restart,
+                   "start from the last frame of an extended XYZ file (a checkpoint.xyz goes "
+                   "on where its run stopped, at any rank count)");
     long long checkpointEvery = 0;
-    app.add_option("--checkpoint-every", checkpointEvery, "write <out>/checkpoint.xyz every N steps (0: only when "
-                                                          "SIGINT/SIGTERM or --steps ends the run)")
+    app.add_option("--checkpoint-every", checkpointEvery,
+                   "write <out>/checkpoint.xyz every N steps (0: only when "
+                   "SIGINT/SIGTERM or --steps ends the run)")
         ->check(CLI::NonNegativeNumber);
     app.add_option("--cache", cache, "gradient-map cache (default: <out>/gradient-map.bopgm)");
     app.add_option("--port", front.basePort, "base port P: commands P, frames P+1, UDP probes P+2 (0 = ephemeral)")
@@ -60,25 +63,30 @@ int run(int argc, char** argv) {
     app.add_option("--bind", front.bindAddress, "address to bind (default 127.0.0.1; * = every interface)");
     app.add_option("--publish-hz", front.publishHz, "state-frame rate, wall Hz (clients may ask for more)")
         ->check(CLI::Range(1.0, 1000.0));
-    app.add_option("--chunk-bytes", front.chunkBytes, "largest state-frame chunk, bytes")->check(CLI::Range(4096, 1 << 30));
+    app.add_option("--chunk-bytes", front.chunkBytes, "largest state-frame chunk, bytes")
+        ->check(CLI::Range(4096, 1 << 30));
     app.add_flag("--quantised", quantised, "16-bit state frames (positions against the box, octahedral normals)");
     app.add_flag("--frame-ids", front.frameIds, "state frames carry every particle's id (8 bytes per particle)");
     app.add_flag("--wait-for-client", waitForClient, "hold the first step until a client has said hello");
     app.add_flag("--read-only-viewers", readOnlyViewers, "viewers may watch but not command");
     app.add_option("--record", front.recordPath, "record the session (commands, probes, frames) as MCAP in this file");
     double sessionTimeout = 30;
-    app.add_option("--session-timeout", sessionTimeout, "forget a client's session after this many seconds without a "
-                                                        "message from it (clients keep theirs alive; 0 = never)")
+    app.add_option("--session-timeout", sessionTimeout,
+                   "forget a client's session after this many seconds without a "
+                   "message from it (clients keep theirs alive; 0 = never)")
         ->check(CLI::Range(0.0, 86400.0));
     std::string replayInputs, curveSecret;
-    app.add_option("--curve-secret", curveSecret, "CURVE secret key file (bop-keys): encrypt every session; clients "
-                                                  "need the matching public key");
+    app.add_option("--curve-secret", curveSecret,
+                   "CURVE secret key file (bop-keys): encrypt every session; clients "
+                   "need the matching public key");
     std::vector<std::string> curveClients;
-    app.add_option("--curve-client", curveClients, "a client's CURVE public key file (bop-keys PREFIX.pub); when "
-                                                   "given, only clients holding one of these keys get in")
+    app.add_option("--curve-client", curveClients,
+                   "a client's CURVE public key file (bop-keys PREFIX.pub); when "
+                   "given, only clients holding one of these keys get in")
         ->check(CLI::ExistingFile);
-    app.add_option("--replay-inputs", replayInputs, "apply a recorded session's commands and probes at their steps "
-                                                    "instead of clients' (bop-replay check runs this)");
+    app.add_option("--replay-inputs", replayInputs,
+                   "apply a recorded session's commands and probes at their steps "
+                   "instead of clients' (bop-replay check runs this)");
     CLI11_PARSE(app, argc, argv);
     front.quantised = quantised;
     if (!std::isfinite(sessionTimeout) || (sessionTimeout != 0 && sessionTimeout < 0.5))
@@ -100,7 +108,8 @@ int run(int argc, char** argv) {
     const bool stepsGiven = steps >= 0;  // a served run without --steps runs until stopped
     if (steps < 0) steps = scene.run.steps;
     if (snapshotEvery < 0) snapshotEvery = scene.run.snapshotEverySteps;
-    if (reportEvery < 0) reportEvery = scene.run.reportEverySteps > 0 ? scene.run.reportEverySteps : std::max(1LL, steps / 10);
+    if (reportEvery < 0)
+        reportEvery = scene.run.reportEverySteps > 0 ? scene.run.reportEverySteps : std::max(1LL, steps / 10);
     if (reportEvery == 0) throw Error("--report-every", "expected a period of at least 1 step");
     if (snapshotEvery < 0) throw Error("--snapshot-every", "expected 0 (final state only) or a period in steps");
 
@@ -110,8 +119,8 @@ int run(int argc, char** argv) {
                      model.ljParams.rCutR0);
     const auto progress = [](const std::string& m) { spdlog::info("{}", m); };
     if (!noListen) {
-        front.recordMeta = {{"scene", fs::absolute(scenePath).string()}, {"ranks", std::to_string(ranks)},
-                            {"restart", restart}};
+        front.recordMeta = {
+            {"scene", fs::absolute(scenePath).string()}, {"ranks", std::to_string(ranks)}, {"restart", restart}};
         if (scene.shape) front.mapFile = cache;  // haptic clients download it (MapRequest)
         app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
                                                           parallel::MpiSession::barrier, progress);

@@ -1,11 +1,9 @@
 // bop-shape SCENE.toml: builds the scene's gradient map(s), prints what it built and how long
 // each stage took, writes PNG slices and .npy arrays, and caches the map for the server.
 #include "app/tools/ShapeReport.hpp"
-
-#include "shape/ShapeBuilder.hpp"
-
 #include "bop/common/Error.hpp"
 #include "bop/common/ToolMain.hpp"
+#include "shape/ShapeBuilder.hpp"
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -28,7 +26,8 @@ std::set<std::string> parseExports(const std::string& list) {
         if (!bop::app::kNpyArrays.count(item)) {
             std::string known;
             for (const auto& k : bop::app::kNpyArrays) known += " " + k;
-            throw bop::Error("--export", "unknown array '" + item + "' (expected all, none or a list of:" + known + ")");
+            throw bop::Error("--export",
+                             "unknown array '" + item + "' (expected all, none or a list of:" + known + ")");
         }
         out.insert(item);
     }
@@ -36,8 +35,9 @@ std::set<std::string> parseExports(const std::string& list) {
 }
 
 int run(int argc, char** argv) {
-    CLI::App app{"bop-shape: build and inspect the gradient map of a BoP scene (labels, exact distance "
-                 "vectors, normals, curvature), write PNG slices and .npy arrays, and cache the map."};
+    CLI::App app{
+        "bop-shape: build and inspect the gradient map of a BoP scene (labels, exact distance "
+        "vectors, normals, curvature), write PNG slices and .npy arrays, and cache the map."};
     std::string scene, outDir, cache, exports = "labels,species,vectors", timingsCsv;
     bool noPng = false, rebuild = false, noCache = false;
     int threads = 0;
@@ -46,8 +46,10 @@ int run(int argc, char** argv) {
     app.add_option("--cache", cache, "gradient-map cache file (default: <out>/gradient-map.bopgm)");
     app.add_flag("--no-cache", noCache, "neither read nor write the cache");
     app.add_flag("--rebuild", rebuild, "build even if the cache matches the scene");
-    app.add_option("--export", exports, "arrays to write as .npy: all, none, or a comma list of "
-                                        "labels,species,vectors,distance,normals,curvature,weight")->capture_default_str();
+    app.add_option("--export", exports,
+                   "arrays to write as .npy: all, none, or a comma list of "
+                   "labels,species,vectors,distance,normals,curvature,weight")
+        ->capture_default_str();
     app.add_flag("--no-png", noPng, "do not write slice pictures");
     app.add_option("--threads", threads, "OpenMP threads for the distance transform (0 = all cores)");
     app.add_option("--timings-csv", timingsCsv, "append-free CSV of stage timings (for benchmarks)");

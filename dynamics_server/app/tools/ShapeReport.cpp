@@ -1,9 +1,8 @@
 #include "app/tools/ShapeReport.hpp"
 
-#include "core/GmField.hpp"
-
 #include "bop/common/Error.hpp"
 #include "bop/common/Npy.hpp"
+#include "core/GmField.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -45,8 +44,8 @@ void printShapeReport(std::ostream& os, const shape::ShapeSpec& spec, const shap
            << " (surface species " << surfaceSpeciesOfBag(int(b) + 1) << ", volume species "
            << volumeSpeciesOfBag(int(b) + 1) << ")\n";
     os << "grid         " << d.nx << " x " << d.ny << " x " << d.nz << " = " << d.count() << " voxels\n"
-       << "voxel        " << m0.grid.voxelMm << " mm = " << h << " simulation units (r0 = "
-       << m0.r0Voxels << " voxels = sqrt(3))\n"
+       << "voxel        " << m0.grid.voxelMm << " mm = " << h << " simulation units (r0 = " << m0.r0Voxels
+       << " voxels = sqrt(3))\n"
        << "origin       " << m0.grid.originMm.transpose() << " mm\n";
     for (std::size_t f = 0; f < build.frames.size(); ++f) {
         const GradientMap& m = build.frames[f];
@@ -58,14 +57,19 @@ void printShapeReport(std::ostream& os, const shape::ShapeSpec& spec, const shap
         os << "frame " << f << "      outside " << perSpecies[0] << ", surface " << surface << ", inside " << inside
            << " voxels; object volume " << (surface + inside) * std::pow(m.grid.voxelMm, 3) / 1000.0 << " mL\n";
         for (const auto& [s, n] : perSpecies)
-            if (s) os << "  species " << s << " (" << (isSurfaceSpecies(s) ? "surface" : "volume") << ")  " << n << " voxels\n";
+            if (s)
+                os << "  species " << s << " (" << (isSurfaceSpecies(s) ? "surface" : "volume") << ")  " << n
+                   << " voxels\n";
         double outMax = 0, inMax = 0, sumAbs = 0;
         std::size_t nObj = 0;
         for (std::size_t v = 0; v < d.count(); ++v) {
             const double sd = m.signedDistance(v);
             outMax = std::max(outMax, sd);
             inMax = std::max(inMax, -sd);
-            if (m.occ[v]) { sumAbs += std::abs(sd); ++nObj; }
+            if (m.occ[v]) {
+                sumAbs += std::abs(sd);
+                ++nObj;
+            }
         }
         os << "  distance   farthest outside " << outMax << " voxels (" << outMax * m.grid.voxelMm
            << " mm), deepest inside " << inMax << " voxels (" << inMax * m.grid.voxelMm << " mm), mean depth "
@@ -85,9 +89,9 @@ void printShapeReport(std::ostream& os, const shape::ShapeSpec& spec, const shap
 void printTimings(std::ostream& os, const std::vector<shape::StageTiming>& timings) {
     os << std::fixed;
     for (const auto& t : timings)
-        os << "time         " << std::left << std::setw(10) << t.stage << std::right << std::setprecision(3) << t.seconds
-           << " s  " << std::setprecision(1) << (t.items ? t.seconds * 1e9 / double(t.items) : 0.0) << " ns per "
-           << (t.stage == "geometry" ? "surface voxel" : "voxel") << "\n";
+        os << "time         " << std::left << std::setw(10) << t.stage << std::right << std::setprecision(3)
+           << t.seconds << " s  " << std::setprecision(1) << (t.items ? t.seconds * 1e9 / double(t.items) : 0.0)
+           << " ns per " << (t.stage == "geometry" ? "surface voxel" : "voxel") << "\n";
 }
 
 void writeTimingsCsv(const std::string& path, const GradientMap& map, const std::vector<shape::StageTiming>& timings) {

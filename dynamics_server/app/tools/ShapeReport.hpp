@@ -14,8 +14,7 @@ void printShapeReport(std::ostream& os, const shape::ShapeSpec& spec, const shap
 
 // Stage timings with time per voxel; optional CSV (stage,seconds,items,ns_per_item).
 void printTimings(std::ostream& os, const std::vector<shape::StageTiming>& timings);
-void writeTimingsCsv(const std::string& path, const GradientMap& map,
-                     const std::vector<shape::StageTiming>& timings);
+void writeTimingsCsv(const std::string& path, const GradientMap& map, const std::vector<shape::StageTiming>& timings);
 
 // Arrays in NumPy layout (nz, ny, nx[, 3]); `what` from {labels, species, vectors,
 // distance, normals, curvature, weight}. Files go to dir (per frame: dir/frameNN/ if several).

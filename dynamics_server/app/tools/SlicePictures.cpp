@@ -1,7 +1,6 @@
 // PNG slice pictures of gradient maps: per plane a labels panel, a signed-distance panel and a
 // co-planar weight panel, each with its legend.
 #include "app/tools/ShapeReport.hpp"
-
 #include "bop/common/Canvas.hpp"
 
 #include <algorithm>
@@ -42,14 +41,16 @@ void drawPanel(Canvas& c, int x0, int y0, const Dims& d, const Plane& p, int sli
     for (int b = 0; b < n[p.v]; ++b)
         for (int a = 0; a < n[p.u]; ++a) {
             int ijk[3];
-            ijk[p.u] = a; ijk[p.v] = b; ijk[p.w] = slice;
+            ijk[p.u] = a;
+            ijk[p.v] = b;
+            ijk[p.w] = slice;
             const Rgb col = colourOf(d.index(ijk[0], ijk[1], ijk[2]));
             c.fillRect(x0 + a * s, y0 + (n[p.v] - 1 - b) * s, s, s, col);  // v axis points up
         }
 }
 
-void colourBar(Canvas& c, int x, int y, int w, const std::string& lo, const std::string& hi,
-               const std::string& title, Rgb (*map)(double), double t0, double t1) {
+void colourBar(Canvas& c, int x, int y, int w, const std::string& lo, const std::string& hi, const std::string& title,
+               Rgb (*map)(double), double t0, double t1) {
     c.drawText(x, y, title, kInk);
     for (int i = 0; i < w; ++i) c.fillRect(x + i, y + 14, 1, 12, map(t0 + (t1 - t0) * i / double(w - 1)));
     c.drawText(x, y + 30, lo, kInk);
@@ -80,14 +81,13 @@ std::vector<std::string> writeSlicePictures(const std::string& dir, const shape:
             Canvas c(std::max(width, 420), height, kBackground);
             const char axes[] = "xyz";
             std::ostringstream title;
-            title << "frame " << f << ", " << p.name << " plane at " << axes[p.w] << " = " << slice
-                  << " voxels (" << n[0] << " x " << n[1] << " x " << n[2] << ", " << m.grid.voxelMm << " mm)";
+            title << "frame " << f << ", " << p.name << " plane at " << axes[p.w] << " = " << slice << " voxels ("
+                  << n[0] << " x " << n[1] << " x " << n[2] << ", " << m.grid.voxelMm << " mm)";
             c.drawText(gap, 6, title.str(), kInk);
             const int top = gap + 10;
             drawPanel(c, gap, top, d, p, slice, s, [&](std::size_t v) { return speciesColour(m.occ[v]); });
-            drawPanel(c, 2 * gap + pw, top, d, p, slice, s, [&](std::size_t v) {
-                return divergingMap(m.signedDistance(v) / dmax);
-            });
+            drawPanel(c, 2 * gap + pw, top, d, p, slice, s,
+                      [&](std::size_t v) { return divergingMap(m.signedDistance(v) / dmax); });
             drawPanel(c, 3 * gap + 2 * pw, top, d, p, slice, s, [&](std::size_t v) {
                 return m.occ[v] && isSurfaceSpecies(m.occ[v]) ? colourMap(m.nearestSurface(v).cpWeight) : kOutside;
             });
@@ -106,8 +106,8 @@ std::vector<std::string> writeSlicePictures(const std::string& dir, const shape:
             std::ostringstream lo, hi;
             lo << "-" << range << " mm";
             hi << "+" << range << " mm";
-            colourBar(c, 2 * gap + pw, y, bw, lo.str(), hi.str(),
-                      "distance to nearest surface (inside -, outside +)", divergingMap, -1, 1);
+            colourBar(c, 2 * gap + pw, y, bw, lo.str(), hi.str(), "distance to nearest surface (inside -, outside +)",
+                      divergingMap, -1, 1);
             colourBar(c, 3 * gap + 2 * pw, y, bw, "0", "1", "co-planar weight (surface voxels)", colourMap, 0, 1);
             std::ostringstream name;
             name << dir << "/";

@@ -6,12 +6,12 @@
 #include "bop/common/Error.hpp"
 
 #include <Eigen/Core>
+#include <toml++/toml.h>
+
 #include <optional>
 #include <set>
 #include <string>
 #include <vector>
-
-#include <toml++/toml.h>
 
 namespace bop {
 
@@ -37,7 +37,7 @@ public:
     Eigen::Vector3d vec3(const std::string& key, const Eigen::Vector3d& fallback) const;
     std::vector<double> numbers(const std::string& key) const;  // an array of numbers
     std::vector<std::string> strings(const std::string& key) const;
-    ConfigTable table(const std::string& key) const;            // a required sub-table
+    ConfigTable table(const std::string& key) const;  // a required sub-table
     std::optional<ConfigTable> optionalTable(const std::string& key) const;
     std::vector<ConfigTable> tableArray(const std::string& key) const;  // [[key]] entries
 

@@ -1,11 +1,12 @@
 #pragma once
-// The labelled gradient map of one shape (paper §3.3–3.5, physics.md §4): per voxel the species
+// The labelled gradient map of one shape (paper §3.3–3.5, docs/physics.md §4): per voxel the species
 // that should occupy it and its nearest surface voxel; per surface voxel its species, outward
 // normal, curvature and co-planar weight. Built by dynamics_server/shape, read by the dynamics
 // core and the haptic client. Lengths are in voxels unless a name says otherwise.
 #include "bop/common/Volume.hpp"
 
 #include <Eigen/Core>
+
 #include <cstdint>
 #include <vector>
 
@@ -13,27 +14,33 @@ namespace bop {
 
 // Species numbering (paper §3.4): bag k = 1, 2, ... from outer to inner has surface species
 // 2k-1 and volume species 2k; species 0 is "outside every bag".
-inline int surfaceSpeciesOfBag(int bag) { return 2 * bag - 1; }
-inline int volumeSpeciesOfBag(int bag) { return 2 * bag; }
-inline bool isSurfaceSpecies(int species) { return species % 2 == 1; }
+inline int surfaceSpeciesOfBag(int bag) {
+    return 2 * bag - 1;
+}
+inline int volumeSpeciesOfBag(int bag) {
+    return 2 * bag;
+}
+inline bool isSurfaceSpecies(int species) {
+    return species % 2 == 1;
+}
 
 struct SurfaceVoxel {
-    std::uint32_t voxel = 0;       // linear voxel index in the whole map (wholeDims().index)
-    std::uint8_t species = 0;      // surface species of this voxel (odd)
+    std::uint32_t voxel = 0;          // linear voxel index in the whole map (wholeDims().index)
+    std::uint8_t species = 0;         // surface species of this voxel (odd)
     Eigen::Vector3f normal{0, 0, 1};  // outward unit normal of the smoothed surface
-    float meanCurvature = 0;       // H, 1/voxel (> 0 on convex parts)
-    float gaussCurvature = 0;      // K, 1/voxel^2
-    float kappa = 0;               // max |principal curvature|, 1/voxel
-    float cpWeight = 1;            // co-planar weight w in (0, 1] (physics.md §5.3), dimensionless
+    float meanCurvature = 0;          // H, 1/voxel (> 0 on convex parts)
+    float gaussCurvature = 0;         // K, 1/voxel^2
+    float kappa = 0;                  // max |principal curvature|, 1/voxel
+    float cpWeight = 1;               // co-planar weight w in (0, 1] (docs/physics.md §5.3), dimensionless
 };
 
 struct GradientMap {
-    VoxelGrid grid;                     // placement in model space (mm)
-    double r0Voxels = 2.0;              // LJ equilibrium spacing r0, in voxels
-    int bagCount = 1;                   // nested bags, outer to inner
-    std::vector<std::uint8_t> occ;      // species that should occupy each voxel (0 = outside)
-    std::vector<std::uint32_t> nearest; // per voxel: index into `surface` of the nearest surface voxel
-    std::vector<SurfaceVoxel> surface;  // every surface voxel the voxels name, in voxel-index order
+    VoxelGrid grid;                      // placement in model space (mm)
+    double r0Voxels = 2.0;               // LJ equilibrium spacing r0, in voxels
+    int bagCount = 1;                    // nested bags, outer to inner
+    std::vector<std::uint8_t> occ;       // species that should occupy each voxel (0 = outside)
+    std::vector<std::uint32_t> nearest;  // per voxel: index into `surface` of the nearest surface voxel
+    std::vector<SurfaceVoxel> surface;   // every surface voxel the voxels name, in voxel-index order
     // A window of a larger map (one rank's subdomain plus a margin, bop/common/GradientMapCrop.hpp):
     // voxel (0,0,0) of this map is voxel `origin` of the whole map, of size `whole`. A whole
     // map has origin 0 and `whole` empty. grid.originMm stays the whole map's.
@@ -57,9 +64,7 @@ struct GradientMap {
     }
 
     // d(v): vector from the centre of v to the centre of its nearest surface voxel, voxels.
-    Eigen::Vector3i delta(std::size_t v) const {
-        return wholeDims().coords(nearestSurface(v).voxel) - wholeCoords(v);
-    }
+    Eigen::Vector3i delta(std::size_t v) const { return wholeDims().coords(nearestSurface(v).voxel) - wholeCoords(v); }
     // Species of the nearest surface (paper §3.4 "species of the nearest surface").
     int nearestSpecies(std::size_t v) const { return nearestSurface(v).species; }
     // Signed distance to the nearest surface voxel centre: + outside its bag, - inside, voxels.

@@ -17,8 +17,8 @@ struct VoxelWindow {
 // The voxels that cover the region [regionLo, regionHi] (simulation length units) grown by
 // margin (simulation length units) on every side, clipped to the whole map `whole`; voxels
 // are h (simulation length units) wide. At least one voxel on each axis.
-VoxelWindow windowAround(const Dims& whole, double h, const Eigen::Vector3d& regionLo,
-                         const Eigen::Vector3d& regionHi, double margin);
+VoxelWindow windowAround(const Dims& whole, double h, const Eigen::Vector3d& regionLo, const Eigen::Vector3d& regionHi,
+                         double margin);
 
 // The part of `whole` (a whole map) inside `window`; surface voxels keep their whole-map index.
 GradientMap cropGradientMap(const GradientMap& whole, const VoxelWindow& window);

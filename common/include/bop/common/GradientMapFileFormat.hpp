@@ -9,10 +9,10 @@ namespace bop::gmfile {
 
 constexpr char kMagic[8] = {'B', 'O', 'P', 'G', 'M', 'A', 'P', '\0'};
 constexpr std::uint32_t kVersion = 1;
-constexpr std::size_t kMaxVoxels = std::size_t(1) << 32;  // nearest indices are u32
-constexpr std::size_t kFileHeaderBytes = 8 + 4 + 8 + 4;    // magic, version, key, frame count
+constexpr std::size_t kMaxVoxels = std::size_t(1) << 32;                  // nearest indices are u32
+constexpr std::size_t kFileHeaderBytes = 8 + 4 + 8 + 4;                   // magic, version, key, frame count
 constexpr std::size_t kFrameHeaderBytes = 3 * 4 + 3 * 8 + 8 + 8 + 4 + 8;  // dims .. surface count
-constexpr std::uint32_t kMaxFrames = 4096;                 // sanity bound on the frame count
+constexpr std::uint32_t kMaxFrames = 4096;                                // sanity bound on the frame count
 
 struct SurfaceRecord {  // 36 bytes on disk
     std::uint32_t voxel;
@@ -24,7 +24,10 @@ static_assert(sizeof(SurfaceRecord) == 36);
 // FNV-1a, 64 bit. Pass the previous result as h to hash a file chunk by chunk.
 constexpr std::uint64_t kHashSeed = 1469598103934665603ULL;
 inline std::uint64_t hashBytes(const unsigned char* p, std::size_t n, std::uint64_t h = kHashSeed) {
-    for (std::size_t i = 0; i < n; ++i) { h ^= p[i]; h *= 1099511628211ULL; }
+    for (std::size_t i = 0; i < n; ++i) {
+        h ^= p[i];
+        h *= 1099511628211ULL;
+    }
     return h;
 }
 

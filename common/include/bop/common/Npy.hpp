@@ -25,8 +25,8 @@ template <class T>
 void writeNpy(const std::string& path, const T* data, const std::vector<std::size_t>& shape);
 
 struct NpyArray {
-    std::string descr;               // NumPy dtype string as in the file, e.g. "<i2"
-    std::vector<std::size_t> shape;  // C order; empty for a 0-d array
+    std::string descr;                 // NumPy dtype string as in the file, e.g. "<i2"
+    std::vector<std::size_t> shape;    // C order; empty for a 0-d array
     std::vector<unsigned char> bytes;  // raw element bytes, count() * itemsize
 
     // Number of elements: product of shape (1 for a 0-d array).

@@ -2,6 +2,7 @@
 // Voxel grids and dense per-voxel arrays. Index order is x fastest:
 // index(i, j, k) = i + nx * (j + ny * k), so a NumPy view has shape (nz, ny, nx).
 #include <Eigen/Core>
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -21,9 +22,7 @@ struct Dims {
         const std::size_t r = idx / std::size_t(nx);
         return {i, int(r % std::size_t(ny)), int(r / std::size_t(ny))};
     }
-    bool contains(int i, int j, int k) const {
-        return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz;
-    }
+    bool contains(int i, int j, int k) const { return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz; }
     bool operator==(const Dims&) const = default;
 };
 
