@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Installs what is missing, checks the sources' format, builds with warnings as errors, runs
-# every test with ctest, then builds the unit tests with AddressSanitizer +
+# Installs what is missing, checks the sources' format and include graph, builds with warnings
+# as errors, runs every test with ctest, then builds the unit tests with AddressSanitizer +
 # UndefinedBehaviorSanitizer and runs them.
 #   scripts/test.sh                 everything (what CI runs)
 #   scripts/test.sh --no-sanitize   skip the sanitizer build and the fuzzing
@@ -16,6 +16,10 @@ echo "== format (.clang-format) =="
 mapfile -t sources < <(git ls-files '*.cpp' '*.hpp' '*.h' 2>/dev/null || find common dynamics_server protocol viz_client haptic_client tests scripts -name '*.[ch]pp')
 clang-format --dry-run --Werror --style=file "${sources[@]}"
 echo "format: ${#sources[@]} files as .clang-format writes them"
+
+echo "== include graph (scripts/include-graph.py) =="
+# Parts (common/, dynamics_server/core, protocol/server, ...) include one another one way only.
+python3 scripts/include-graph.py --quiet
 
 echo "== build (Release, -Werror) =="
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DBOP_WERROR=ON -DBOP_BUILD_VIEWER=ON >/dev/null
