@@ -9,26 +9,28 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=${BOP_JOBS:-2}
 
+# Each stage says when it starts, in seconds since the start: CI's budget is 25 minutes on 2 cores.
+stage() { echo "== $* (at ${SECONDS} s) =="; }
 scripts/install-deps.sh
 
-echo "== format (.clang-format) =="
+stage "format (.clang-format)"
 # Every C++ file as clang-format writes it: `clang-format -i FILE` fixes one.
 mapfile -t sources < <(git ls-files '*.cpp' '*.hpp' '*.h' 2>/dev/null || find common dynamics_server protocol viz_client haptic_client tests scripts -name '*.[ch]pp')
 clang-format --dry-run --Werror --style=file "${sources[@]}"
 echo "format: ${#sources[@]} files as .clang-format writes them"
 
-echo "== include graph (scripts/include-graph.py) =="
+stage "include graph (scripts/include-graph.py)"
 # Parts (common/, dynamics_server/core, protocol/server, ...) include one another one way only.
 python3 scripts/include-graph.py --quiet
 
-echo "== build (Release, -Werror) =="
+stage "build (Release, -Werror)"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DBOP_WERROR=ON -DBOP_BUILD_VIEWER=ON >/dev/null
 cmake --build build -j "$jobs"
-echo "== tests =="
+stage "tests"
 ctest --test-dir build -j "$jobs" --output-on-failure
 
 if [[ "${1:-}" != "--no-sanitize" ]]; then
-  echo "== unit and MPI tests under AddressSanitizer + UndefinedBehaviorSanitizer =="
+  stage "unit and MPI tests under AddressSanitizer + UndefinedBehaviorSanitizer"
   # -O1 and line tables only: half the compile time of -O2 -g, stack traces still name the lines.
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
     -DBOP_SANITIZE=ON -DBOP_WERROR=ON >/dev/null
@@ -40,6 +42,7 @@ if [[ "${1:-}" != "--no-sanitize" ]]; then
   # here would take CI past its 25 minutes).
   ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan -R '^mpi[.]np[24]$' -j "$jobs" --output-on-failure
-  echo "== fuzzing the decoders (libFuzzer, ${BOP_FUZZ_SECONDS:-3} s each) =="
+  stage "fuzzing the decoders (libFuzzer, ${BOP_FUZZ_SECONDS:-3} s each)"
   BOP_FUZZ_SECONDS=${BOP_FUZZ_SECONDS:-3} scripts/fuzz.sh
 fi
+echo "test.sh: everything passed in ${SECONDS} s"
