@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <regex>
 #include <stdexcept>
 
 #include <fcntl.h>
@@ -42,6 +43,19 @@ std::pair<int, std::string> runCommand(const std::string& command) {
 }
 std::string mpiexec() {
     return BOP_MPIEXEC;
+}
+
+std::vector<std::string> serverCommand(int ranks, const std::string& scenePath, const std::vector<std::string>& extra) {
+    std::vector<std::string> a;
+    if (ranks > 1) a = {mpiexec(), "-np", std::to_string(ranks), "--oversubscribe"};
+    a.insert(a.end(), {buildDir() + "/dynamics_server/bop-server", scenePath, "--port", "0"});
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+}
+
+long long printedCount(const std::string& output, const std::string& what) {
+    std::smatch m;
+    return std::regex_search(output, m, std::regex("([0-9]+) " + what)) ? std::stoll(m[1]) : -1;
 }
 
 ServerProcess::ServerProcess(std::vector<std::string> argv, std::chrono::milliseconds timeout,

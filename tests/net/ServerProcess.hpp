@@ -43,6 +43,14 @@ std::pair<int, std::string> runCommand(const std::string& command);
 std::string buildDir();
 std::string mpiexec();
 
+// bop-server's command line at `ranks` ranks (through mpiexec, oversubscribed, above one) serving
+// `scenePath` on an ephemeral port, then `extra`.
+std::vector<std::string> serverCommand(int ranks, const std::string& scenePath, const std::vector<std::string>& extra);
+
+// A count a stopped server printed before `what` ("N malformed messages refused", "K commands"),
+// or -1 if it printed none.
+long long printedCount(const std::string& output, const std::string& what);
+
 // The torus bag as its construction timeline builds it (4,000 steps, one rank): the final.xyz of
 // a batch run kept in build/test-output/built-torus/ for the test processes that follow, made
 // again when bop-server, the torus scene or its mesh is newer.

@@ -28,21 +28,6 @@ using namespace std::chrono_literals;
 
 namespace {
 
-std::vector<std::string> server(int ranks, const std::string& scene, std::vector<std::string> extra) {
-    std::vector<std::string> a;
-    if (ranks > 1) a = {test::mpiexec(), "-np", std::to_string(ranks), "--oversubscribe"};
-    a.push_back(test::buildDir() + "/dynamics_server/bop-server");
-    a.push_back(scene);
-    a.insert(a.end(), {"--port", "0"});
-    a.insert(a.end(), extra.begin(), extra.end());
-    return a;
-}
-
-long long printed(const std::string& out, const std::string& what) {
-    std::smatch m;
-    return std::regex_search(out, m, std::regex("([0-9]+) " + what)) ? std::stoll(m[1]) : -1;
-}
-
 bool finiteFrame(const StateFrame& f) {
     for (const float x : f.positions)
         if (!std::isfinite(x)) return false;
@@ -113,8 +98,8 @@ long long checkpointStep(const std::string& path) {
 TEST_CASE("the served torus keeps stepping through every out-of-range message and a probe dropped onto its particles",
           "[net][hardening]") {
     test::TempDir dir("hardening-served");
-    ServerProcess srv(server(1, test::sourceDir() + "/config/scenes/torus.toml",
-                             {"--restart", test::builtTorus(), "-o", dir.file("run")}));
+    ServerProcess srv(test::serverCommand(1, test::sourceDir() + "/config/scenes/torus.toml",
+                                          {"--restart", test::builtTorus(), "-o", dir.file("run")}));
     ClientSession c;
     const SceneInfo scene = c.connect(srv.endpoint(), 20s);
     const std::vector<test::hostile::Case> cases = test::hostile::outOfRange(scene);
@@ -150,8 +135,8 @@ TEST_CASE("the served torus keeps stepping through every out-of-range message an
     const std::string out = srv.output();
     INFO(out);
     CHECK(out.find("final state:") != std::string::npos);
-    CHECK(printed(out, "messages with values out of range refused") >= (long long)(cases.size()));
-    CHECK(printed(out, "internal errors in the front") == 0);
+    CHECK(test::printedCount(out, "messages with values out of range refused") >= (long long)(cases.size()));
+    CHECK(test::printedCount(out, "internal errors in the front") == 0);
 }
 
 TEST_CASE("a run whose physics goes unsound stops with exit 3 and the last sound state as its checkpoint",
@@ -185,8 +170,8 @@ TEST_CASE("a run whose physics goes unsound stops with exit 3 and the last sound
         CHECK(again.first == 0);
     }
     // Served: frames up to the stop are finite, the server exits 3 by itself, nothing after it.
-    ServerProcess srv(
-        server(2, scene, {"--restart", start, "--wait-for-client", "--publish-hz", "200", "-o", dir.file("served")}));
+    ServerProcess srv(test::serverCommand(
+        2, scene, {"--restart", start, "--wait-for-client", "--publish-hz", "200", "-o", dir.file("served")}));
     ClientSession c;
     c.connect(srv.endpoint(), 20s);
     int frames = 0;
@@ -220,7 +205,7 @@ TEST_CASE("frames of a periodic box carry positions inside it, float and quantis
         INFO((quantised ? "quantised" : "float") << " frames");
         std::vector<std::string> extra{"--publish-hz", "100", "-o", dir.file(quantised ? "q" : "f")};
         if (quantised) extra.push_back("--quantised");
-        ServerProcess srv(server(2, test::sourceDir() + "/config/scenes/bulk-box.toml", extra));
+        ServerProcess srv(test::serverCommand(2, test::sourceDir() + "/config/scenes/bulk-box.toml", extra));
         ClientSession c;
         const SceneInfo scene = c.connect(srv.endpoint(), 20s);
         long long frames = 0, outside = 0, onFace = 0, coordinates = 0;
@@ -256,8 +241,9 @@ TEST_CASE(
     "working",
     "[net][hardening][churn]") {
     test::TempDir dir("hardening-churn");
-    ServerProcess srv(server(1, test::sourceDir() + "/config/scenes/torus.toml",
-                             {"--restart", test::builtTorus(), "--session-timeout", "1", "-o", dir.file("run")}));
+    ServerProcess srv(
+        test::serverCommand(1, test::sourceDir() + "/config/scenes/torus.toml",
+                            {"--restart", test::builtTorus(), "--session-timeout", "1", "-o", dir.file("run")}));
     // The haptic client pokes the bag through the whole churn; the watcher in bop-churn is the viewer.
     ServerProcess haptic({test::buildDir() + "/haptic_client/bop-haptic", srv.endpoint(), "--device", "sim:poke",
                           "--seconds", "12", "--out", dir.file("haptic")},
@@ -294,8 +280,8 @@ TEST_CASE(
     CHECK(srv.stop(SIGINT) == 0);
     const std::string out = srv.output();
     INFO(out);
-    CHECK(printed(out, "sessions expired") >= 300);
-    CHECK(printed(out, "messages with values out of range refused") > 300);
-    CHECK(printed(out, "malformed messages refused") > 300);
-    CHECK(printed(out, "internal errors in the front") == 0);
+    CHECK(test::printedCount(out, "sessions expired") >= 300);
+    CHECK(test::printedCount(out, "messages with values out of range refused") > 300);
+    CHECK(test::printedCount(out, "malformed messages refused") > 300);
+    CHECK(test::printedCount(out, "internal errors in the front") == 0);
 }

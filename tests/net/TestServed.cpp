@@ -30,21 +30,9 @@ using namespace std::chrono_literals;
 
 namespace {
 
+// A served scene of config/scenes at `ranks` ranks.
 std::vector<std::string> server(int ranks, const std::string& scene, std::vector<std::string> extra) {
-    std::vector<std::string> a;
-    if (ranks > 1) a = {test::mpiexec(), "-np", std::to_string(ranks), "--oversubscribe"};
-    a.push_back(test::buildDir() + "/dynamics_server/bop-server");
-    a.push_back(test::sourceDir() + "/config/scenes/" + scene + ".toml");
-    a.insert(a.end(), {"--port", "0"});
-    a.insert(a.end(), extra.begin(), extra.end());
-    return a;
-}
-
-// The counts a stopped server printed: "N malformed messages refused (M oversized)", "K commands".
-long long printed(const std::string& out, const std::string& what) {
-    std::smatch m;
-    const std::regex re("([0-9]+) " + what);
-    return std::regex_search(out, m, re) ? std::stoll(m[1]) : -1;
+    return test::serverCommand(ranks, test::sourceDir() + "/config/scenes/" + scene + ".toml", extra);
 }
 
 // Stops the server with SIGINT and checks that rank 0 shut down cleanly (mpirun itself exits 1
@@ -209,8 +197,8 @@ TEST_CASE("malformed, truncated and oversized messages are refused and counted, 
     stopCleanly(srv);
     const std::string out = srv.output();
     INFO(out);
-    CHECK(printed(out, "malformed messages refused") >= sent);
-    CHECK(printed(out, "oversized\\)") >= oversized);
+    CHECK(test::printedCount(out, "malformed messages refused") >= sent);
+    CHECK(test::printedCount(out, "oversized\\)") >= oversized);
 }
 
 TEST_CASE("a recorded session replayed at the same rank count reproduces every frame bit for bit", "[net][replay]") {
@@ -383,7 +371,7 @@ TEST_CASE("with CURVE on, a client without the server's key gets nothing and com
     CHECK(plainCode != 0);
     CHECK(plainOut.find("--client-key: needs --server-key") != std::string::npos);
     stopCleanly(srv);
-    CHECK(printed(srv.output(), "commands") == 0);  // none reached the server
+    CHECK(test::printedCount(srv.output(), "commands") == 0);  // none reached the server
 }
 
 TEST_CASE("with a list of client keys, only listed clients get in", "[net][curve]") {
@@ -415,8 +403,8 @@ TEST_CASE("with a list of client keys, only listed clients get in", "[net][curve
     CHECK_THROWS_WITH(anonymous.connect(srv.endpoint(), 2s), Catch::Contains("no SceneInfo"));
     stopCleanly(srv);
     INFO(srv.output());
-    CHECK(printed(srv.output(), "peers refused") >= 2);
-    CHECK(printed(srv.output(), "commands") == 0);
+    CHECK(test::printedCount(srv.output(), "peers refused") >= 2);
+    CHECK(test::printedCount(srv.output(), "commands") == 0);
 }
 
 TEST_CASE("a subscriber that never reads leaves the server's step rate alone", "[net][slow]") {

@@ -25,16 +25,7 @@ using namespace std::chrono_literals;
 namespace {
 
 std::vector<std::string> server(const std::string& scene, std::vector<std::string> extra) {
-    std::vector<std::string> a{test::mpiexec(),
-                               "-np",
-                               "2",
-                               "--oversubscribe",
-                               test::buildDir() + "/dynamics_server/bop-server",
-                               test::sourceDir() + "/config/scenes/" + scene + ".toml",
-                               "--port",
-                               "0"};
-    a.insert(a.end(), extra.begin(), extra.end());
-    return a;
+    return test::serverCommand(2, test::sourceDir() + "/config/scenes/" + scene + ".toml", extra);
 }
 
 struct Rgb {
@@ -205,14 +196,25 @@ TEST_CASE("bop-viewer reconnects on its own when the server is lost and another 
         return n == 0 ? 0 : n - 1;
     };
     for (int k = 0; k < 300 && lines() < 2; ++k) std::this_thread::sleep_for(50ms);
-    first->stop(SIGINT);
+    const int firstCode = first->stop(SIGINT);
+    const std::string firstOutput = first->output();
     first.reset();
     // It holds its first step until the viewer is back, so its steps start again from 0.
     std::vector<std::string> again =
         server("bulk-box", {"--publish-hz", "2", "--wait-for-client", "-o", dir.file("b")});
     again[7] = port;  // "--port", "0" -> the first server's port
-    test::ServerProcess second(again);
+    std::unique_ptr<test::ServerProcess> second;
+    std::string secondError;
+    try {
+        second = std::make_unique<test::ServerProcess>(again);
+    } catch (const std::exception& e) {  // the viewer would wait for it forever: stop the viewer too
+        secondError = e.what();
+        test::runCommand("pkill -INT -f 'bop-viewer .*--out " + out + "'");
+    }
     run.join();
+    INFO("the first server stopped with " << firstCode << ":\n" << firstOutput);
+    INFO("the second server: " << (secondError.empty() ? "started" : secondError));
+    REQUIRE(secondError.empty());
     INFO(viewer.second);
     REQUIRE(viewer.first == 0);
     CHECK(viewer.second.find("(connection 2)") != std::string::npos);
@@ -225,7 +227,7 @@ TEST_CASE("bop-viewer reconnects on its own when the server is lost and another 
     REQUIRE(steps.size() == 6);
     CHECK(std::is_sorted(steps.begin(), steps.end()) == false);
     CHECK(steps.back() > steps[steps.size() - 2]);  // and go on from there
-    second.stop(SIGINT);
+    second->stop(SIGINT);
 }
 
 TEST_CASE("the window viewer under Xvfb draws the served particles and its panel, and takes a screenshot",
