@@ -7,12 +7,17 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <regex>
+#include <sstream>
 #include <stdexcept>
 
+#include <arpa/inet.h>
 #include <fcntl.h>
+#include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,6 +28,38 @@ std::string buildDir() {
 }
 
 namespace {
+// Processes of group `pgid` still running (zombies left to their new parent do not count): the
+// ranks mpirun started live on for a moment after it exits, holding their ports.
+int groupMembersAlive(pid_t pgid) {
+    int n = 0;
+    for (const auto& e : std::filesystem::directory_iterator("/proc")) {
+        std::ifstream stat(e.path() / "stat");
+        std::string text;
+        if (!std::getline(stat, text)) continue;
+        const auto close = text.rfind(')');
+        if (close == std::string::npos) continue;
+        std::istringstream rest(text.substr(close + 1));
+        char state = 0;
+        long ppid = 0, pgrp = 0;
+        if (rest >> state >> ppid >> pgrp && pgrp == pgid && state != 'Z') ++n;
+    }
+    return n;
+}
+
+bool portFree(int type, int port) {
+    const int fd = socket(AF_INET, type, 0);
+    if (fd < 0) return false;
+    const int one = 1;
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);  // as ZeroMQ binds
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(std::uint16_t(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    const bool ok = bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0;
+    close(fd);
+    return ok;
+}
+
 // Open MPI refuses root unless told (CI runs as root) and more ranks than cores unless told.
 void allowMpiAsRoot() {
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
@@ -132,13 +169,28 @@ int ServerProcess::stop(int signal, std::chrono::milliseconds timeout) {
     if (running()) kill(-pid_, signal);
     const auto until = std::chrono::steady_clock::now() + timeout;
     while (running() && std::chrono::steady_clock::now() < until) drain(20);
+    // mpirun may exit before its ranks: their ports are free only once they are gone too.
+    while (groupMembersAlive(pid_) > 0 && std::chrono::steady_clock::now() < until) drain(20);
     drain(0);
-    if (running()) {
+    if (running() || groupMembersAlive(pid_) > 0) {
         kill(-pid_, SIGKILL);
-        waitpid(pid_, &status_, 0);
+        if (running()) waitpid(pid_, &status_, 0);
         return -1;
     }
     return WIFEXITED(status_) ? WEXITSTATUS(status_) : 128 + WTERMSIG(status_);
+}
+
+int freeBasePort() {
+    // Below the kernel's ephemeral range (32768 and up), where no connection or port-0 bind of
+    // another test lands; a start that differs by process spreads parallel tests apart.
+    const int lo = 20000, span = 12000;
+    for (int k = 0; k < span; k += 3) {
+        const int p = lo + (int(getpid()) * 7 + k) % (span - 3);
+        if (portFree(SOCK_STREAM, p) && portFree(SOCK_STREAM, p + 1) && portFree(SOCK_STREAM, p + 2) &&
+            portFree(SOCK_DGRAM, p + 2))
+            return p;
+    }
+    throw std::runtime_error("no three free ports in a row between 20000 and 32000 on 127.0.0.1");
 }
 
 std::string ServerProcess::output() {

@@ -23,8 +23,10 @@ public:
 
     const std::string& endpoint() const { return endpoint_; }  // tcp://127.0.0.1:PORT
     bool running();
-    // Sends `signal` and waits up to `timeout` for the exit; returns the exit code (128 + signal
-    // if killed), or -1 if it did not exit (then it is killed).
+    // Sends `signal` to its process group and waits up to `timeout` for the exit of every process
+    // in it (mpirun's ranks too: their ports are free after); returns the exit code (128 + signal
+    // if killed), or -1 if some did not exit (then the group is killed). mpirun exits with 1 after
+    // a SIGINT or SIGTERM however its ranks ended.
     int stop(int signal, std::chrono::milliseconds timeout = std::chrono::seconds(30));
     // Everything the process printed (stdout and stderr) so far.
     std::string output();
@@ -46,6 +48,10 @@ std::string mpiexec();
 // bop-server's command line at `ranks` ranks (through mpiexec, oversubscribed, above one) serving
 // `scenePath` on an ephemeral port, then `extra`.
 std::vector<std::string> serverCommand(int ranks, const std::string& scenePath, const std::vector<std::string>& extra);
+
+// A base port P for `bop-server --port P` whose P, P+1 and P+2 are free on 127.0.0.1 now, outside
+// the kernel's ephemeral range: a server stopped and started again on it finds its ports free.
+int freeBasePort();
 
 // A count a stopped server printed before `what` ("N malformed messages refused", "K commands"),
 // or -1 if it printed none.
