@@ -1,6 +1,7 @@
 #include "ForceField.hpp"
 
 #include "LjPairLoop.hpp"
+#include "OrientedPairLoop.hpp"
 
 #include <chrono>
 
@@ -24,9 +25,18 @@ float ForceField::curvatureWeight(const Model& model, const Eigen::Vector3d& x, 
 ForceField::ForceField(const Model& model)
     : kernel_(model),
       isVolume_(std::size_t(model.speciesCount()) + 1, 0),
+      isWide_(std::size_t(model.speciesCount()) + 1, 0),
       oriented_(kernel_.anyOriented()),
       skin_(model.integration.skinR0 * kR0) {
-    for (int s = 1; s <= model.speciesCount(); ++s) isVolume_[std::size_t(s)] = !model.isSurface(s);
+    for (int s = 1; s <= model.speciesCount(); ++s) {
+        isVolume_[std::size_t(s)] = !model.isSurface(s);
+        isWide_[std::size_t(s)] = oriented_ && kernel_.orientedSpecies(s);
+    }
+}
+
+double ForceField::listRange() const {
+    const double lj = kernel_.lj().cutoff() + skin_;
+    return oriented_ ? std::max(lj, kernel_.weight().cutoff() + skin_) : lj;
 }
 
 void ForceField::compute(const Model& model, const ProbeState& probe, Particles& p, ForceStats& stats,
@@ -45,7 +55,13 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
     const bool held = heldSinceCompute_;
     heldSinceCompute_ = false;
     if (p.revision != revision_ || !(held || list_.measure(model.box, p.pos, 0.5 * skin_))) {
-        list_.build(model.box, kernel_.cutoff() + skin_, p.pos, haloPos);
+        if (oriented_) {  // the oriented terms' pairs: surface particles with weights, to their cutoff
+            wide_.range = kernel_.weight().cutoff() + skin_;
+            wide_.member.resize(p.size() + haloPos.size());
+            for (std::size_t i = 0; i < p.size(); ++i) wide_.member[i] = isWide_[p.species[i]];
+            for (std::size_t g = 0; g < haloPos.size(); ++g) wide_.member[p.size() + g] = isWide_[halo->species[g]];
+        }
+        list_.build(model.box, kernel_.lj().cutoff() + skin_, p.pos, haloPos, oriented_ ? &wide_ : nullptr);
         list_.measure(model.box, p.pos, 0.5 * skin_);
         revision_ = p.revision;
     }
@@ -119,19 +135,20 @@ void ForceField::gatherEntries(const Model& model, const Particles& p, const Hal
 }
 
 void ForceField::pairForces(Particles& p, const Halo* halo, ForceStats& stats, bool energies) {
-    kernel_.setEnergy(energies);
     const auto& owner = list_.owner();
     const std::size_t ne = list_.entryCount(), n = p.size();
     sf_.assign(ne, Eigen::Vector3d::Zero());
     if (oriented_) st_.assign(ne, Eigen::Vector3d::Zero());
+    // Pairs within the subdomain count whole, pairs with halo ghosts by half (the ghost's owner
+    // counts the other half).
     PairKernel::Sums sums, haloSums;
-    if (!oriented_ && !energies) {
-        const Eigen::Vector3d* e = list_.positions().data();
-        ljForcePairs(kernel_, list_.pairs(), e, ss_.data(), isVolume_.data(), sf_.data(), sums);
-        if (halo) ljForcePairs(kernel_, list_.haloPairs(), e, ss_.data(), isVolume_.data(), sf_.data(), haloSums);
-    } else {
-        generalPairs(list_.pairs(), sums);
-        if (halo) generalPairs(list_.haloPairs(), haloSums);
+    const PairInputs in{list_.positions().data(), ss_.data(), isVolume_.data(), sf_.data()};
+    ljForcePairs(kernel_, list_.pairs(), in, energies, 0, ne, sums);
+    if (halo) ljForcePairs(kernel_, list_.haloPairs(), in, energies, 0, ne, haloSums);
+    if (oriented_) {
+        const OrientedInputs o{sn_.data(), sw_.data(), st_.data()};
+        orientedPairs(kernel_, list_.widePairs(), in, o, energies, 0, ne, sums);
+        if (halo) orientedPairs(kernel_, list_.wideHaloPairs(), in, o, energies, 0, ne, haloSums);
     }
     // Forces on images go to their particles; forces on halo ghosts are their owners' business.
     for (std::size_t k = 0; k < ne; ++k)
@@ -139,33 +156,11 @@ void ForceField::pairForces(Particles& p, const Halo* halo, ForceStats& stats, b
     if (oriented_)
         for (std::size_t k = 0; k < ne; ++k)
             if (owner[k] < n) p.torque[owner[k]] += st_[k];
-    stats.pairEnergy = sums.energy + 0.5 * haloSums.energy;
+    stats.pairEnergy = energies ? sums.energy + 0.5 * haloSums.energy : 0.0;
     stats.virial = sums.virial + 0.5 * haloSums.virial;
     stats.virialVolume = sums.virialVolume + 0.5 * haloSums.virialVolume;
     stats.pairsInRange = sums.inRange + haloSums.inRange;
-}
-
-void ForceField::generalPairs(const NeighbourList::Pairs& pairs, PairKernel::Sums& sums) {
-    const auto& e = list_.positions();
-    const double cut2 = kernel_.cutoff2();
-    const std::uint32_t* nbr = pairs.nbr.data();
-    const std::size_t ne = pairs.start.size() - 1;
-    for (std::uint32_t x = 0; x < ne; ++x) {
-        const Eigen::Vector3d pi = e[x];
-        const int a = ss_[x];
-        const std::uint32_t k1 = pairs.start[x + 1];
-        for (std::uint32_t k = pairs.start[x]; k < k1; ++k) {
-            const std::uint32_t y = nbr[k];
-            const Eigen::Vector3d r = e[y] - pi;
-            const double r2 = r.squaredNorm();
-            if (r2 >= cut2) continue;
-            if (oriented_)
-                kernel_.apply(x, y, a, ss_[y], r, r2, sn_[x], sn_[y], sw_[x], sw_[y], sf_.data(), st_.data(),
-                              isVolume_[std::size_t(a)], isVolume_[ss_[y]], sums);
-            else
-                kernel_.applyLj(x, y, a, ss_[y], r, r2, sf_.data(), isVolume_[std::size_t(a)], isVolume_[ss_[y]], sums);
-        }
-    }
+    stats.orientedPairsInRange = sums.orientedInRange + haloSums.orientedInRange;
 }
 
 void ForceField::computePairsBruteForce(const Model& model, Particles& p, ForceStats& stats) {
@@ -186,6 +181,7 @@ void ForceField::computePairsBruteForce(const Model& model, Particles& p, ForceS
     stats.virial = sums.virial;
     stats.virialVolume = sums.virialVolume;
     stats.pairsInRange = sums.inRange;
+    stats.orientedPairsInRange = sums.orientedInRange;
 }
 
 void ForceField::probeForces(const Model& model, const ProbeState& probe, Particles& p, ForceStats& stats) {

@@ -37,7 +37,8 @@ struct ForceStats {
     // the blood, -3PV for a gas the map alone contains (energy)
     double wallVirial = 0;
     Eigen::Vector3d probeReaction = Eigen::Vector3d::Zero();  // force of the particles on the probe
-    std::size_t pairsInRange = 0;                             // pairs within the largest cutoff
+    std::size_t pairsInRange = 0;                             // pairs within the LJ cutoff
+    std::size_t orientedPairsInRange = 0;                     // pairs with oriented weights within their cutoff
 };
 
 struct PhaseTimes {
@@ -48,8 +49,8 @@ class ForceField {
 public:
     explicit ForceField(const Model& model);
 
-    // Overwrites particles.force and particles.torque. energies = false skips the LJ pair
-    // energy (stats.pairEnergy then holds only the oriented terms' energy). halo: ghosts owned
+    // Overwrites particles.force and particles.torque. energies = false skips the pair
+    // energies (stats.pairEnergy is then 0); the forces do not depend on it. halo: ghosts owned
     // elsewhere; pairs with them count for the particles here, their energy and virial by half.
     void compute(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats,
                  PhaseTimes* times = nullptr, bool energies = true, const Halo* halo = nullptr);
@@ -72,23 +73,25 @@ public:
     static void computePairsBruteForce(const Model& model, Particles& particles, ForceStats& stats);
 
     const NeighbourList& neighbours() const { return list_; }
-    double listRange() const { return kernel_.cutoff() + skin_; }  // cutoff + skin, length units
+    // The largest cutoff + skin (length units): the halo's depth. The LJ pairs are listed to the
+    // LJ cutoff + skin, the oriented ones (surface particles with weights) to theirs.
+    double listRange() const;
 
 private:
     void pairForces(Particles& particles, const Halo* halo, ForceStats& stats, bool energies);
     void gatherEntries(const Model& model, const Particles& particles, const Halo* halo);
     // The co-planar curvature weight at x (1 without a map or for volume species).
     float curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species) const;
-    // Any model, energies or not, over one pair list.
-    void generalPairs(const NeighbourList::Pairs& pairs, PairKernel::Sums& sums);
     void gradientMapForces(const Model& model, Particles& particles, ForceStats& stats);
     void probeForces(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats);
 
     PairKernel kernel_;           // weights and evaluators of this model, built once
     std::vector<char> isVolume_;  // per species number
+    std::vector<char> isWide_;    // per species number: in the oriented (wide) pairs
     bool oriented_ = false;       // some species pair has co-normal or co-planar weights
     double skin_ = 0;             // neighbour-list skin, length units
     NeighbourList list_;
+    NeighbourList::Wide wide_;                    // the members of the last build's wide pairs
     std::uint64_t revision_ = ~std::uint64_t(0);  // particles.revision at the last build
     std::size_t speciesBuild_ = 0;                // list build that ss_ was gathered for
     bool heldSinceCompute_ = false;               // listHolds() said yes since the last compute()

@@ -1,5 +1,7 @@
 #include "LjPairLoop.hpp"
 
+#include "HotLoop.hpp"
+
 namespace bop::core {
 namespace {
 
@@ -12,27 +14,28 @@ struct Weights {
 };
 
 // One pair: LJ force f(r)/r without branches (LjForm::forceOverR), weights per side.
-template <bool OneSpecies>
-inline void onePair(const LjForm& lj, const Weights& w, double cut2, std::size_t x, const Eigen::Vector3d& pi,
-                    std::uint32_t y, const Eigen::Vector3d* e, const std::uint8_t* species, const char* isVolume,
-                    Eigen::Vector3d* f, Eigen::Vector3d& fi, double& virial, double& virialVolume,
-                    std::size_t& inRange) {
-    const Eigen::Vector3d r = e[y] - pi;
+template <bool OneSpecies, bool Energy>
+[[gnu::always_inline]] inline void onePair(const LjForm& lj, const Weights& w, double cut2, std::size_t x,
+                                           const Eigen::Vector3d& pi, std::uint32_t y, const PairInputs& in,
+                                           Eigen::Vector3d& fi, PairKernel::Sums& s) {
+    const Eigen::Vector3d r = in.e[y] - pi;
     const double r2 = r.squaredNorm();
     if (r2 >= cut2) return;
-    ++inRange;
+    ++s.inRange;
     const double fr = lj.forceOverR(r2);
-    const std::size_t a = species[x], b = species[y];
-    f[y] += ((OneSpecies ? w.wF11 : w.wF[b * w.side + a]) * fr) * r;
+    const std::size_t a = in.species[x], b = in.species[y];
+    in.f[y] += ((OneSpecies ? w.wF11 : w.wF[b * w.side + a]) * fr) * r;
     fi -= ((OneSpecies ? w.wF11 : w.wF[a * w.side + b]) * fr) * r;
-    const double v = (OneSpecies ? w.wE11 : w.wE[a * w.side + b]) * fr * r2;
-    virial += v;
-    if (isVolume[a] & isVolume[b]) virialVolume += v;
+    const double wE = OneSpecies ? w.wE11 : w.wE[a * w.side + b];
+    const double v = wE * fr * r2;
+    s.virial += v;
+    if (in.isVolume[a] & in.isVolume[b]) s.virialVolume += v;
+    if constexpr (Energy) s.energy += wE * lj.energyOfR2(r2);
 }
 
-template <bool OneSpecies>
-void loop(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const Eigen::Vector3d* e,
-          const std::uint8_t* species, const char* isVolume, Eigen::Vector3d* f, PairKernel::Sums& sums) {
+template <bool OneSpecies, bool Energy>
+[[gnu::always_inline]] inline void loop(const PairKernel& kernel, const NeighbourList::Pairs& pairs,
+                                        const PairInputs& in, std::size_t x0, std::size_t x1, PairKernel::Sums& sums) {
     const LjForm lj = kernel.lj();
     const double cut2 = lj.cutoff2();
     const std::size_t side = std::size_t(kernel.tableSide());
@@ -40,31 +43,31 @@ void loop(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const Eig
                     kernel.ljEnergyWeights()[side + 1]};
     const std::uint32_t* nbr = pairs.nbr.data();
     const std::uint32_t* start = pairs.start.data();
-    double virial = 0, virialVolume = 0;
-    std::size_t inRange = 0;
-    const std::size_t ne = pairs.start.size() - 1;
-    for (std::size_t x = 0; x < ne; ++x) {
-        const Eigen::Vector3d pi = e[x];  // a copy: the force stores may alias e
+    PairKernel::Sums s;  // in registers, not through the reference
+    for (std::size_t x = x0; x < x1; ++x) {
+        const Eigen::Vector3d pi = in.e[x];  // a copy: the force stores may alias e
         Eigen::Vector3d fi = Eigen::Vector3d::Zero();
         const std::uint32_t k1 = start[x + 1];
         for (std::uint32_t k = start[x]; k < k1; ++k)
-            onePair<OneSpecies>(lj, w, cut2, x, pi, nbr[k], e, species, isVolume, f, fi, virial, virialVolume, inRange);
-        f[x] += fi;
+            onePair<OneSpecies, Energy>(lj, w, cut2, x, pi, nbr[k], in, fi, s);
+        in.f[x] += fi;
     }
-    sums.virial += virial;
-    sums.virialVolume += virialVolume;
-    sums.inRange += inRange;
+    sums.energy += s.energy;
+    sums.virial += s.virial;
+    sums.virialVolume += s.virialVolume;
+    sums.inRange += s.inRange;
 }
 
 }  // namespace
 
-void ljForcePairs(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const Eigen::Vector3d* e,
-                  const std::uint8_t* species, const char* isVolume, Eigen::Vector3d* f, PairKernel::Sums& sums) {
-    if (pairs.start.size() < 2) return;
-    if (kernel.tableSide() == 2)
-        loop<true>(kernel, pairs, e, species, isVolume, f, sums);
-    else
-        loop<false>(kernel, pairs, e, species, isVolume, f, sums);
+BOP_HOT_LOOP void ljForcePairs(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const PairInputs& in,
+                               bool energies, std::size_t x0, std::size_t x1, PairKernel::Sums& sums) {
+    if (pairs.start.size() < 2 || x0 >= x1) return;
+    const bool one = kernel.tableSide() == 2;
+    if (one && !energies) loop<true, false>(kernel, pairs, in, x0, x1, sums);
+    if (one && energies) loop<true, true>(kernel, pairs, in, x0, x1, sums);
+    if (!one && !energies) loop<false, false>(kernel, pairs, in, x0, x1, sums);
+    if (!one && energies) loop<false, true>(kernel, pairs, in, x0, x1, sums);
 }
 
 }  // namespace bop::core

@@ -1,17 +1,27 @@
 #pragma once
-// The pair loop of models without oriented weights on steps that report no energy: LJ forces
-// alone over the neighbour list, the hot loop of bulk material, with the species weights looked
-// up per pair only when there is more than one species. The forces equal PairKernel::applyLj's
-// to rounding. (Measured on this project's machine: two pairs at a time in SSE2 registers and
-// batches that vectorise f(r)/r were no faster; the loop is bound by loads and stores.)
+// The LJ pair loop: LJ forces over the short neighbour list (every pair within the LJ cutoff
+// plus skin), the hot loop of bulk material and of a bag's volume, with the species weights
+// looked up per pair only when there is more than one species. Its forces are LjForm's
+// forceOverR() whether or not energies are asked for, so a trajectory does not depend on the
+// steps that report. (Measured on this project's machine: two pairs at a time in SSE2 registers
+// and batches that vectorise f(r)/r were no faster; the loop is bound by loads and stores.)
 #include "NeighbourList.hpp"
 #include "PairKernel.hpp"
 
 namespace bop::core {
 
-// Adds the forces of the pairs to f (one per neighbour-list entry) and their virial and count
-// to sums. e, species: per entry; isVolume: per species number.
-void ljForcePairs(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const Eigen::Vector3d* e,
-                  const std::uint8_t* species, const char* isVolume, Eigen::Vector3d* f, PairKernel::Sums& sums);
+// What a pair loop reads, per neighbour-list entry (e, species) and per species number
+// (isVolume), and where it adds forces (f, per entry; with torques t for the oriented loop).
+struct PairInputs {
+    const Eigen::Vector3d* e;
+    const std::uint8_t* species;
+    const char* isVolume;
+    Eigen::Vector3d* f;
+};
+
+// Adds the LJ forces of rows [x0, x1) of `pairs` to in.f and their virial, count and (with
+// `energies`) energy to sums.
+void ljForcePairs(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const PairInputs& in, bool energies,
+                  std::size_t x0, std::size_t x1, PairKernel::Sums& sums);
 
 }  // namespace bop::core

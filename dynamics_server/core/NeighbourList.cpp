@@ -11,9 +11,50 @@
 
 namespace bop::core {
 
+namespace {
+
+// Sorts entry x's neighbours [from, end) nearest first (ties by index): the pair loop's cutoff
+// test then changes outcome once per entry, which the branch predictor follows.
+void nearestFirst(std::vector<std::uint32_t>& list, std::uint32_t from, std::uint32_t x,
+                  const std::vector<Eigen::Vector3d>& pos, std::size_t to = ~std::size_t(0)) {
+    const auto end = to == ~std::size_t(0) ? list.end() : list.begin() + std::ptrdiff_t(to);
+    std::sort(list.begin() + from, end, [&](std::uint32_t u, std::uint32_t v) {
+        const double du = (pos[u] - pos[x]).squaredNorm(), dv = (pos[v] - pos[x]).squaredNorm();
+        return du < dv || (du == dv && u < v);
+    });
+}
+
+void checkSize(const NeighbourList::Pairs& a, const NeighbourList::Pairs& b) {
+    if (a.nbr.size() >= std::numeric_limits<std::uint32_t>::max() ||
+        b.nbr.size() >= std::numeric_limits<std::uint32_t>::max())
+        throw std::length_error("neighbour list: more than 2^32 pairs in one process; use more ranks");
+}
+
+}  // namespace
+
+int NeighbourList::kind(std::uint32_t x, std::uint32_t y) const {
+    // Newton pairs: particle-particle, and particle-image kept only between the smaller particle
+    // index and the image of the other (the pair appears once each way); two images never pair.
+    // Halo pairs: a particle (not an image of it: that would count the pair twice) with a halo
+    // ghost or its image; two ghosts never pair.
+    const std::size_t n = particles_;
+    const bool ghostX = owner_[x] >= n, ghostY = owner_[y] >= n;
+    if (ghostX && ghostY) return 0;
+    if (ghostX || ghostY) return (ghostX ? image_[y] : image_[x]) ? 0 : 2;
+    if (image_[x] && image_[y]) return 0;
+    if (image_[x] != image_[y] && (image_[x] ? owner_[y] > owner_[x] : owner_[x] > owner_[y])) return 0;
+    return 1;
+}
+
 void NeighbourList::build(const Box& box, double range, const std::vector<Eigen::Vector3d>& pos,
-                          const std::vector<Eigen::Vector3d>& halo) {
+                          const std::vector<Eigen::Vector3d>& halo, const Wide* wide) {
+    if (wide && wide->member.size() != pos.size() + halo.size())
+        throw std::invalid_argument("neighbour list: wide members given for " + std::to_string(wide->member.size()) +
+                                    " entries, not the " + std::to_string(pos.size() + halo.size()) +
+                                    " particles and ghosts");
     range_ = range;
+    wideRange_ = wide ? wide->range : 0.0;
+    const double reach = std::max(range_, wideRange_);  // of the images and of the box's extension
     particles_ = pos.size();
     halo_ = halo.size();
     ++builds_;
@@ -33,28 +74,28 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
     for (int a = 0; a < 3; ++a) {
         if (!box.periodic[std::size_t(a)]) {
             if (!halo.empty()) {  // room for the ghosts beyond the faces
-                extended.lo[a] -= range;
-                extended.hi[a] += range;
+                extended.lo[a] -= reach;
+                extended.hi[a] += reach;
             }
             continue;
         }
-        if (L[a] < 2.0 * range)
+        if (L[a] < 2.0 * reach)
             throw std::invalid_argument("periodic box side " + std::to_string(L[a]) +
-                                        " is shorter than twice the neighbour range " + std::to_string(range) +
+                                        " is shorter than twice the neighbour range " + std::to_string(reach) +
                                         " (cutoff + skin): enlarge the box");
         for (auto& x : raw) x[a] -= L[a] * std::floor((x[a] - box.lo[a]) / L[a]);
         const std::size_t m = raw.size();
         for (std::size_t k = 0; k < m; ++k) {
             const double x = raw[k][a];
-            const double shift = x < box.lo[a] + range ? L[a] : x >= box.hi[a] - range ? -L[a] : 0.0;
+            const double shift = x < box.lo[a] + reach ? L[a] : x >= box.hi[a] - reach ? -L[a] : 0.0;
             if (shift == 0.0) continue;
             Eigen::Vector3d image = raw[k];
             image[a] += shift;
             raw.push_back(image);
             rawOwner.push_back(rawOwner[k]);
         }
-        extended.lo[a] -= range;
-        extended.hi[a] += range;
+        extended.lo[a] -= reach;
+        extended.hi[a] += reach;
     }
 
     CellList cells;
@@ -64,64 +105,88 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
     owner_.resize(ne);
     pos_.resize(ne);
     shift_.resize(ne);
-    std::vector<char> image(ne);
+    image_.resize(ne);
     for (std::size_t k = 0; k < ne; ++k) {
         owner_[k] = rawOwner[order[k]];
         pos_[k] = raw[order[k]];
         shift_[k] = pos_[k] - now_[owner_[k]];
-        image[k] = order[k] >= originals;
+        image_[k] = order[k] >= originals;
     }
 
-    // Newton pairs: particle-particle, and particle-image kept only between the smaller particle
-    // index and the image of the other (the pair appears once each way); two images never pair.
-    // Halo pairs: a particle (not an image of it: that would count the pair twice) with a halo
-    // ghost or its image; two ghosts never pair.
-    const std::uint32_t n = std::uint32_t(pos.size());
     const double range2 = range * range;
     pairs_.start.assign(ne + 1, 0);
     haloPairs_.start.assign(ne + 1, 0);
     pairs_.nbr.clear();
     haloPairs_.nbr.clear();
-    const auto nearestFirst = [&](std::vector<std::uint32_t>& list, std::uint32_t from, std::uint32_t x) {
-        std::sort(list.begin() + from, list.end(), [&](std::uint32_t u, std::uint32_t v) {
-            const double du = (pos_[u] - pos_[x]).squaredNorm(), dv = (pos_[v] - pos_[x]).squaredNorm();
-            return du < dv || (du == dv && u < v);
-        });
-    };
     std::array<CellList::Neighbour, 14> stencil;
     for (int c = 0; c < cells.cellCount(); ++c) {
         const std::uint32_t b0 = cells.start(c), b1 = cells.start(c + 1);
         if (b0 == b1) continue;
         const int m = cells.halfStencil(c, stencil);
         for (std::uint32_t x = b0; x < b1; ++x) {
-            const bool ghostX = owner_[x] >= n;
             for (int s = 0; s < m; ++s) {
                 const std::uint32_t e0 = cells.start(stencil[std::size_t(s)].cell);
                 const std::uint32_t e1 = cells.start(stencil[std::size_t(s)].cell + 1);
                 for (std::uint32_t y = (s == 0 ? x + 1 : e0); y < e1; ++y) {
-                    const bool ghostY = owner_[y] >= n;
-                    if (ghostX && ghostY) continue;
                     if ((pos_[y] - pos_[x]).squaredNorm() >= range2) continue;
-                    if (ghostX || ghostY) {  // the particle itself, never its image, with the ghost or its image
-                        if (!(ghostX ? image[y] : image[x])) haloPairs_.nbr.push_back(y);
-                        continue;
-                    }
-                    if (image[x] && image[y]) continue;
-                    if (image[x] != image[y] && (image[x] ? owner_[y] > owner_[x] : owner_[x] > owner_[y])) continue;
-                    pairs_.nbr.push_back(y);
+                    const int k = kind(x, y);
+                    if (k == 1) pairs_.nbr.push_back(y);
+                    if (k == 2) haloPairs_.nbr.push_back(y);
                 }
             }
-            // Nearest first: the pair loop's cutoff test then changes outcome once per entry,
-            // which the branch predictor follows.
-            nearestFirst(pairs_.nbr, pairs_.start[x], x);
-            nearestFirst(haloPairs_.nbr, haloPairs_.start[x], x);
-            if (pairs_.nbr.size() >= std::numeric_limits<std::uint32_t>::max() ||
-                haloPairs_.nbr.size() >= std::numeric_limits<std::uint32_t>::max())
-                throw std::length_error("neighbour list: more than 2^32 pairs in one process; use more ranks");
+            nearestFirst(pairs_.nbr, pairs_.start[x], x, pos_);
+            nearestFirst(haloPairs_.nbr, haloPairs_.start[x], x, pos_);
+            checkSize(pairs_, haloPairs_);
             pairs_.start[x + 1] = std::uint32_t(pairs_.nbr.size());
             haloPairs_.start[x + 1] = std::uint32_t(haloPairs_.nbr.size());
         }
     }
+    widePairs_ = {};
+    wideHaloPairs_ = {};
+    if (wide) buildWide(extended, *wide);
+}
+
+void NeighbourList::buildWide(const Box& extended, const Wide& wide) {
+    // The members' entries in their own cells of the wide range; each pair found once through
+    // the half stencil, then filed under its smaller entry index.
+    const std::size_t ne = owner_.size();
+    std::vector<std::uint32_t> members;
+    std::vector<Eigen::Vector3d> at;
+    for (std::uint32_t e = 0; e < ne; ++e)
+        if (wide.member[owner_[e]]) members.push_back(e), at.push_back(pos_[e]);
+    CellList cells;
+    cells.build(extended, wide.range, at);
+    const auto& order = cells.order();
+    const double range2 = wide.range * wide.range;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> found[2];  // Newton, halo: (smaller, larger)
+    std::array<CellList::Neighbour, 14> stencil;
+    for (int c = 0; c < cells.cellCount(); ++c) {
+        const std::uint32_t b0 = cells.start(c), b1 = cells.start(c + 1);
+        if (b0 == b1) continue;
+        const int m = cells.halfStencil(c, stencil);
+        for (std::uint32_t u = b0; u < b1; ++u)
+            for (int s = 0; s < m; ++s) {
+                const std::uint32_t e1 = cells.start(stencil[std::size_t(s)].cell + 1);
+                for (std::uint32_t v = (s == 0 ? u + 1 : cells.start(stencil[std::size_t(s)].cell)); v < e1; ++v) {
+                    const std::uint32_t x = members[order[u]], y = members[order[v]];
+                    if ((pos_[y] - pos_[x]).squaredNorm() >= range2) continue;
+                    const int k = kind(x, y);
+                    if (k > 0) found[k - 1].emplace_back(std::min(x, y), std::max(x, y));
+                }
+            }
+    }
+    Pairs* out[2] = {&widePairs_, &wideHaloPairs_};
+    for (int k = 0; k < 2; ++k) {  // by the smaller entry, then nearest first
+        Pairs& p = *out[k];
+        p.start.assign(ne + 1, 0);
+        for (const auto& [x, _] : found[k]) ++p.start[x + 1];
+        for (std::size_t e = 0; e < ne; ++e) p.start[e + 1] += p.start[e];
+        p.nbr.resize(found[k].size());
+        std::vector<std::uint32_t> fill(p.start.begin(), p.start.end() - 1);
+        for (const auto& [x, y] : found[k]) p.nbr[fill[x]++] = y;
+        for (std::uint32_t e = 0; e < ne; ++e) nearestFirst(p.nbr, p.start[e], e, pos_, p.start[e + 1]);
+    }
+    checkSize(widePairs_, wideHaloPairs_);
 }
 
 bool NeighbourList::measure(const Box& box, const std::vector<Eigen::Vector3d>& pos, double maxMove) {

@@ -13,10 +13,15 @@
 //
 // Entry positions are unwrapped from the moment of the build: a particle that crosses a
 // periodic face keeps a continuous entry position, so every stored pair stays valid.
+//
+// A second, wider set of pairs may be built at the same time over a subset of the entries (the
+// bag's oriented surface particles, whose terms reach 3 r0 while LJ reaches 1.6 r0): the same
+// rules, its own range, stored by the smaller entry index.
 #include "Model.hpp"
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -29,10 +34,18 @@ public:
         std::size_t size() const { return nbr.size(); }
     };
 
+    // The wide pairs: range (simulation length units, at least the list's range) and which
+    // particles, then halo ghosts, take part (member[k] != 0).
+    struct Wide {
+        double range = 0;
+        std::vector<char> member;
+    };
+
     // range: cutoff + skin, simulation length units. Periodic axes need a side of at least
-    // 2 * range (std::invalid_argument otherwise). halo: positions of the halo ghosts.
+    // 2 * the larger range (std::invalid_argument otherwise). halo: positions of the halo
+    // ghosts. wide: also build the wide pairs (widePairs(), wideHaloPairs()).
     void build(const Box& box, double range, const std::vector<Eigen::Vector3d>& pos,
-               const std::vector<Eigen::Vector3d>& halo = {});
+               const std::vector<Eigen::Vector3d>& halo = {}, const Wide* wide = nullptr);
 
     // Displacements since the build. Returns false when the particle count differs from the
     // build or a particle moved farther than maxMove (then build again).
@@ -51,8 +64,9 @@ public:
     std::size_t entryCount() const { return owner_.size(); }
     std::size_t ghostCount() const { return owner_.size() - particles_; }  // images and halo
     std::size_t pairCount() const { return pairs_.size() + haloPairs_.size(); }
+    std::size_t widePairCount() const { return widePairs_.size() + wideHaloPairs_.size(); }
     std::size_t builds() const { return builds_; }
-    double range() const { return range_; }
+    double range() const { return std::max(range_, wideRange_); }  // the larger range: a halo's depth
 
     // Owner of each entry: a particle index below particleCount(), else particleCount() + the
     // index of a halo ghost.
@@ -60,12 +74,19 @@ public:
     const std::vector<Eigen::Vector3d>& positions() const { return pos_; }  // current entry positions
     const Pairs& pairs() const { return pairs_; }                           // Newton pairs: forces to both sides
     const Pairs& haloPairs() const { return haloPairs_; }                   // particle with halo ghost: one side
+    const Pairs& widePairs() const { return widePairs_; }                   // as pairs(), wide members, wide range
+    const Pairs& wideHaloPairs() const { return wideHaloPairs_; }           // as haloPairs(), the same
 
 private:
-    double range_ = 0;
+    // 0: no pair; 1: a Newton pair; 2: a halo pair (entries x, y within range).
+    int kind(std::uint32_t x, std::uint32_t y) const;
+    void buildWide(const Box& extended, const Wide& wide);
+
+    double range_ = 0, wideRange_ = 0;
     std::size_t particles_ = 0, halo_ = 0, builds_ = 0;
     std::vector<std::uint32_t> owner_;
-    Pairs pairs_, haloPairs_;
+    std::vector<char> image_;  // per entry: an image of a particle or ghost across a periodic face
+    Pairs pairs_, haloPairs_, widePairs_, wideHaloPairs_;
     std::vector<Eigen::Vector3d> pos_, shift_;  // entry positions now; entry minus owner at the build
     std::vector<Eigen::Vector3d> built_;        // particle positions at the build
     std::vector<Eigen::Vector3d> now_;          // particles (unwrapped since the build), then halo

@@ -2,6 +2,8 @@
 // The work for one pair (i, j) with r = p_j - p_i: LJ for every pair, co-normal and co-planar
 // for two surface particles; weights alpha_ab to i and alpha_ba to j (paper eqs. 6-8) combined
 // with each species' alpha_f^OP and alpha_tau^OP (eqs. 2-3) into one table per potential.
+// apply() is the reference, pair by pair with energies (the O(N^2) check); the step's loops
+// (LjPairLoop, OrientedPairLoop) read the same tables.
 #include "Model.hpp"
 #include "Potentials.hpp"
 
@@ -46,9 +48,6 @@ public:
         cutoff2_ = std::max(lj_.cutoff2(), m.hasSurfaceSpecies() ? weight_.cutoff2() : 0.0);
     }
 
-    // Whether apply() accumulates energies (the LJ energy of the switch costs a logarithm).
-    void setEnergy(bool on) { energy_ = on; }
-
     double cutoff() const { return std::sqrt(cutoff2_); }
     const LjForm& lj() const { return lj_; }
     int tableSide() const { return n_; }  // species tables are tableSide() x tableSide(), row a, column b
@@ -60,19 +59,36 @@ public:
         return false;
     }
     double cutoff2() const { return cutoff2_; }
+    const OrientedWeight& weight() const { return weight_; }
+    bool curvature() const { return useCurvature_; }  // co-planar terms weighted by the map's curvature
+    // Whether species s has co-normal or co-planar weights with some species (either way).
+    bool orientedSpecies(int s) const {
+        for (int b = 1; b < n_; ++b)
+            if (oriented_[std::size_t(s) * n_ + b] || oriented_[std::size_t(b) * n_ + s]) return true;
+        return false;
+    }
+    // The oriented terms' tables, tableSide() x tableSide(), row a, column b.
+    struct OrientedTables {
+        const double *cnF, *cnT, *cpF, *cpT, *cnE, *cpE;  // as the LJ tables, per term and kind
+        const char* on;                                   // the pair has some oriented weight
+    };
+    OrientedTables orientedTables() const {
+        return {cnF_.data(), cnT_.data(), cpF_.data(), cpT_.data(), cnE_.data(), cpE_.data(), oriented_.data()};
+    }
 
     struct Sums {
         double energy = 0, virial = 0, virialVolume = 0;
-        std::size_t inRange = 0;
+        std::size_t inRange = 0;          // pairs within the LJ cutoff
+        std::size_t orientedInRange = 0;  // pairs with oriented weights within their cutoff
     };
 
     // The LJ part of apply() alone (the whole of it for models without oriented weights).
     inline void applyLj(std::size_t i, std::size_t j, int a, int b, const Eigen::Vector3d& r, double r2,
                         Eigen::Vector3d* f, bool volumeA, bool volumeB, Sums& s) const {
-        ++s.inRange;
         const std::size_t ab = std::size_t(a) * n_ + b, ba = std::size_t(b) * n_ + a;
         double fOverR, e = 0;
-        if (energy_ ? lj_.eval(r2, fOverR, e) : lj_.evalForce(r2, fOverR)) {
+        if (lj_.eval(r2, fOverR, e)) {
+            ++s.inRange;
             const Eigen::Vector3d fj = fOverR * r;
             f[j] += ljF_[ba] * fj;
             f[i] -= ljF_[ab] * fj;
@@ -95,6 +111,7 @@ public:
         const double rlen = std::sqrt(r2);
         double psi, dpsi;
         if (!weight_.eval(rlen, psi, dpsi)) return;
+        ++s.orientedInRange;
         OrientedPair cn, cp;
         coNormal(r, rlen, ni, nj, psi, dpsi, cn);
         const double c = useCurvature_ ? 0.5 * (double(wi) + double(wj)) : 1.0;
@@ -112,7 +129,6 @@ private:
     OrientedWeight weight_;
     int n_;
     bool useCurvature_;
-    bool energy_ = true;
     double cutoff2_ = 0;
     std::vector<double> ljF_, ljE_, cnF_, cnT_, cpF_, cpT_, cnE_, cpE_;
     std::vector<char> oriented_;

@@ -56,30 +56,30 @@ public:
     // r2: squared distance (> 0), length^2. Outputs fOverR = f(r)/r (energy / length^2; the
     // force on j is fOverR * (p_j - p_i)) and the pair energy. Returns false, with both outputs
     // zero, when r2 >= cutoff2().
+    // The force is forceOverR()'s to the last bit: a run's trajectory does not depend on which
+    // steps ask for energies.
     bool eval(double r2, double& fOverR, double& energy) const {
         if (r2 >= rc2_) {
             fOverR = 0.0;
             energy = 0.0;
             return false;
         }
-        const double inv2 = 1.0 / r2;
-        const double r = std::sqrt(r2);
-        const double inv = 1.0 / r;
-        const double f = 4.5 * inv2 * inv2 - 1.5 * inv2;  // unmodified f(r)
-        if (r2 <= rOn2_) {
-            fOverR = (f - fShift_) * inv;
-            energy = 1.5 * (inv2 * inv - inv) + fShift_ * r + c_;
-        } else {
-            const double t = (r - rOn_) * invWidth_;
-            const double s = 1.0 + t * t * (2.0 * t - 3.0);
-            fOverR = f * s * inv;
-            energy = switchedEnergy(r, inv, inv2);
-        }
+        fOverR = forceOverR(r2);
+        energy = energyOfR2(r2);
         return true;
     }
 
-    // f(r)/r for r2 < cutoff2() (the caller has checked), without branches: the LJ-only pair
-    // loop's fast path. Below the switch t clamps to 0 (S = 1); without a switch invWidth_ is 0.
+    // The energy alone for r2 < cutoff2() (the caller has checked), energy units.
+    double energyOfR2(double r2) const {
+        const double inv2 = 1.0 / r2;
+        const double r = std::sqrt(r2);
+        const double inv = 1.0 / r;
+        if (r2 <= rOn2_) return 1.5 * (inv2 * inv - inv) + fShift_ * r + c_;
+        return switchedEnergy(r, inv, inv2);
+    }
+
+    // f(r)/r for r2 < cutoff2() (the caller has checked), without branches: the pair loops'
+    // path. Below the switch t clamps to 0 (S = 1); without a switch invWidth_ is 0.
     double forceOverR(double r2) const {
         const double inv2 = 1.0 / r2;  // the division and the root run side by side
         const double r = std::sqrt(r2);
@@ -136,6 +136,11 @@ public:
     const OrientedParams& params() const { return params_; }
     double cutoff() const { return rc_; }    // length
     double cutoff2() const { return rc2_; }  // length^2
+
+    double taperOn() const { return rOn_; }             // length
+    double invTaperWidth() const { return invWidth_; }  // 1/length
+    double invTwoSigma2() const { return inv2s2_; }     // 1 / (2 sigma^2), 1/length^2
+    double invSigma2() const { return invS2_; }         // 1/length^2
 
     // r: distance, length. Outputs psi (dimensionless) and dpsi = dpsi/dr (1/length). Returns
     // false, with both zero, when r >= cutoff().

@@ -72,6 +72,7 @@ double bruteForceError(const Model& m, ForceField& field, Particles& p, bool ene
     }
     ForceField::computePairsBruteForce(m, q, b);
     REQUIRE(a.pairsInRange == b.pairsInRange);
+    REQUIRE(a.orientedPairsInRange == b.orientedPairsInRange);
     CHECK(a.virial == Approx(b.virial).epsilon(1e-11));
     double maxF = 1, err = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -91,8 +92,11 @@ TEST_CASE("the neighbour list holds every pair within range exactly once", "[cor
         box.periodic = {periodic, periodic, periodic};
         const double range = 3.3;
         const auto pts = randomPoints(box, 900, periodic ? 7 : 8);
+        // The wide pairs: two points in three, to a range that reaches farther.
+        NeighbourList::Wide wide{4.9, std::vector<char>(pts.size())};
+        for (std::size_t i = 0; i < pts.size(); ++i) wide.member[i] = i % 3 != 0;
         NeighbourList list;
-        list.build(box, range, pts);
+        list.build(box, range, pts, {}, &wide);
         REQUIRE(list.update(box, pts, 0.1));
         std::set<std::pair<std::uint32_t, std::uint32_t>> found;
         std::size_t duplicates = 0;
@@ -102,14 +106,31 @@ TEST_CASE("the neighbour list holds every pair within range exactly once", "[cor
                 const std::uint32_t i = list.owner()[e], j = list.owner()[pairs.nbr[k]];
                 duplicates += !found.insert({std::min(i, j), std::max(i, j)}).second;
             }
-        std::set<std::pair<std::uint32_t, std::uint32_t>> expected;
+        std::set<std::pair<std::uint32_t, std::uint32_t>> expected, expectedWide, foundWide;
         for (std::uint32_t i = 0; i < pts.size(); ++i)
-            for (std::uint32_t j = i + 1; j < pts.size(); ++j)
-                if (minimumImage(box, pts[j] - pts[i]).norm() < range) expected.insert({i, j});
-        INFO("periodic " << periodic << ": " << expected.size() << " pairs, " << list.ghostCount() << " ghosts");
+            for (std::uint32_t j = i + 1; j < pts.size(); ++j) {
+                const double d = minimumImage(box, pts[j] - pts[i]).norm();
+                if (d < range) expected.insert({i, j});
+                if (d < wide.range && wide.member[i] && wide.member[j]) expectedWide.insert({i, j});
+            }
+        const NeighbourList::Pairs& widePairs = list.widePairs();
+        std::size_t wideDuplicates = 0, wideNotSmaller = 0;
+        for (std::uint32_t e = 0; e < list.entryCount(); ++e)
+            for (std::uint32_t k = widePairs.start[e]; k < widePairs.start[e + 1]; ++k) {
+                const std::uint32_t i = list.owner()[e], j = list.owner()[widePairs.nbr[k]];
+                wideNotSmaller += widePairs.nbr[k] <= e;
+                wideDuplicates += !foundWide.insert({std::min(i, j), std::max(i, j)}).second;
+            }
+        INFO("periodic " << periodic << ": " << expected.size() << " pairs, " << expectedWide.size() << " wide, "
+                         << list.ghostCount() << " ghosts");
         CHECK(duplicates == 0);
         CHECK(found == expected);
         CHECK(expected.size() > 5000);
+        CHECK(wideDuplicates == 0);
+        CHECK(wideNotSmaller == 0);
+        CHECK(foundWide == expectedWide);
+        CHECK(expectedWide.size() > 5000);
+        CHECK(list.range() == wide.range);
         CHECK((list.ghostCount() > 0) == periodic);
     }
 }

@@ -38,8 +38,11 @@ void BatchReport::summary(const core::Simulation& sim, long long steps, double s
     row("integrate", t.integrate);
     row("construction", t.construction);
     const core::NeighbourList& list = sim.forceField().neighbours();
+    const core::ForceStats& f = sim.stats().forces;
     os_ << "neighbour list: built " << list.builds() << " times (set-up included), " << list.pairCount()
-        << " pairs within cutoff + skin, " << list.ghostCount() << " periodic images\n";
+        << " LJ pairs within its cutoff + skin (" << f.pairsInRange << " within the cutoff), " << list.widePairCount()
+        << " oriented pairs within theirs (" << f.orientedPairsInRange << "), " << list.ghostCount()
+        << " periodic images\n";
     const double rate = double(steps) / std::max(seconds, 1e-12);
     os_ << "\n            Surface  Volume   Total   steps/s   particle-steps/s\n"
         << "this run  " << std::setw(9) << surface << std::setw(8) << volume << std::setw(8) << surface + volume

@@ -1,0 +1,24 @@
+#pragma once
+// The oriented pair loop: co-normal and co-planar forces and torques (docs/physics.md §1.2) over
+// the wide neighbour list, which holds only surface particles with oriented weights, within the
+// oriented cutoff plus skin. The LJ part of those pairs is the LJ loop's. Per pair: one
+// exponential and one square root; the taper is branch-free (t clamps to 0 below its start).
+// Forces and torques equal PairKernel::apply's oriented part to rounding.
+#include "LjPairLoop.hpp"
+
+namespace bop::core {
+
+// The oriented loop's further inputs per entry: normals and co-planar curvature weights (1
+// without a map), and where torques go.
+struct OrientedInputs {
+    const Eigen::Vector3d* normal;
+    const float* curvature;
+    Eigen::Vector3d* t;
+};
+
+// Adds the oriented forces and torques of rows [x0, x1) of `pairs` to in.f and o.t, and their
+// virial, count and (with `energies`) energy to sums.
+void orientedPairs(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const PairInputs& in,
+                   const OrientedInputs& o, bool energies, std::size_t x0, std::size_t x1, PairKernel::Sums& sums);
+
+}  // namespace bop::core
