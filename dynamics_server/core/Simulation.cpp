@@ -141,6 +141,7 @@ void Simulation::apply(const Command& c) {
 void Simulation::forces(bool energies) {
     field_.compute(sub_, probe_, p_, stats_.forces, &times_.forces, energies, ex_->hasGhosts() ? &halo_ : nullptr);
     forcesStale_ = false;
+    energiesCurrent_ = energies;
 }
 
 void Simulation::refreshForces() {
@@ -201,7 +202,8 @@ void Simulation::step() {
     exchangeSeconds_ += since(t0);
     ++stats_.step;
     stats_.time += model_->integration.dt;
-    forces(stats_.step % energyEvery_ == 0);
+    forces(energiesNext_ || stats_.step % energyEvery_ == 0);
+    energiesNext_ = false;
     t0 = Clock::now();
     stats_.kinetic = kick(sub_, drag_, p_);
     stats_.blood = bloodSums(sub_, p_);

@@ -97,6 +97,10 @@ public:
     // Compute the LJ pair energy only every n steps (1 = every step, the default); the stats of
     // other steps leave it out. Batch runs set their report period here.
     void setEnergyEvery(long long n) { energyEvery_ = n > 0 ? n : 1; }
+    // The next step computes the energies too (a served run's steps that publish a frame). The
+    // forces do not depend on it.
+    void energiesNextStep() { energiesNext_ = true; }
+    bool energiesCurrent() const { return energiesCurrent_; }  // the last forces came with energies
 
     // The model over this process's region, with its window of the map in force.
     const Model& model() const { return sub_; }
@@ -153,6 +157,7 @@ private:
     StepTimes times_;
     double range_ = 0;  // neighbour-list range, length
     long long energyEvery_ = 1;
+    bool energiesNext_ = false, energiesCurrent_ = false;
     bool forcesStale_ = false;       // a command or setModel changed the weights since the last forces
     std::vector<Command> commands_;  // queued on rank 0
     std::size_t rebuilds_ = 0;

@@ -55,6 +55,12 @@ std::optional<core::SoundSnapshot> DecomposedRun::lastSound() const {
 void DecomposedRun::refreshForces() {
     impl_->simPtr->refreshForces();
 }
+void DecomposedRun::energiesNextStep() {
+    impl_->simPtr->energiesNextStep();
+}
+bool DecomposedRun::energiesCurrent() const {
+    return impl_->simPtr->energiesCurrent();
+}
 void DecomposedRun::setEnergyEvery(long long n) {
     impl_->energyEvery = n;
     impl_->simPtr->setEnergyEvery(n);

@@ -47,6 +47,8 @@ public:
     void step();
     void refreshForces();
     void setEnergyEvery(long long n);
+    void energiesNextStep();                       // core::Simulation's: the next step computes energies too
+    bool energiesCurrent() const;                  // the last forces came with energies (the same on every rank)
     void setProbe(const core::ProbeState& probe);  // the same on every rank
     // On rank 0 only: a command every rank applies at the start of the next step
     // (std::invalid_argument if it is refused, std::logic_error on other ranks).

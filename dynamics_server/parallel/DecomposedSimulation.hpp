@@ -26,6 +26,8 @@ public:
     void run(long long steps) { sim_.run(steps); }
     void refreshForces() { sim_.refreshForces(); }
     void setEnergyEvery(long long n) { sim_.setEnergyEvery(n); }
+    void energiesNextStep() { sim_.energiesNextStep(); }
+    bool energiesCurrent() const { return sim_.energiesCurrent(); }
 
     const core::Particles& particles() const { return sim_.particles(); }  // this rank's
     const core::Halo& halo() const { return sim_.halo(); }

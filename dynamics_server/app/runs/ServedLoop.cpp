@@ -147,7 +147,8 @@ bool ServedLoop::pass() {
         return false;
     }
     if (ctl.step) {
-        run_.step();  // core::UnsoundState leaves here, on every rank
+        if (ctl.publish) run_.energiesNextStep();  // the frame carries them; other steps skip them
+        run_.step();                               // core::UnsoundState leaves here, on every rank
         ++done_, ++rateSteps_;
         if (cardiac_) recordCardiac(*cardiac_, run_, model_);
         if (o_.checkpointEvery > 0 && run_.stepNumber() % o_.checkpointEvery == 0) {
@@ -162,7 +163,8 @@ bool ServedLoop::pass() {
         std::this_thread::sleep_for(idle_);
     }
     if (!ctl.feedback && !ctl.publish) return true;
-    const parallel::Totals t = run_.totals();  // collective
+    if (ctl.publish && !run_.energiesCurrent()) run_.refreshForces();  // paused: the same forces, with energies
+    const parallel::Totals t = run_.totals();                          // collective
     if (front_ && ctl.feedback)
         front_->offerFeedback({desk_.probeSeq, std::uint64_t(run_.stepNumber()), t.probeReaction, nowNs()});
     if (ctl.publish) publish(t);

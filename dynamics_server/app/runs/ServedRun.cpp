@@ -13,6 +13,7 @@
 #include <csignal>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <thread>
 
 namespace bop::app {
@@ -76,7 +77,9 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
     if (scene.pressure && mapHeader) cardiac.emplace(scene, *mapHeader, run.frameVolumes());
     const bool root = run.rank() == 0;
     run.setProbe(scene.probe);
-    run.setEnergyEvery(1);  // frames carry the energies
+    // Frames carry the energies: the steps that publish one compute them (ServedLoop), the others
+    // do not.
+    run.setEnergyEvery(std::numeric_limits<long long>::max());
     run.refreshForces();
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
