@@ -1,7 +1,6 @@
 #include "ForceField.hpp"
 
-#include "LjPairLoop.hpp"
-#include "OrientedPairLoop.hpp"
+#include "Threads.hpp"
 
 #include <chrono>
 
@@ -15,7 +14,7 @@ double since(Clock::time_point t) {
 
 }  // namespace
 
-float ForceField::curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species) const {
+float ForceField::curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species) {
     if (!model.map || !model.isSurface(species)) return 1.0f;
     const GradientMap& map = *model.map;
     const double h = voxelLength(map.r0Voxels);
@@ -44,10 +43,10 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
     static const std::vector<Eigen::Vector3d> kNoHalo;
     const std::vector<Eigen::Vector3d>& haloPos = halo ? halo->pos : kNoHalo;
     stats = ForceStats{};
-    for (std::size_t i = 0; i < p.size(); ++i) {
+    forEachIndex(p.size(), [&](std::size_t i) {
         p.force[i].setZero();
         p.torque[i].setZero();
-    }
+    });
     auto t0 = Clock::now();
     gradientMapForces(model, p, stats);
     if (times) times->gradientMap += since(t0);
@@ -95,7 +94,7 @@ void ForceField::gradientMapForces(const Model& model, Particles& p, ForceStats&
     const double w = blendMap_ ? blendW_ : 0.0;
     const Dims& whole = model.map->wholeDims();
     const Eigen::Vector3d centre = 0.5 * Eigen::Vector3d(whole.nx, whole.ny, whole.nz) * field_->voxelSize();
-    for (std::size_t i = 0; i < p.size(); ++i) {
+    stats.wallVirial = sumIndex(p.size(), [&](std::size_t i) {  // each particle on its own: on the threads
         const Species& sp = model.species[p.species[i]];
         core::GmSample g = field_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
         if (w > 0) {  // keyframes: on the way to the next frame's shape
@@ -104,12 +103,13 @@ void ForceField::gradientMapForces(const Model& model, Particles& p, ForceStats&
             g.torque = (1 - w) * g.torque + w * n.torque;
         }
         p.force[i] += sp.alphaForceGm * g.force;
-        if (sp.kind == ParticleKind::Volume) stats.wallVirial += (p.pos[i] - centre).dot(sp.alphaForceGm * g.force);
         if (sp.kind == ParticleKind::Surface) {
             p.torque[i] += sp.alphaTorqueGm * g.torque;
             if (oriented_) cpWeight_[i] = curvatureWeight(model, p.pos[i], p.species[i]);
+            return 0.0;
         }
-    }
+        return (p.pos[i] - centre).dot(sp.alphaForceGm * g.force);
+    });
 }
 
 void ForceField::gatherEntries(const Model& model, const Particles& p, const Halo* halo) {
@@ -137,19 +137,15 @@ void ForceField::gatherEntries(const Model& model, const Particles& p, const Hal
 void ForceField::pairForces(Particles& p, const Halo* halo, ForceStats& stats, bool energies) {
     const auto& owner = list_.owner();
     const std::size_t ne = list_.entryCount(), n = p.size();
-    sf_.assign(ne, Eigen::Vector3d::Zero());
-    if (oriented_) st_.assign(ne, Eigen::Vector3d::Zero());
+    sf_.resize(ne);
+    if (oriented_) st_.resize(ne);
+    if (chunkedBuild_ != list_.builds()) chunks_.plan(list_, oriented_), chunkedBuild_ = list_.builds();
     // Pairs within the subdomain count whole, pairs with halo ghosts by half (the ghost's owner
     // counts the other half).
     PairKernel::Sums sums, haloSums;
     const PairInputs in{list_.positions().data(), ss_.data(), isVolume_.data(), sf_.data()};
-    ljForcePairs(kernel_, list_.pairs(), in, energies, 0, ne, sums);
-    if (halo) ljForcePairs(kernel_, list_.haloPairs(), in, energies, 0, ne, haloSums);
-    if (oriented_) {
-        const OrientedInputs o{sn_.data(), sw_.data(), st_.data()};
-        orientedPairs(kernel_, list_.widePairs(), in, o, energies, 0, ne, sums);
-        if (halo) orientedPairs(kernel_, list_.wideHaloPairs(), in, o, energies, 0, ne, haloSums);
-    }
+    const OrientedInputs o{sn_.data(), sw_.data(), st_.data()};
+    chunks_.run(kernel_, list_, in, o, energies, halo != nullptr, sums, haloSums);
     // Forces on images go to their particles; forces on halo ghosts are their owners' business.
     for (std::size_t k = 0; k < ne; ++k)
         if (owner[k] < n) p.force[owner[k]] += sf_[k];
@@ -166,6 +162,7 @@ void ForceField::pairForces(Particles& p, const Halo* halo, ForceStats& stats, b
 void ForceField::computePairsBruteForce(const Model& model, Particles& p, ForceStats& stats) {
     const PairKernel kernel(model);
     std::vector<float> w(p.size(), 1.0f);
+    for (std::size_t i = 0; i < p.size(); ++i) w[i] = curvatureWeight(model, p.pos[i], p.species[i]);
     PairKernel::Sums sums;
     const Eigen::Vector3d L = model.box.size();
     for (std::size_t i = 0; i < p.size(); ++i)

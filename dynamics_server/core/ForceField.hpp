@@ -5,6 +5,7 @@
 // gradient-map forces and torques, and the probe particle.
 #include "Model.hpp"
 #include "NeighbourList.hpp"
+#include "PairChunks.hpp"
 #include "PairKernel.hpp"
 #include "Particles.hpp"
 
@@ -69,10 +70,14 @@ public:
         blendMap_ = w > 0 ? next : nullptr, blendW_ = w;
     }
 
-    // Reference O(N^2) pair forces (for tests): same weights, no cell lists.
+    // Reference O(N^2) pair forces (for tests): same weights (the map's curvature weights too),
+    // no cell lists, PairKernel::apply pair by pair.
     static void computePairsBruteForce(const Model& model, Particles& particles, ForceStats& stats);
 
+    // The co-planar curvature weight at x (1 without a map or for volume species).
+    static float curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species);
     const NeighbourList& neighbours() const { return list_; }
+    std::size_t pairChunks() const { return chunks_.count(); }  // the pair loops' pieces of work
     // The largest cutoff + skin (length units): the halo's depth. The LJ pairs are listed to the
     // LJ cutoff + skin, the oriented ones (surface particles with weights) to theirs.
     double listRange() const;
@@ -80,8 +85,6 @@ public:
 private:
     void pairForces(Particles& particles, const Halo* halo, ForceStats& stats, bool energies);
     void gatherEntries(const Model& model, const Particles& particles, const Halo* halo);
-    // The co-planar curvature weight at x (1 without a map or for volume species).
-    float curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species) const;
     void gradientMapForces(const Model& model, Particles& particles, ForceStats& stats);
     void probeForces(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats);
 
@@ -91,7 +94,9 @@ private:
     bool oriented_ = false;       // some species pair has co-normal or co-planar weights
     double skin_ = 0;             // neighbour-list skin, length units
     NeighbourList list_;
-    NeighbourList::Wide wide_;                    // the members of the last build's wide pairs
+    NeighbourList::Wide wide_;  // the members of the last build's wide pairs
+    PairChunks chunks_;         // the pair loops on the threads, planned per list build
+    std::size_t chunkedBuild_ = 0;
     std::uint64_t revision_ = ~std::uint64_t(0);  // particles.revision at the last build
     std::size_t speciesBuild_ = 0;                // list build that ss_ was gathered for
     bool heldSinceCompute_ = false;               // listHolds() said yes since the last compute()

@@ -1,5 +1,7 @@
 #include "Integrator.hpp"
 
+#include "Threads.hpp"
+
 #include <cmath>
 
 namespace bop::core {
@@ -34,7 +36,7 @@ void kickDrift(const Model& model, const DragFactors& decay, Particles& p, bool 
     const double dt = model.integration.dt, half = 0.5 * dt, invI = 1.0 / model.integration.inertia;
     const Eigen::Vector3d lo = model.box.lo, hi = model.box.hi, L = model.box.size();
     const bool anyPeriodic = wrap && (model.box.periodic[0] || model.box.periodic[1] || model.box.periodic[2]);
-    for (std::size_t i = 0; i < p.size(); ++i) {
+    forEachIndex(p.size(), [&](std::size_t i) {  // each particle on its own: on the threads
         const int s = p.species[i];
         p.vel[i] = decay.v[std::size_t(s)] * p.vel[i] + half * p.force[i];
         limit(p.vel[i], decay.maxSpeed2);
@@ -43,27 +45,26 @@ void kickDrift(const Model& model, const DragFactors& decay, Particles& p, bool 
             for (int a = 0; a < 3; ++a)
                 if (model.box.periodic[std::size_t(a)] && (p.pos[i][a] < lo[a] || p.pos[i][a] >= hi[a]))
                     p.pos[i][a] -= L[a] * std::floor((p.pos[i][a] - lo[a]) / L[a]);
-        if (!model.isSurface(s)) continue;
+        if (!model.isSurface(s)) return;
         p.omega[i] = decay.w[std::size_t(s)] * p.omega[i] + half * invI * p.torque[i];
         limit(p.omega[i], decay.maxSpin2);
         p.q[i] = (rotation(dt * p.omega[i]) * p.q[i]).normalized();
         p.normal[i] = p.q[i] * Eigen::Vector3d::UnitZ();
-    }
+    });
 }
 
 double kick(const Model& model, const DragFactors& decay, Particles& p) {
     const double half = 0.5 * model.integration.dt, invI = 1.0 / model.integration.inertia;
-    double twiceKinetic = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
+    const double twiceKinetic = sumIndex(p.size(), [&](std::size_t i) {  // on the threads, summed in fixed blocks
         const int s = p.species[i];
         p.vel[i] = decay.v[std::size_t(s)] * (p.vel[i] + half * p.force[i]);
         limit(p.vel[i], decay.maxSpeed2);
-        twiceKinetic += p.vel[i].squaredNorm();
-        if (!model.isSurface(s)) continue;
+        const double v2 = p.vel[i].squaredNorm();
+        if (!model.isSurface(s)) return v2;
         p.omega[i] = decay.w[std::size_t(s)] * (p.omega[i] + half * invI * p.torque[i]);
         limit(p.omega[i], decay.maxSpin2);
-        twiceKinetic += model.integration.inertia * p.omega[i].squaredNorm();
-    }
+        return v2 + model.integration.inertia * p.omega[i].squaredNorm();
+    });
     return 0.5 * twiceKinetic;
 }
 

@@ -24,7 +24,7 @@ template <bool OneSpecies, bool Energy>
     ++s.inRange;
     const double fr = lj.forceOverR(r2);
     const std::size_t a = in.species[x], b = in.species[y];
-    in.f[y] += ((OneSpecies ? w.wF11 : w.wF[b * w.side + a]) * fr) * r;
+    in.f[y - in.base] += ((OneSpecies ? w.wF11 : w.wF[b * w.side + a]) * fr) * r;
     fi -= ((OneSpecies ? w.wF11 : w.wF[a * w.side + b]) * fr) * r;
     const double wE = OneSpecies ? w.wE11 : w.wE[a * w.side + b];
     const double v = wE * fr * r2;
@@ -50,7 +50,7 @@ template <bool OneSpecies, bool Energy>
         const std::uint32_t k1 = start[x + 1];
         for (std::uint32_t k = start[x]; k < k1; ++k)
             onePair<OneSpecies, Energy>(lj, w, cut2, x, pi, nbr[k], in, fi, s);
-        in.f[x] += fi;
+        in.f[x - in.base] += fi;
     }
     sums.energy += s.energy;
     sums.virial += s.virial;

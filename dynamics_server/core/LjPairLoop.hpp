@@ -11,12 +11,14 @@
 namespace bop::core {
 
 // What a pair loop reads, per neighbour-list entry (e, species) and per species number
-// (isVolume), and where it adds forces (f, per entry; with torques t for the oriented loop).
+// (isVolume), and where it adds forces: f[k - base] for entry k (a chunk's buffer starts at its
+// first row; torques t of the oriented loop alike).
 struct PairInputs {
     const Eigen::Vector3d* e;
     const std::uint8_t* species;
     const char* isVolume;
     Eigen::Vector3d* f;
+    std::size_t base = 0;
 };
 
 // Adds the LJ forces of rows [x0, x1) of `pairs` to in.f and their virial, count and (with

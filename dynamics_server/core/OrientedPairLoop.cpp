@@ -54,15 +54,15 @@ template <bool Energy>
             const double cpsi = c * psi, cdpsi = c * dpsi;
             const double A = ni.dot(r), B = nj.dot(r), ab2 = A * A + B * B;
             const Eigen::Vector3d cpF = (-2.0 * cpsi) * (A * ni + B * nj) - (ab2 * cdpsi * invR) * r;
-            in.f[y] += tab.cnF[ba] * cnF + tab.cpF[ba] * cpF;
+            in.f[y - in.base] += tab.cnF[ba] * cnF + tab.cpF[ba] * cpF;
             fi -= tab.cnF[ab] * cnF + tab.cpF[ab] * cpF;
             ti += tab.cnT[ab] * cnTi + tab.cpT[ab] * ((2.0 * A * cpsi) * r.cross(ni));
-            o.t[y] += tab.cnT[ba] * -cnTi + tab.cpT[ba] * ((2.0 * B * cpsi) * r.cross(nj));
+            o.t[y - in.base] += tab.cnT[ba] * -cnTi + tab.cpT[ba] * ((2.0 * B * cpsi) * r.cross(nj));
             s.virial += tab.cnE[ab] * r.dot(cnF) + tab.cpE[ab] * r.dot(cpF);
             if constexpr (Energy) s.energy += tab.cnE[ab] * (d2 * psi) + tab.cpE[ab] * (ab2 * cpsi);
         }
-        in.f[x] += fi;
-        o.t[x] += ti;
+        in.f[x - in.base] += fi;
+        o.t[x - in.base] += ti;
     }
     sums.energy += s.energy;
     sums.virial += s.virial;

@@ -9,7 +9,7 @@
 namespace bop::core {
 
 // The oriented loop's further inputs per entry: normals and co-planar curvature weights (1
-// without a map), and where torques go.
+// without a map), and where torques go (t[k - base], base PairInputs's).
 struct OrientedInputs {
     const Eigen::Vector3d* normal;
     const float* curvature;

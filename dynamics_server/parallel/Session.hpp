@@ -1,7 +1,8 @@
 #pragma once
 // MPI for a program's lifetime, behind a header without <mpi.h> so that tools outside
 // parallel/ can start and stop it: MPI_Init in the constructor (errors returned, not fatal),
-// MPI_Finalize in the destructor.
+// MPI_Finalize in the destructor. The constructor also sets the threads each rank's loops use
+// (core/Threads.hpp): OMP_NUM_THREADS if set, else this machine's cores over its ranks.
 namespace bop::parallel {
 
 class MpiSession {
@@ -13,6 +14,8 @@ public:
 
     static int worldSize();
     static int worldRank();
+    // Ranks of this job on this rank's machine (MPI_COMM_TYPE_SHARED). Collective.
+    static int ranksOnThisNode();
     // Waits for every rank (set-up steps that one rank does for all, such as the map cache).
     static void barrier();
     // Whether every rank passes true (set-up errors that must stop all ranks alike).

@@ -1,6 +1,7 @@
 // The dynamics core without a shape: cell lists against brute force, momentum conservation,
 // energy conservation of an undamped LJ cluster, exact drag, and deterministic runs.
 #include "core/Simulation.hpp"
+#include "core/Threads.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -185,4 +186,36 @@ TEST_CASE("an undamped cluster of oriented particles conserves energy", "[core][
     }
     INFO("E0 " << e0 << ", largest |E - E0| " << worst << ", final E_kin " << sim.stats().kinetic);
     CHECK(worst < 1e-3 * std::abs(e0));
+}
+
+TEST_CASE("a run's trajectory is the same to the last bit at 1, 2 and 3 threads", "[core][threads]") {
+    // Surface and volume species, asymmetric weights, a periodic box: every pair loop, halo-free.
+    auto m = mixedModel(false, true, true, 16.0);
+    const Particles p = randomParticles(*m, 1500, 0.6, 11);
+    const int before = threadCount();
+    std::vector<Particles> ends;
+    std::vector<double> energies;
+    std::size_t chunks = 0;
+    for (int threads : {1, 2, 3}) {
+        setThreadCount(threads);
+        Simulation sim(m, p, Construction({}, {}, 3));
+        sim.run(150);
+        ends.push_back(sim.particles());
+        energies.push_back(sim.stats().total());
+        chunks = sim.forceField().pairChunks();
+    }
+    setThreadCount(before);
+    INFO("pair chunks " << chunks << ", energies " << energies[0] << " " << energies[1] << " " << energies[2]);
+    CHECK(chunks > 3);  // the work is split: the threads share it
+    for (std::size_t k = 1; k < ends.size(); ++k) {
+        CHECK(ends[k].pos == ends[0].pos);
+        CHECK(ends[k].vel == ends[0].vel);
+        CHECK(ends[k].omega == ends[0].omega);
+        CHECK(ends[k].normal == ends[0].normal);
+        CHECK(energies[k] == energies[0]);
+    }
+    // It moved: the comparison is of trajectories, not of a state at rest.
+    double moved = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) moved = std::max(moved, (ends[0].pos[i] - p.pos[i]).norm());
+    CHECK(moved > 0.01);
 }

@@ -13,12 +13,14 @@
 #include "bop/common/Error.hpp"
 #include "bop/common/GradientMapCrop.hpp"
 #include "bop/common/ToolMain.hpp"
+#include "core/Threads.hpp"
 #include "parallel/Session.hpp"
 #include "security/CurveKeys.hpp"
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -26,6 +28,7 @@
 #include <iostream>
 #include <limits>
 #include <optional>
+#include <thread>
 
 namespace fs = std::filesystem;
 using namespace bop;
@@ -40,6 +43,7 @@ int run(int argc, char** argv) {
         "(docs/parallel.md)"};
     std::string scenePath, outDir, restart, cache;
     long long steps = -1, snapshotEvery = -1, reportEvery = -1;
+    int threads = 0;  // per rank; 0: chosen below
     bool noListen = false, waitForClient = false, readOnlyViewers = false, quantised = false;
     protocol::FrontOptions front;
     app.add_option("scene", scenePath, "scene file (TOML)")->required();
@@ -84,6 +88,9 @@ int run(int argc, char** argv) {
                    "a client's CURVE public key file (bop-keys PREFIX.pub); when "
                    "given, only clients holding one of these keys get in")
         ->check(CLI::ExistingFile);
+    app.add_option("--threads", threads,
+                   "threads per rank (default: OMP_NUM_THREADS, else this machine's cores shared among its ranks)")
+        ->check(CLI::Range(0, 1024));
     app.add_option("--replay-inputs", replayInputs,
                    "apply a recorded session's commands and probes at their steps "
                    "instead of clients' (bop-replay check runs this)");
@@ -101,6 +108,11 @@ int run(int argc, char** argv) {
     spdlog::set_pattern("[bop-server] %v");
     const int ranks = parallel::MpiSession::worldSize();
     if (parallel::MpiSession::worldRank() != 0) spdlog::set_level(spdlog::level::off);
+    const int onNode = parallel::MpiSession::ranksOnThisNode();
+    if (threads > 0) core::setThreadCount(threads);  // else MpiSession's choice
+    spdlog::info("layout: {} rank{} x {} thread{} each ({} rank{} and {} cores on this machine)", ranks,
+                 ranks == 1 ? "" : "s", core::threadCount(), core::threadCount() == 1 ? "" : "s", onNode,
+                 onNode == 1 ? "" : "s", std::thread::hardware_concurrency());
     app::Scene scene = app::loadScene(scenePath);
     if (outDir.empty()) outDir = "out/" + fs::path(scenePath).stem().string();
     if (cache.empty()) cache = outDir + "/gradient-map.bopgm";

@@ -1,0 +1,127 @@
+#include "PairChunks.hpp"
+
+#include <algorithm>
+
+namespace bop::core {
+namespace {
+
+constexpr double kChunkWork = 4000;  // listed pairs per chunk, an oriented one counting 3
+constexpr std::size_t kMaxChunks = 64;
+
+// The largest neighbour in rows [x0, x1) of p, or 0.
+std::uint32_t farthest(const NeighbourList::Pairs& p, std::uint32_t x0, std::uint32_t x1) {
+    std::uint32_t hi = 0;
+    if (p.start.size() < 2) return hi;
+    for (std::uint32_t k = p.start[x0]; k < p.start[x1]; ++k) hi = std::max(hi, p.nbr[k]);
+    return hi;
+}
+
+std::size_t rowLength(const NeighbourList::Pairs& p, std::size_t x) {
+    return p.start.size() < 2 ? 0 : p.start[x + 1] - p.start[x];
+}
+
+}  // namespace
+
+void PairChunks::plan(const NeighbourList& list, bool oriented) {
+    oriented_ = oriented;
+    const std::size_t ne = list.entryCount();
+    const auto work = [&](std::size_t x) {
+        double w = double(rowLength(list.pairs(), x) + rowLength(list.haloPairs(), x));
+        if (oriented) w += 3.0 * double(rowLength(list.widePairs(), x) + rowLength(list.wideHaloPairs(), x));
+        return w + 1.0;
+    };
+    double total = 0;
+    for (std::size_t x = 0; x < ne; ++x) total += work(x);
+    const std::size_t count = std::clamp<std::size_t>(std::size_t(total / kChunkWork), 1, kMaxChunks);
+    chunks_.clear();
+    double done = 0;
+    Chunk c;
+    for (std::size_t x = 0; x < ne; ++x) {
+        done += work(x);
+        const bool last = x + 1 == ne;
+        if (!last && done < total * double(chunks_.size() + 1) / double(count)) continue;
+        c.x1 = std::uint32_t(x + 1);
+        chunks_.push_back(c);
+        c.x0 = c.x1;
+    }
+    std::size_t offset = 0;
+    for (std::size_t k = 0; k < chunks_.size(); ++k) {
+        Chunk& ch = chunks_[k];
+        std::uint32_t hi = ch.x1 > 0 ? ch.x1 - 1 : 0;
+        hi = std::max({hi, farthest(list.pairs(), ch.x0, ch.x1), farthest(list.haloPairs(), ch.x0, ch.x1)});
+        if (oriented)
+            hi = std::max({hi, farthest(list.widePairs(), ch.x0, ch.x1), farthest(list.wideHaloPairs(), ch.x0, ch.x1)});
+        ch.hi = hi + 1;
+        ch.offset = offset;
+        offset += ch.hi - ch.x0;
+        ch.firstCover = std::uint32_t(k);
+        while (ch.firstCover > 0 && chunks_[ch.firstCover - 1].hi > ch.x0) --ch.firstCover;
+        // An earlier chunk may reach past a later one's start without its neighbour doing so.
+        for (std::uint32_t j = 0; j < ch.firstCover; ++j)
+            if (chunks_[j].hi > ch.x0) ch.firstCover = j;
+    }
+    bf_.resize(offset);
+    if (oriented) bt_.resize(offset);
+    sums_.resize(chunks_.size());
+    haloSums_.resize(chunks_.size());
+}
+
+void PairChunks::run(const PairKernel& kernel, const NeighbourList& list, PairInputs in, OrientedInputs o,
+                     bool energies, bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums) {
+    Eigen::Vector3d* f = in.f;
+    Eigen::Vector3d* t = o.t;
+    const std::size_t n = chunks_.size();
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1) if (n > 1)
+#endif
+    for (std::size_t k = 0; k < n; ++k) {
+        const Chunk& c = chunks_[k];
+        PairInputs ci = in;
+        ci.f = bf_.data() + c.offset;
+        ci.base = c.x0;
+        OrientedInputs co = o;
+        std::fill(ci.f, ci.f + (c.hi - c.x0), Eigen::Vector3d::Zero());
+        if (oriented_) {
+            co.t = bt_.data() + c.offset;
+            std::fill(co.t, co.t + (c.hi - c.x0), Eigen::Vector3d::Zero());
+        }
+        PairKernel::Sums s, h;
+        ljForcePairs(kernel, list.pairs(), ci, energies, c.x0, c.x1, s);
+        if (halo) ljForcePairs(kernel, list.haloPairs(), ci, energies, c.x0, c.x1, h);
+        if (oriented_) {
+            orientedPairs(kernel, list.widePairs(), ci, co, energies, c.x0, c.x1, s);
+            if (halo) orientedPairs(kernel, list.wideHaloPairs(), ci, co, energies, c.x0, c.x1, h);
+        }
+        sums_[k] = s;
+        haloSums_[k] = h;
+    }
+    // Entry by entry, the chunks that reach it, in chunk order.
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) if (n > 1)
+#endif
+    for (std::size_t k = 0; k < n; ++k) {
+        const Chunk& own = chunks_[k];
+        for (std::uint32_t e = own.x0; e < own.x1; ++e) {
+            Eigen::Vector3d fe = Eigen::Vector3d::Zero(), te = Eigen::Vector3d::Zero();
+            for (std::uint32_t j = own.firstCover; j <= k; ++j) {
+                const Chunk& c = chunks_[j];
+                if (e >= c.hi) continue;
+                fe += bf_[c.offset + (e - c.x0)];
+                if (oriented_) te += bt_[c.offset + (e - c.x0)];
+            }
+            f[e] = fe;
+            if (oriented_) t[e] = te;
+        }
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+        for (auto [to, from] : {std::pair{&sums, &sums_[k]}, std::pair{&haloSums, &haloSums_[k]}}) {
+            to->energy += from->energy;
+            to->virial += from->virial;
+            to->virialVolume += from->virialVolume;
+            to->inRange += from->inRange;
+            to->orientedInRange += from->orientedInRange;
+        }
+    }
+}
+
+}  // namespace bop::core

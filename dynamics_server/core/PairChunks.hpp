@@ -1,0 +1,43 @@
+#pragma once
+// The pair loops of a step on the threads, with results that do not depend on how many there
+// are. The neighbour list's rows are cut into chunks of about equal work, fixed by the list
+// alone (not by the thread count). Each chunk adds its pairs' forces and torques into its own
+// buffer, which covers its rows and the entries they reach (a pair's second entry always comes
+// after its row, so a buffer runs from the chunk's first row to the farthest entry it touches).
+// The buffers are then summed entry by entry, in chunk order, and the chunks' energies and
+// virials likewise: the same bits at 1, 2 or 16 threads.
+#include "LjPairLoop.hpp"
+#include "OrientedPairLoop.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace bop::core {
+
+class PairChunks {
+public:
+    // Cuts the rows of `list` (after each build); `oriented`: its wide pairs are used too.
+    void plan(const NeighbourList& list, bool oriented);
+
+    // Every loop of the step over every chunk: LJ pairs, oriented pairs (if planned so), and
+    // each one's halo pairs when `halo`. Writes f (and t when oriented) for every entry, and the
+    // sums of the pairs within the subdomain and of those with halo ghosts.
+    void run(const PairKernel& kernel, const NeighbourList& list, PairInputs in, OrientedInputs o, bool energies,
+             bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums);
+
+    std::size_t count() const { return chunks_.size(); }
+
+private:
+    struct Chunk {
+        std::uint32_t x0 = 0, x1 = 0;  // its rows
+        std::uint32_t hi = 0;          // one past the last entry it touches
+        std::size_t offset = 0;        // its buffer in bf_ / bt_
+        std::uint32_t firstCover = 0;  // the first chunk whose buffer may reach x0
+    };
+    std::vector<Chunk> chunks_;
+    bool oriented_ = false;
+    std::vector<Eigen::Vector3d> bf_, bt_;
+    std::vector<PairKernel::Sums> sums_, haloSums_;
+};
+
+}  // namespace bop::core

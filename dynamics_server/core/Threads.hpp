@@ -1,0 +1,63 @@
+#pragma once
+// Threads inside a process (OpenMP from the compiler): loops whose results do not depend on the
+// number of threads. A per-particle loop writes only its particle's values; a sum runs over
+// fixed blocks of kSumBlock items, each summed in order, and the block sums in order, so that the
+// same bits come out at 1, 2 or 16 threads. Without OpenMP the loops run on the calling thread.
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
+namespace bop::core {
+
+inline constexpr std::size_t kSumBlock = 256;   // items per block of a sum
+inline constexpr std::size_t kThreadMin = 256;  // loops shorter than this stay on one thread
+
+inline int threadCount() {
+#if defined(_OPENMP)
+    return omp_get_max_threads();
+#else
+    return 1;
+#endif
+}
+// The threads each later loop uses (at least 1; without OpenMP always 1).
+inline void setThreadCount(int n) {
+#if defined(_OPENMP)
+    omp_set_num_threads(n > 0 ? n : 1);
+#else
+    (void)n;
+#endif
+}
+
+// f(i) for i in [0, n), on the threads.
+template <class F>
+void forEachIndex(std::size_t n, F&& f) {
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) if (n >= kThreadMin)
+#endif
+    for (std::size_t i = 0; i < n; ++i) f(i);
+}
+
+// The sum of f(i) over [0, n) in blocks of kSumBlock: the same at any thread count.
+template <class F>
+double sumIndex(std::size_t n, F&& f) {
+    const std::size_t blocks = (n + kSumBlock - 1) / kSumBlock;
+    std::vector<double> part(blocks, 0.0);
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) if (n >= kThreadMin)
+#endif
+    for (std::size_t b = 0; b < blocks; ++b) {
+        double s = 0;
+        const std::size_t end = std::min(n, (b + 1) * kSumBlock);
+        for (std::size_t i = b * kSumBlock; i < end; ++i) s += f(i);
+        part[b] = s;
+    }
+    double total = 0;
+    for (double s : part) total += s;
+    return total;
+}
+
+}  // namespace bop::core

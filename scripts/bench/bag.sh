@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# The bag's step rate against its size: the torus scene (config/scenes/torus.toml) scaled by
+# SCALE (its mesh's mm per unit; particles grow about as SCALE^3), each built by its own
+# construction timeline (4,000 steps: wall time and births per second), then stepped from its
+# built state at one rank with 1 thread, with 2 threads, and at 2 ranks of 1 thread. Per run:
+# steps/s, ns per particle-step, the pair phase per step (one rank) and the pairs in range of
+# each kind (LJ, oriented), and ns per pair in range (both kinds together).
+#   scripts/bench/bag.sh [SCALE ...]   (default 1 1.4 2; CSV in out/bench/bag.csv)
+#   BOP_BAG_STEPS    steps from the built state (default 2000)
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+scales=("$@"); [[ ${#scales[@]} -gt 0 ]] || scales=(1 1.4 2)
+steps=${BOP_BAG_STEPS:-2000}
+scripts/install-deps.sh >/dev/null
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j "${BOP_JOBS:-2}" --target bop-server >/dev/null
+out=out/bench/bag; mkdir -p "$out"
+csv=out/bench/bag.csv
+echo "scale,surface,volume,particles,construction_s,births_per_s,layout,steps_per_s,ns_per_particle_step,pairs_ms_per_step,lj_pairs,oriented_pairs,ns_per_pair" >"$csv"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+server=build/dynamics_server/bop-server
+printf "%-6s %9s %10s %9s  %-18s %9s %11s %9s %9s %9s %8s\n" scale particles "build s" births/s layout steps/s ns/p-step "pairs ms" "LJ pairs" oriented "ns/pair"
+for s in "${scales[@]}"; do
+  scene=$out/torus-$s.toml
+  sed -e "s|file = \"../models/torus.obj\"|file = \"$PWD/config/models/torus.obj\"|" \
+      -e "s|^scale_mm = 1.0 |scale_mm = $s |" config/scenes/torus.toml >"$scene"
+  grep -q "^scale_mm = $s " "$scene" || { echo "bag.sh: could not set scale_mm in $scene" >&2; exit 1; }
+  echo "bag.sh: building the torus at scale $s (4,000 construction steps)..." >&2
+  start=$(date +%s.%N)
+  "$server" "$scene" --no-listen -o "$out/build-$s" >"$out/build-$s.log" 2>&1
+  built=$(awk -v t0="$start" -v t1="$(date +%s.%N)" 'BEGIN {printf "%.1f", t1 - t0}')
+  read -r surface volume total < <(awk '/^this run/ {print $3, $4, $5}' "$out/build-$s.log")
+  births=$(awk -v t="$built" '/^births/ {gsub(",", "", $2); printf "%.0f", $2 / t}' "$out/build-$s.log")
+  for layout in "1 rank x 1 thread" "1 rank x 2 threads" "2 ranks x 1 thread"; do
+    log=$out/step-$s-${layout// /_}.log
+    case $layout in
+      "1 rank x 1 thread") run=(env OMP_NUM_THREADS=1 "$server") ;;
+      "1 rank x 2 threads") run=(env OMP_NUM_THREADS=2 "$server") ;;
+      *) run=(env OMP_NUM_THREADS=1 mpirun -np 2 --oversubscribe "$server") ;;
+    esac
+    "${run[@]}" "$scene" --restart "$out/build-$s/final.xyz" --steps "$steps" --no-listen -o "$out/step-$s" \
+      --report-every "$steps" >"$log" 2>&1
+    rate=$(awk '/^this run/ {print $6}' "$log")
+    ns=$(awk -v r="$rate" -v n="$total" 'BEGIN {printf "%.0f", 1e9 / (r * n)}')
+    pairs=$(awk '/^pairs / {print $2}' "$log")
+    lj=$(sed -n 's/.*(\([0-9]*\) within the cutoff).*/\1/p' "$log")
+    oriented=$(sed -n 's/.*oriented pairs within theirs (\([0-9]*\)).*/\1/p' "$log")
+    perpair=$(awk -v ms="${pairs:-0}" -v a="${lj:-0}" -v b="${oriented:-0}" 'BEGIN {if (ms > 0 && a + b > 0) printf "%.1f", ms * 1e6 / (a + b); else print ""}')
+    printf "%-6s %9d %10s %9s  %-18s %9.1f %11s %9s %9s %9s %8s\n" "$s" "$total" "$built" "$births" "$layout" "$rate" "$ns" \
+      "${pairs:--}" "${lj:--}" "${oriented:--}" "${perpair:--}"
+    echo "$s,$surface,$volume,$total,$built,$births,$layout,$rate,$ns,${pairs:-},${lj:-},${oriented:-},${perpair:-}" >>"$csv"
+  done
+done
+echo "CSV: $csv; logs: $out/"

@@ -1,0 +1,80 @@
+// The step's pair loops (LJ list, oriented list, chunks on threads) against the O(N^2) reference
+// on a curved bag: two surface species and a volume species, asymmetric weights, and the map's
+// curvature weights on the co-planar terms, which vary along an ellipsoid's surface.
+#include "core/ForceField.hpp"
+#include "shape/ShapeTestUtil.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <random>
+
+using namespace bop;
+using namespace bop::core;
+
+TEST_CASE("the bag's pair loops equal the O(N^2) reference with curvature weights and asymmetric species",
+          "[core][cells][curvature]") {
+    const Dims d{34, 26, 22};
+    auto map = std::make_shared<GradientMap>(test::mapFrom(test::depthFrom(
+        d, {[](const Eigen::Vector3d& x) {
+            const Eigen::Vector3d u = (x - Eigen::Vector3d(17.2, 12.9, 11.1)).cwiseQuotient(Eigen::Vector3d(13, 9, 7));
+            return u.squaredNorm() < 1.0;
+        }})));
+    auto m = std::make_shared<Model>();
+    m->species.assign(4, Species{});
+    m->species[1].kind = m->species[3].kind = ParticleKind::Surface;
+    for (auto& s : m->species) s.alphaForceGm = s.alphaTorqueGm = 0;  // the pairs alone
+    m->lj = WeightMatrix(3, 1.0);
+    m->coNormal = WeightMatrix(3, 0.3);
+    m->coPlanar = WeightMatrix(3, 0.3);
+    m->lj(1, 2) = 0.5;
+    m->lj(2, 1) = 1.5;
+    m->coNormal(1, 3) = 0.1;
+    m->coPlanar(3, 1) = 0.7;
+    m->coPlanar(3, 3) = 0.0;  // a surface pair with co-normal weight only
+    m->species[3].alphaForceOp = 0.8;
+    m->species[1].alphaTorqueOp = 1.3;
+    m->map = map;
+    m->curvatureWeighting = true;
+    const double h = voxelLength(map->r0Voxels);
+    m->box.hi = Eigen::Vector3d(d.nx, d.ny, d.nz) * h;
+
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<double> u(0, 1);
+    Particles p;
+    while (p.size() < 900) {
+        const Eigen::Vector3d x = m->box.hi.cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+        bool ok = true;
+        for (const auto& y : p.pos) ok = ok && (x - y).norm() > 0.6 * kR0;
+        if (!ok) continue;
+        const Eigen::Vector3d axis = Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
+        p.add(x, 1 + int(p.size() % 3), p.size() + 1, Eigen::Quaterniond(Eigen::AngleAxisd(u(rng) * 3.0, axis)));
+    }
+    float wLo = 1e9f, wHi = -1e9f;
+    for (std::size_t i = 0; i < p.size(); ++i)
+        if (m->isSurface(p.species[i])) {
+            const float w = ForceField::curvatureWeight(*m, p.pos[i], p.species[i]);
+            wLo = std::min(wLo, w), wHi = std::max(wHi, w);
+        }
+    ForceField field(*m);
+    ForceStats a, b;
+    field.compute(*m, ProbeState{}, p, a);
+    Particles q = p;
+    for (std::size_t i = 0; i < q.size(); ++i) q.force[i].setZero(), q.torque[i].setZero();
+    ForceField::computePairsBruteForce(*m, q, b);
+    double maxF = 0, errF = 0, errT = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        maxF = std::max(maxF, q.force[i].norm());
+        errF = std::max(errF, (p.force[i] - q.force[i]).norm());
+        errT = std::max(errT, (p.torque[i] - q.torque[i]).norm());
+    }
+    INFO("curvature weights " << wLo << " to " << wHi << "; LJ pairs " << a.pairsInRange << ", oriented "
+                              << a.orientedPairsInRange << "; max |F| " << maxF << ", errors " << errF << ", " << errT);
+    CHECK(wHi - wLo > 0.05);  // the weights differ from pair to pair
+    CHECK(a.pairsInRange == b.pairsInRange);
+    CHECK(a.orientedPairsInRange == b.orientedPairsInRange);
+    CHECK(a.orientedPairsInRange > 1000);
+    CHECK(errF < 1e-12 * maxF);
+    CHECK(errT < 1e-12 * maxF);
+    CHECK(a.pairEnergy == Approx(b.pairEnergy).epsilon(1e-12));
+    CHECK(a.virial == Approx(b.virial).epsilon(1e-12));
+}
