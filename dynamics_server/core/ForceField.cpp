@@ -68,7 +68,7 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
     if (times) times->neighbours += since(t0);
     t0 = Clock::now();
     gatherEntries(model, p, halo);
-    pairForces(p, halo, stats, energies);
+    pairForces(p, halo, stats, energies, times);
     if (times) times->pairs += since(t0);
     t0 = Clock::now();
     probeForces(model, probe, p, stats);
@@ -134,7 +134,7 @@ void ForceField::gatherEntries(const Model& model, const Particles& p, const Hal
     }
 }
 
-void ForceField::pairForces(Particles& p, const Halo* halo, ForceStats& stats, bool energies) {
+void ForceField::pairForces(Particles& p, const Halo* halo, ForceStats& stats, bool energies, PhaseTimes* times) {
     const auto& owner = list_.owner();
     const std::size_t ne = list_.entryCount(), n = p.size();
     sf_.resize(ne);
@@ -145,7 +145,8 @@ void ForceField::pairForces(Particles& p, const Halo* halo, ForceStats& stats, b
     PairKernel::Sums sums, haloSums;
     const PairInputs in{list_.positions().data(), ss_.data(), isVolume_.data(), sf_.data()};
     const OrientedInputs o{sn_.data(), sw_.data(), st_.data()};
-    chunks_.run(kernel_, list_, in, o, energies, halo != nullptr, sums, haloSums);
+    double loopSeconds[2] = {0, 0};
+    chunks_.run(kernel_, list_, in, o, energies, halo != nullptr, sums, haloSums, loopSeconds);
     // Forces on images go to their particles; forces on halo ghosts are their owners' business.
     for (std::size_t k = 0; k < ne; ++k)
         if (owner[k] < n) p.force[owner[k]] += sf_[k];
@@ -157,6 +158,12 @@ void ForceField::pairForces(Particles& p, const Halo* halo, ForceStats& stats, b
     stats.virialVolume = sums.virialVolume + 0.5 * haloSums.virialVolume;
     stats.pairsInRange = sums.inRange + haloSums.inRange;
     stats.orientedPairsInRange = sums.orientedInRange + haloSums.orientedInRange;
+    if (times) {
+        times->ljLoopSeconds += loopSeconds[0];
+        times->orientedLoopSeconds += loopSeconds[1];
+        times->ljPairs += double(stats.pairsInRange);
+        times->orientedPairs += double(stats.orientedPairsInRange);
+    }
 }
 
 void ForceField::computePairsBruteForce(const Model& model, Particles& p, ForceStats& stats) {

@@ -44,6 +44,10 @@ struct ForceStats {
 
 struct PhaseTimes {
     double neighbours = 0, pairs = 0, gradientMap = 0, probe = 0;  // seconds, accumulated
+    // The two pair loops' time summed over threads (CPU seconds) and the pairs in range they
+    // handled, accumulated: ns per pair of each kind.
+    double ljLoopSeconds = 0, orientedLoopSeconds = 0;
+    double ljPairs = 0, orientedPairs = 0;
 };
 
 class ForceField {
@@ -83,7 +87,7 @@ public:
     double listRange() const;
 
 private:
-    void pairForces(Particles& particles, const Halo* halo, ForceStats& stats, bool energies);
+    void pairForces(Particles& particles, const Halo* halo, ForceStats& stats, bool energies, PhaseTimes* times);
     void gatherEntries(const Model& model, const Particles& particles, const Halo* halo);
     void gradientMapForces(const Model& model, Particles& particles, ForceStats& stats);
     void probeForces(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats);

@@ -7,13 +7,26 @@
 namespace bop::core {
 namespace {
 
-template <bool Energy>
+// The weights of one ordered species pair (a, b): force and torque to each side, energy.
+struct PairWeights {
+    double cnFab, cnFba, cpFab, cpFba, cnTab, cnTba, cpTab, cpTba, cnE, cpE;
+};
+
+PairWeights weightsOf(const PairKernel::OrientedTables& t, std::size_t ab, std::size_t ba) {
+    return {t.cnF[ab], t.cnF[ba], t.cpF[ab], t.cpF[ba], t.cnT[ab],
+            t.cnT[ba], t.cpT[ab], t.cpT[ba], t.cnE[ab], t.cpE[ab]};
+}
+
+// One: every pair is of the one oriented species (a bag's surface), its weights held throughout.
+template <bool Energy, bool One>
 [[gnu::always_inline]] inline void loop(const PairKernel& kernel, const NeighbourList::Pairs& pairs,
                                         const PairInputs& in, const OrientedInputs& o, std::size_t x0, std::size_t x1,
                                         PairKernel::Sums& sums) {
     const OrientedWeight& w = kernel.weight();
     const PairKernel::OrientedTables tab = kernel.orientedTables();
     const std::size_t side = std::size_t(kernel.tableSide());
+    const std::size_t single = std::size_t(kernel.singleOrientedSpecies()) * (side + 1);
+    const PairWeights one = weightsOf(tab, single, single);
     const double cut2 = w.cutoff2(), rOn = w.taperOn(), invWidth = w.invTaperWidth();
     const double inv2s2 = w.invTwoSigma2(), invS2 = w.invSigma2();
     const bool curvature = kernel.curvature();
@@ -32,8 +45,12 @@ template <bool Energy>
             const Eigen::Vector3d r = in.e[y] - pi;
             const double r2 = r.squaredNorm();
             if (r2 >= cut2) continue;
-            const std::size_t b = in.species[y], ab = a * side + b, ba = b * side + a;
-            if (!tab.on[ab]) continue;
+            PairWeights pw = one;
+            if constexpr (!One) {
+                const std::size_t b = in.species[y], ab = a * side + b, ba = b * side + a;
+                if (!tab.on[ab]) continue;
+                pw = weightsOf(tab, ab, ba);
+            }
             ++s.orientedInRange;
             const double rlen = std::sqrt(r2);
             const double invR = rlen > 0.0 ? 1.0 / rlen : 0.0;
@@ -54,12 +71,12 @@ template <bool Energy>
             const double cpsi = c * psi, cdpsi = c * dpsi;
             const double A = ni.dot(r), B = nj.dot(r), ab2 = A * A + B * B;
             const Eigen::Vector3d cpF = (-2.0 * cpsi) * (A * ni + B * nj) - (ab2 * cdpsi * invR) * r;
-            in.f[y - in.base] += tab.cnF[ba] * cnF + tab.cpF[ba] * cpF;
-            fi -= tab.cnF[ab] * cnF + tab.cpF[ab] * cpF;
-            ti += tab.cnT[ab] * cnTi + tab.cpT[ab] * ((2.0 * A * cpsi) * r.cross(ni));
-            o.t[y - in.base] += tab.cnT[ba] * -cnTi + tab.cpT[ba] * ((2.0 * B * cpsi) * r.cross(nj));
-            s.virial += tab.cnE[ab] * r.dot(cnF) + tab.cpE[ab] * r.dot(cpF);
-            if constexpr (Energy) s.energy += tab.cnE[ab] * (d2 * psi) + tab.cpE[ab] * (ab2 * cpsi);
+            in.f[y - in.base] += pw.cnFba * cnF + pw.cpFba * cpF;
+            fi -= pw.cnFab * cnF + pw.cpFab * cpF;
+            ti += pw.cnTab * cnTi + pw.cpTab * ((2.0 * A * cpsi) * r.cross(ni));
+            o.t[y - in.base] += pw.cnTba * -cnTi + pw.cpTba * ((2.0 * B * cpsi) * r.cross(nj));
+            s.virial += pw.cnE * r.dot(cnF) + pw.cpE * r.dot(cpF);
+            if constexpr (Energy) s.energy += pw.cnE * (d2 * psi) + pw.cpE * (ab2 * cpsi);
         }
         in.f[x - in.base] += fi;
         o.t[x - in.base] += ti;
@@ -75,10 +92,11 @@ BOP_HOT_LOOP void orientedPairs(const PairKernel& kernel, const NeighbourList::P
                                 const OrientedInputs& o, bool energies, std::size_t x0, std::size_t x1,
                                 PairKernel::Sums& sums) {
     if (pairs.start.size() < 2 || x0 >= x1) return;
-    if (energies)
-        loop<true>(kernel, pairs, in, o, x0, x1, sums);
-    else
-        loop<false>(kernel, pairs, in, o, x0, x1, sums);
+    const bool one = kernel.singleOrientedSpecies() > 0;
+    if (energies && one) loop<true, true>(kernel, pairs, in, o, x0, x1, sums);
+    if (energies && !one) loop<true, false>(kernel, pairs, in, o, x0, x1, sums);
+    if (!energies && one) loop<false, true>(kernel, pairs, in, o, x0, x1, sums);
+    if (!energies && !one) loop<false, false>(kernel, pairs, in, o, x0, x1, sums);
 }
 
 }  // namespace bop::core

@@ -1,12 +1,14 @@
 #include "PairChunks.hpp"
 
 #include <algorithm>
+#include <chrono>
 
 namespace bop::core {
 namespace {
 
 constexpr double kChunkWork = 4000;  // listed pairs per chunk, an oriented one counting 3
 constexpr std::size_t kMaxChunks = 64;
+using Clock = std::chrono::steady_clock;
 
 // The largest neighbour in rows [x0, x1) of p, or 0.
 std::uint32_t farthest(const NeighbourList::Pairs& p, std::uint32_t x0, std::uint32_t x1) {
@@ -63,11 +65,13 @@ void PairChunks::plan(const NeighbourList& list, bool oriented) {
     bf_.resize(offset);
     if (oriented) bt_.resize(offset);
     sums_.resize(chunks_.size());
+    ljSeconds_.resize(chunks_.size());
+    orientedSeconds_.resize(chunks_.size());
     haloSums_.resize(chunks_.size());
 }
 
 void PairChunks::run(const PairKernel& kernel, const NeighbourList& list, PairInputs in, OrientedInputs o,
-                     bool energies, bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums) {
+                     bool energies, bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums, double seconds[2]) {
     Eigen::Vector3d* f = in.f;
     Eigen::Vector3d* t = o.t;
     const std::size_t n = chunks_.size();
@@ -86,12 +90,16 @@ void PairChunks::run(const PairKernel& kernel, const NeighbourList& list, PairIn
             std::fill(co.t, co.t + (c.hi - c.x0), Eigen::Vector3d::Zero());
         }
         PairKernel::Sums s, h;
+        const auto t0 = Clock::now();
         ljForcePairs(kernel, list.pairs(), ci, energies, c.x0, c.x1, s);
         if (halo) ljForcePairs(kernel, list.haloPairs(), ci, energies, c.x0, c.x1, h);
+        const auto t1 = Clock::now();
         if (oriented_) {
             orientedPairs(kernel, list.widePairs(), ci, co, energies, c.x0, c.x1, s);
             if (halo) orientedPairs(kernel, list.wideHaloPairs(), ci, co, energies, c.x0, c.x1, h);
         }
+        ljSeconds_[k] = std::chrono::duration<double>(t1 - t0).count();
+        orientedSeconds_[k] = std::chrono::duration<double>(Clock::now() - t1).count();
         sums_[k] = s;
         haloSums_[k] = h;
     }
@@ -114,6 +122,8 @@ void PairChunks::run(const PairKernel& kernel, const NeighbourList& list, PairIn
         }
     }
     for (std::size_t k = 0; k < n; ++k) {
+        seconds[0] += ljSeconds_[k];
+        seconds[1] += orientedSeconds_[k];
         for (auto [to, from] : {std::pair{&sums, &sums_[k]}, std::pair{&haloSums, &haloSums_[k]}}) {
             to->energy += from->energy;
             to->virial += from->virial;

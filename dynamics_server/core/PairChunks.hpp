@@ -21,9 +21,10 @@ public:
 
     // Every loop of the step over every chunk: LJ pairs, oriented pairs (if planned so), and
     // each one's halo pairs when `halo`. Writes f (and t when oriented) for every entry, and the
-    // sums of the pairs within the subdomain and of those with halo ghosts.
+    // sums of the pairs within the subdomain and of those with halo ghosts; adds the LJ and the
+    // oriented loops' time, summed over threads, to seconds[0] and seconds[1].
     void run(const PairKernel& kernel, const NeighbourList& list, PairInputs in, OrientedInputs o, bool energies,
-             bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums);
+             bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums, double seconds[2]);
 
     std::size_t count() const { return chunks_.size(); }
 
@@ -38,6 +39,7 @@ private:
     bool oriented_ = false;
     std::vector<Eigen::Vector3d> bf_, bt_;
     std::vector<PairKernel::Sums> sums_, haloSums_;
+    std::vector<double> ljSeconds_, orientedSeconds_;  // per chunk, the last run
 };
 
 }  // namespace bop::core

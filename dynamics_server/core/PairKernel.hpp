@@ -67,6 +67,16 @@ public:
             if (oriented_[std::size_t(s) * n_ + b] || oriented_[std::size_t(b) * n_ + s]) return true;
         return false;
     }
+    // The one species with oriented weights when there is exactly one (a bag's surface), else 0.
+    int singleOrientedSpecies() const {
+        int found = 0;
+        for (int s = 1; s < n_; ++s)
+            if (orientedSpecies(s)) {
+                if (found) return 0;
+                found = s;
+            }
+        return found;
+    }
     // The oriented terms' tables, tableSide() x tableSide(), row a, column b.
     struct OrientedTables {
         const double *cnF, *cnT, *cpF, *cpT, *cnE, *cpE;  // as the LJ tables, per term and kind

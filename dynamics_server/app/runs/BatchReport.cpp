@@ -38,6 +38,10 @@ void BatchReport::summary(const core::Simulation& sim, long long steps, double s
     row("integrate", t.integrate);
     row("construction", t.construction);
     const core::NeighbourList& list = sim.forceField().neighbours();
+    const auto perPair = [](double seconds, double pairs) { return pairs > 0 ? seconds / pairs * 1e9 : 0.0; };
+    os_ << "pair loops (CPU time over threads): " << std::setprecision(1)
+        << perPair(t.forces.ljLoopSeconds, t.forces.ljPairs) << " ns per LJ pair in range, "
+        << perPair(t.forces.orientedLoopSeconds, t.forces.orientedPairs) << " ns per oriented pair in range\n";
     const core::ForceStats& f = sim.stats().forces;
     os_ << "neighbour list: built " << list.builds() << " times (set-up included), " << list.pairCount()
         << " LJ pairs within its cutoff + skin (" << f.pairsInRange << " within the cutoff), " << list.widePairCount()
