@@ -1,15 +1,19 @@
 #!/usr/bin/env bash
 # The whole system on the embedded default scene (the torus) in one command: installs what is
 # missing, builds, builds the torus's gradient map (slice pictures) and its bag of particles
-# (a batch run), then serves the bag at 2 ranks for about BOP_DEMO_SECONDS (30) seconds with a
+# (a batch run), then serves the bag for about BOP_DEMO_SECONDS (30) seconds, at one rank with
+# every core as a thread (BOP_DEMO_RANKS=2 runs it under mpirun at 2 ranks instead), with a
 # scripted haptic device poking it (sim:poke) and a viewer watching: headless (PNG frames, an MP4
 # when ffmpeg is present) or, when a display is present, the window. Ends with a summary of the
 # measured figures and where the pictures are.
 #   scripts/demo.sh                     BOP_DEMO_SECONDS=60 for longer; BOP_DEMO_HEADLESS=1 forces headless
+# A bag this small steps fastest on one machine as one process whose threads share the cores (no
+# halo, no messages between ranks; docs/parallel.md); the server prints the layout it took.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=${BOP_JOBS:-2}
 seconds=${BOP_DEMO_SECONDS:-30}
+ranks=${BOP_DEMO_RANKS:-1}
 out=out/demo
 
 scripts/install-deps.sh
@@ -23,11 +27,13 @@ build/dynamics_server/bop-shape config/scenes/torus.toml -o "$out/torus" --expor
 echo "== the torus bag: construction and relaxation (bop-server batch run, about 10 s) =="
 build/dynamics_server/bop-server config/scenes/torus.toml --no-listen -o "$out/torus" | tail -6
 
-echo "== served at 2 ranks for ${seconds} s: a haptic device pokes it, a viewer watches =="
+echo "== served for ${seconds} s ($ranks rank(s)): a haptic device pokes it, a viewer watches =="
 pids=()
 cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
-mpirun --oversubscribe -np 2 build/dynamics_server/bop-server config/scenes/torus.toml \
+launch=()
+[[ $ranks -gt 1 ]] && launch=(mpirun --oversubscribe -np "$ranks")
+"${launch[@]}" build/dynamics_server/bop-server config/scenes/torus.toml \
   --restart "$out/torus/final.xyz" --cache "$out/torus/gradient-map.bopgm" --port 0 --publish-hz 30 \
   -o "$out/served" >"$out/server.log" 2>&1 &
 server=$!
@@ -86,7 +92,8 @@ fi
 csv=$out/viewer/frames.csv
 summary=$out/summary.txt
 {
-  echo "BoP demo: the torus served at 2 ranks for ${seconds} s, poked by sim:poke, watched by bop-viewer"
+  echo "BoP demo: the torus served for ${seconds} s, poked by sim:poke, watched by bop-viewer"
+  sed -n 's/^\[bop-server\] \(layout: .*\)/server \1/p' "$out/server.log" | head -1
   [[ $headless == 1 ]] || echo "(the viewer had a window: its rates were on its panel)"
   if [[ -s $csv ]]; then
     awk -F, 'NR > 1 {n++; if (n == 1) {t0 = $3; s0 = $2} t1 = $3; s1 = $2; p = $8; r += $7}
