@@ -4,7 +4,8 @@
 # construction timeline (4,000 steps: wall time and births per second), then stepped from its
 # built state at one rank with 1 thread, with 2 threads, and at 2 ranks of 1 thread. Per run:
 # steps/s, ns per particle-step, the pair phase per step (one rank) and the pairs in range of
-# each kind (LJ, oriented), and ns per pair in range (both kinds together).
+# each kind (LJ, oriented), ns per pair in range (both kinds together, wall time of the phase),
+# and each loop's CPU time per pair of its kind (summed over threads).
 #   scripts/bench/bag.sh [SCALE ...]   (default 1 1.4 2; CSV in out/bench/bag.csv)
 #   BOP_BAG_STEPS    steps from the built state (default 2000)
 set -euo pipefail
@@ -16,10 +17,11 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "${BOP_JOBS:-2}" --target bop-server >/dev/null
 out=out/bench/bag; mkdir -p "$out"
 csv=out/bench/bag.csv
-echo "scale,surface,volume,particles,construction_s,births_per_s,layout,steps_per_s,ns_per_particle_step,pairs_ms_per_step,lj_pairs,oriented_pairs,ns_per_pair" >"$csv"
+echo "scale,surface,volume,particles,construction_s,births_per_s,layout,steps_per_s,ns_per_particle_step,pairs_ms_per_step,lj_pairs,oriented_pairs,ns_per_pair,cpu_ns_per_lj_pair,cpu_ns_per_oriented_pair" >"$csv"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 server=build/dynamics_server/bop-server
-printf "%-6s %9s %10s %9s  %-18s %9s %11s %9s %9s %9s %8s\n" scale particles "build s" births/s layout steps/s ns/p-step "pairs ms" "LJ pairs" oriented "ns/pair"
+printf "%-6s %9s %10s %9s  %-18s %9s %11s %9s %9s %9s %8s %7s %7s\n" scale particles "build s" births/s layout steps/s ns/p-step \
+  "pairs ms" "LJ pairs" oriented "ns/pair" "ns/LJ" "ns/or."
 for s in "${scales[@]}"; do
   scene=$out/torus-$s.toml
   sed -e "s|file = \"../models/torus.obj\"|file = \"$PWD/config/models/torus.obj\"|" \
@@ -45,10 +47,11 @@ for s in "${scales[@]}"; do
     pairs=$(awk '/^pairs / {print $2}' "$log")
     lj=$(sed -n 's/.*(\([0-9]*\) within the cutoff).*/\1/p' "$log")
     oriented=$(sed -n 's/.*oriented pairs within theirs (\([0-9]*\)).*/\1/p' "$log")
+    read -r nslj nsor < <(sed -n 's/^pair loops.*: \([0-9.]*\) ns per LJ.*, \([0-9.]*\) ns per oriented.*/\1 \2/p' "$log") || true
     perpair=$(awk -v ms="${pairs:-0}" -v a="${lj:-0}" -v b="${oriented:-0}" 'BEGIN {if (ms > 0 && a + b > 0) printf "%.1f", ms * 1e6 / (a + b); else print ""}')
-    printf "%-6s %9d %10s %9s  %-18s %9.1f %11s %9s %9s %9s %8s\n" "$s" "$total" "$built" "$births" "$layout" "$rate" "$ns" \
-      "${pairs:--}" "${lj:--}" "${oriented:--}" "${perpair:--}"
-    echo "$s,$surface,$volume,$total,$built,$births,$layout,$rate,$ns,${pairs:-},${lj:-},${oriented:-},${perpair:-}" >>"$csv"
+    printf "%-6s %9d %10s %9s  %-18s %9.1f %11s %9s %9s %9s %8s %7s %7s\n" "$s" "$total" "$built" "$births" "$layout" \
+      "$rate" "$ns" "${pairs:--}" "${lj:--}" "${oriented:--}" "${perpair:--}" "${nslj:--}" "${nsor:--}"
+    echo "$s,$surface,$volume,$total,$built,$births,$layout,$rate,$ns,${pairs:-},${lj:-},${oriented:-},${perpair:-},${nslj:-},${nsor:-}" >>"$csv"
   done
 done
 echo "CSV: $csv; logs: $out/"
