@@ -19,14 +19,14 @@ double unit(std::uint64_t h) {
 // lookup exact for a rank's halo.
 struct PointGrid {
     CellList cells;
-    std::vector<CellList::Neighbour> near;
     void build(const Box& box, double radius, const std::vector<Eigen::Vector3d>& pts) {
         cells.build(box, std::max(radius, box.size().maxCoeff() / 200.0), pts);
     }
     // Calls f(index, distance^2) for every point within `radius` of x until f returns true;
     // returns whether it did.
     template <class F>
-    bool anyNear(const Eigen::Vector3d& x, double radius, const std::vector<Eigen::Vector3d>& pts, F f) {
+    bool anyNear(const Eigen::Vector3d& x, double radius, const std::vector<Eigen::Vector3d>& pts, F f) const {
+        thread_local std::vector<CellList::Neighbour> near;  // scratch: the scans run on threads
         cells.around(cells.cellOf(x), 1, near);
         const double r2 = radius * radius;
         for (const auto& nb : near)
@@ -106,23 +106,33 @@ std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, co
     PointGrid close, far;
     close.build(view.box, dClose, p.pos);
     far.build(view.box, dFront, p.pos);
+    // Every voxel on its own, on the threads, in fixed blocks joined in voxel order.
+    constexpr std::size_t kBlock = 4096;
+    const std::size_t blocks = (m.occ.size() + kBlock - 1) / kBlock;
+    std::vector<std::vector<BirthCandidate>> found(blocks);
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 8) if (blocks > 1)
+#endif
+    for (std::size_t b = 0; b < blocks; ++b)
+        for (std::size_t v = b * kBlock; v < std::min(m.occ.size(), (b + 1) * kBlock); ++v) {
+            if (m.occ[v] != species) continue;
+            const std::uint64_t voxel = m.wholeIndex(v);
+            const std::uint64_t key = mixHash(params.seed, std::uint64_t(step), std::uint64_t(species), voxel);
+            const Eigen::Vector3d jitter(unit(mixHash(key, 1)) - 0.5, unit(mixHash(key, 2)) - 0.5,
+                                         unit(mixHash(key, 3)) - 0.5);
+            const Eigen::Vector3d c =
+                (m.wholeCoords(v).cast<double>() + Eigen::Vector3d::Constant(0.5) + 0.1 * jitter) * h;
+            if (!mine(c)) continue;
+            const bool blocked = close.anyNear(c, dClose, p.pos, [&](std::uint32_t j, double d2) {
+                return d2 < dAny * dAny || (p.species[j] == species && d2 < dSame * dSame);
+            });
+            if (blocked) continue;
+            const bool front =
+                far.anyNear(c, dFront, p.pos, [&](std::uint32_t j, double) { return p.species[j] == species; });
+            if (front) found[b].push_back({c, key, voxel});
+        }
     std::vector<BirthCandidate> accepted;
-    for (std::size_t v = 0; v < m.occ.size(); ++v) {
-        if (m.occ[v] != species) continue;
-        const std::uint64_t voxel = m.wholeIndex(v);
-        const std::uint64_t key = mixHash(params.seed, std::uint64_t(step), std::uint64_t(species), voxel);
-        const Eigen::Vector3d jitter(unit(mixHash(key, 1)) - 0.5, unit(mixHash(key, 2)) - 0.5,
-                                     unit(mixHash(key, 3)) - 0.5);
-        const Eigen::Vector3d c = (m.wholeCoords(v).cast<double>() + Eigen::Vector3d::Constant(0.5) + 0.1 * jitter) * h;
-        if (!mine(c)) continue;
-        const bool blocked = close.anyNear(c, dClose, p.pos, [&](std::uint32_t j, double d2) {
-            return d2 < dAny * dAny || (p.species[j] == species && d2 < dSame * dSame);
-        });
-        if (blocked) continue;
-        const bool front =
-            far.anyNear(c, dFront, p.pos, [&](std::uint32_t j, double) { return p.species[j] == species; });
-        if (front) accepted.push_back({c, key, voxel});
-    }
+    for (const auto& f : found) accepted.insert(accepted.end(), f.begin(), f.end());
     return accepted;
 }
 
