@@ -3,6 +3,7 @@
 // and how particle counts scale with r0 (paper Table 1).
 #include "TestUtil.hpp"
 #include "app/scene/SimulationSetup.hpp"
+#include "core/Threads.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -164,17 +165,22 @@ TEST_CASE("particle counts scale with r0 as in Table 1", "[physics][scaling]") {
     }
 }
 
-TEST_CASE("construction is deterministic for a given seed", "[physics][construction]") {
-    auto run = [](std::uint64_t seed) {
+TEST_CASE("construction is deterministic for a given seed, at any thread count", "[physics][construction]") {
+    auto run = [](std::uint64_t seed, int threads) {
+        const int before = core::threadCount();
+        core::setThreadCount(threads);
         app::Scene scene = app::loadScene(test::sourceDir() + "/config/scenes/star.toml");
         scene.construction.seed = seed;
         auto sim = app::startSimulation(scene, "", "");
         sim->run(2000);
+        core::setThreadCount(before);
         return sim->particles();
     };
-    const core::Particles a = run(1), b = run(1), c = run(2);
+    const core::Particles a = run(1, 1), b = run(1, 2), c = run(2, 1), d = run(1, 3);
     REQUIRE(a.size() > 50);
     CHECK(a.id == b.id);
     CHECK(a.pos == b.pos);
+    CHECK(a.id == d.id);
+    CHECK(a.pos == d.pos);
     CHECK(a.id != c.id);  // another seed makes other choices
 }
