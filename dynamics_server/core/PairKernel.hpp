@@ -48,7 +48,6 @@ public:
         cutoff2_ = std::max(lj_.cutoff2(), m.hasSurfaceSpecies() ? weight_.cutoff2() : 0.0);
     }
 
-    double cutoff() const { return std::sqrt(cutoff2_); }
     const LjForm& lj() const { return lj_; }
     int tableSide() const { return n_; }  // species tables are tableSide() x tableSide(), row a, column b
     const double* ljForceWeights() const { return ljF_.data(); }   // alpha_f^OP(a) * alpha_ab

@@ -89,12 +89,6 @@ public:
         const double t = u > 0.0 ? u : 0.0;
         return f * (1.0 + t * t * (2.0 * t - 3.0)) * rinv;
     }
-    // The force alone, as eval() without the energy: steps that report no energy.
-    bool evalForce(double r2, double& fOverR) const {
-        const bool inRange = r2 < rc2_;
-        fOverR = inRange ? forceOverR(r2) : 0.0;
-        return inRange;
-    }
 
     // Scalar force (positive = repulsive) and energy at distance r (> 0, length), with the
     // cutoff treatment; both are 0 at and beyond the cutoff.

@@ -1,7 +1,7 @@
 // The step's pair loops (LJ list, oriented list, chunks on threads) against the O(N^2) reference
 // on a curved bag: two surface species and a volume species, asymmetric weights, and the map's
 // curvature weights on the co-planar terms, which vary along an ellipsoid's surface.
-#include "core/ForceField.hpp"
+#include "BruteForce.hpp"
 #include "shape/ShapeTestUtil.hpp"
 
 #include <catch2/catch.hpp>
@@ -56,17 +56,9 @@ TEST_CASE("the bag's pair loops equal the O(N^2) reference with curvature weight
             wLo = std::min(wLo, w), wHi = std::max(wHi, w);
         }
     ForceField field(*m);
-    ForceStats a, b;
-    field.compute(*m, ProbeState{}, p, a);
-    Particles q = p;
-    for (std::size_t i = 0; i < q.size(); ++i) q.force[i].setZero(), q.torque[i].setZero();
-    ForceField::computePairsBruteForce(*m, q, b);
-    double maxF = 0, errF = 0, errT = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        maxF = std::max(maxF, q.force[i].norm());
-        errF = std::max(errF, (p.force[i] - q.force[i]).norm());
-        errT = std::max(errT, (p.torque[i] - q.torque[i]).norm());
-    }
+    const test::BruteForceComparison c = test::compareWithBruteForce(*m, field, p);
+    const ForceStats &a = c.field, &b = c.brute;
+    const double maxF = c.maxForce, errF = c.forceError, errT = c.torqueError;
     INFO("curvature weights " << wLo << " to " << wHi << "; LJ pairs " << a.pairsInRange << ", oriented "
                               << a.orientedPairsInRange << "; max |F| " << maxF << ", errors " << errF << ", " << errT);
     CHECK(wHi - wLo > 0.05);  // the weights differ from pair to pair

@@ -1,5 +1,6 @@
 // The dynamics core without a shape: cell lists against brute force, momentum conservation,
 // energy conservation of an undamped LJ cluster, exact drag, and deterministic runs.
+#include "BruteForce.hpp"
 #include "core/Simulation.hpp"
 #include "core/Threads.hpp"
 
@@ -68,20 +69,9 @@ TEST_CASE("cell-list forces and torques equal O(N^2) brute force", "[core][cells
         auto m = mixedModel(false, false, periodic, 10.0);
         Particles p = randomParticles(*m, 300, 0.6, periodic ? 2 : 1);
         ForceField field(*m);
-        ForceStats a, b;
-        field.compute(*m, ProbeState{}, p, a);
-        Particles q = p;
-        for (std::size_t i = 0; i < q.size(); ++i) {
-            q.force[i].setZero();
-            q.torque[i].setZero();
-        }
-        ForceField::computePairsBruteForce(*m, q, b);
-        double maxF = 0, errF = 0, errT = 0;
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            maxF = std::max(maxF, q.force[i].norm());
-            errF = std::max(errF, (p.force[i] - q.force[i]).norm());
-            errT = std::max(errT, (p.torque[i] - q.torque[i]).norm());
-        }
+        const test::BruteForceComparison c = test::compareWithBruteForce(*m, field, p);
+        const ForceStats &a = c.field, &b = c.brute;
+        const double maxF = c.maxForce, errF = c.forceError, errT = c.torqueError;
         INFO("periodic " << periodic << ": LJ pairs in range " << a.pairsInRange << ", oriented "
                          << a.orientedPairsInRange << ", max |F| " << maxF);
         CHECK(a.pairsInRange == b.pairsInRange);

@@ -1,6 +1,7 @@
 // The Verlet neighbour list: every pair within range exactly once (ghost images across
 // periodic faces included), forces equal to brute force while particles move, cross periodic
 // faces, appear and disappear, and the LJ-only fast path against the general one.
+#include "BruteForce.hpp"
 #include "core/ForceField.hpp"
 
 #include <catch2/catch.hpp>
@@ -63,23 +64,11 @@ Particles particles(const Model& m, int n, std::uint32_t seed) {
 // Largest difference between the field's forces and torques and brute force, relative to the
 // largest brute-force force.
 double bruteForceError(const Model& m, ForceField& field, Particles& p, bool energies) {
-    ForceStats a, b;
-    field.compute(m, ProbeState{}, p, a, nullptr, energies);
-    Particles q = p;
-    for (std::size_t i = 0; i < q.size(); ++i) {
-        q.force[i].setZero();
-        q.torque[i].setZero();
-    }
-    ForceField::computePairsBruteForce(m, q, b);
-    REQUIRE(a.pairsInRange == b.pairsInRange);
-    REQUIRE(a.orientedPairsInRange == b.orientedPairsInRange);
-    CHECK(a.virial == Approx(b.virial).epsilon(1e-11));
-    double maxF = 1, err = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        maxF = std::max(maxF, q.force[i].norm());
-        err = std::max({err, (p.force[i] - q.force[i]).norm(), (p.torque[i] - q.torque[i]).norm()});
-    }
-    return err / maxF;
+    const test::BruteForceComparison c = test::compareWithBruteForce(m, field, p, energies);
+    REQUIRE(c.field.pairsInRange == c.brute.pairsInRange);
+    REQUIRE(c.field.orientedPairsInRange == c.brute.orientedPairsInRange);
+    CHECK(c.field.virial == Approx(c.brute.virial).epsilon(1e-11));
+    return std::max(c.forceError, c.torqueError) / std::max(1.0, c.maxForce);
 }
 
 }  // namespace
