@@ -119,6 +119,7 @@ public:
     void setTimes(const StepTimes& t) { times_ = t; }  // carried over when a run continues from a checkpoint
     const ForceField& forceField() const { return field_; }
     long long stepCount() const { return stats_.step; }
+    bool commandsQueued() const { return !commands_.empty(); }   // submitted, not yet applied by a step
     std::size_t rebuilds() const { return rebuilds_; }           // neighbour lists and halos built again
     double exchangeSeconds() const { return exchangeSeconds_; }  // in halo, migration and the rebuild vote
     std::size_t mapBytes() const;  // this process's window of the gradient map (of every keyframe)

@@ -100,6 +100,9 @@ core::Particles DecomposedRun::gather() const {
 void DecomposedRun::submit(const Command& command) {
     impl_->simPtr->submit(command);
 }
+bool DecomposedRun::commandsQueued() const {
+    return impl_->simPtr->commandsQueued();
+}
 long long DecomposedRun::stepNumber() const {
     return impl_->simPtr->stepCount();
 }

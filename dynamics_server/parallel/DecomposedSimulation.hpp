@@ -23,6 +23,7 @@ public:
     // On rank 0: queue a command; every rank applies it at the start of the next step.
     // std::logic_error on other ranks, std::invalid_argument when refused.
     void submit(const Command& command) { sim_.submit(command); }
+    bool commandsQueued() const { return sim_.commandsQueued(); }
     void run(long long steps) { sim_.run(steps); }
     void refreshForces() { sim_.refreshForces(); }
     void setEnergyEvery(long long n) { sim_.setEnergyEvery(n); }

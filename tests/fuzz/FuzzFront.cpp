@@ -7,8 +7,9 @@
 // An input is a sequence of records: one byte `op`, then for a message two bytes of length
 // (little-endian, cut to what is left) and the message. op % 4 = 0 or 1: a message from peer
 // (op / 4) % 4; 2 or 3: 1 + (op / 4) % 8 passes of the loop. At most 16 passes an input. Every
-// input starts from the same built bag (the run is reseated after an input that made passes),
-// paused, with a fresh desk and nothing queued in the front; the front's sessions go on.
+// input starts from the same built bag (the run is reseated after an input that stepped it or
+// left commands queued in it), paused, with a fresh desk, the scene's probe and nothing queued
+// in the front; the front's sessions go on. One thread: a campaign runs on one core.
 //
 // The contract, beyond the sanitizers': nothing thrown leaves the loop (no UnsoundState: no
 // in-range input may make the physics unsound), the front counts no internal error, and the
@@ -17,6 +18,7 @@
 #include "app/runs/ServedRun.hpp"
 #include "app/scene/SceneConfig.hpp"
 #include "app/scene/SimulationSetup.hpp"
+#include "core/Threads.hpp"
 #include "parallel/DecomposedRun.hpp"
 #include "parallel/Session.hpp"
 #include "server/ServerFront.hpp"
@@ -91,7 +93,6 @@ struct World {
     long long builtStep = 0;
     std::unique_ptr<protocol::ServerFront> front;
     app::ServeOptions serve;
-    bool touched = false;  // the run is no longer the built bag
 };
 World* gWorld = nullptr;
 
@@ -101,6 +102,7 @@ void setUp(int* argc, char*** argv) {
     if (!mkdtemp(pattern)) fail("cannot make a temporary folder");
     w->dir = pattern;
     w->mpi = std::make_unique<parallel::MpiSession>(*argc, *argv);
+    core::setThreadCount(1);
     const std::string path = w->dir + "/ball.toml";
     std::ofstream(path) << kScene;
     w->scene = app::loadScene(path);
@@ -138,11 +140,9 @@ extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     World& w = *gWorld;
-    if (w.touched) {  // the last input's passes may have stepped, or queued commands in the run
+    if (w.run->stepNumber() != w.builtStep || w.run->commandsQueued())
         w.run->reseat(w.built, *w.construction, w.builtStep);
-        w.run->setProbe(w.scene.probe);
-        w.touched = false;
-    }
+    w.run->setProbe(w.scene.probe);
     w.front->takeCommands();  // what an earlier input left queued
     w.front->takeProbe();
     app::ServedLoop loop(
@@ -155,7 +155,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     int passes = 0;
     const auto pass = [&] {
         if (passes++ >= kMaxPasses) return;
-        w.touched = true;
         try {
             if (!loop.pass()) fail("the loop stopped: " + loop.error());
         } catch (const core::UnsoundState& e) {
