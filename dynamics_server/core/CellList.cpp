@@ -18,6 +18,8 @@ void CellList::build(const Box& box, double minCell, const std::vector<Eigen::Ve
             throw std::invalid_argument("periodic box side shorter than 3 cutoffs: enlarge the box");
         width_[a] = boxSize_[a] / n_[a];
     }
+    axis_ = {0, 1, 2};
+    std::stable_sort(axis_.begin(), axis_.end(), [&](int a, int b) { return n_[a] < n_[b]; });
     const int cells = n_[0] * n_[1] * n_[2];
     start_.assign(std::size_t(cells) + 1, 0);
     cellOfParticle_.resize(pos.size());
@@ -59,15 +61,17 @@ bool CellList::neighbour(const std::array<int, 3>& x, const int d[3], Neighbour&
 }
 
 int CellList::halfStencil(int c, std::array<Neighbour, 14>& out) const {
-    // Itself, then the offsets that are "forward": dz > 0, or dz == 0 and dy > 0, or dz == dy == 0 and dx > 0.
+    // Itself, then the offsets that are "forward" in the cell index: along the slowest axis
+    // (ds > 0), or ds == 0 and along the middle one (dm > 0), or ds == dm == 0 and the fastest (df > 0).
     const auto x = coords(c);
     int count = 0;
     out[count++] = {c, Eigen::Vector3d::Zero()};
-    for (int dz = 0; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const bool forward = dz > 0 || dy > 0 || (dy == 0 && dx > 0);
-                const int d[3] = {dx, dy, dz};
+    for (int ds = 0; ds <= 1; ++ds)
+        for (int dm = -1; dm <= 1; ++dm)
+            for (int df = -1; df <= 1; ++df) {
+                const bool forward = ds > 0 || dm > 0 || (dm == 0 && df > 0);
+                int d[3];
+                d[axis_[0]] = df, d[axis_[1]] = dm, d[axis_[2]] = ds;
                 if (forward && neighbour(x, d, out[std::size_t(count)])) ++count;
             }
     return count;

@@ -3,6 +3,9 @@
 // binned by a counting sort, and a half stencil of 13 neighbour cells plus the cell itself so
 // that every pair within the cutoff is visited exactly once. Particles outside a non-periodic
 // box are binned into the border cells, which keeps every close pair in adjacent cells.
+// Cells are numbered with the axis of fewest cells varying fastest and the axis of most cells
+// slowest (x, y, z on ties): a stencil then reaches the fewest entries ahead in cell order, which
+// keeps the pair loops' per-chunk buffers short (PairChunks.hpp).
 #include <Eigen/Core>
 
 #include <array>
@@ -25,8 +28,17 @@ public:
     const std::vector<std::uint32_t>& order() const { return order_; }
     std::uint32_t start(int c) const { return start_[std::size_t(c)]; }
     int cellOf(const Eigen::Vector3d& p) const;
-    std::array<int, 3> coords(int c) const { return {c % n_[0], (c / n_[0]) % n_[1], c / (n_[0] * n_[1])}; }
-    int index(int i, int j, int k) const { return i + n_[0] * (j + n_[1] * k); }
+    std::array<int, 3> coords(int c) const {
+        std::array<int, 3> x;
+        x[std::size_t(axis_[0])] = c % n_[axis_[0]];
+        x[std::size_t(axis_[1])] = (c / n_[axis_[0]]) % n_[axis_[1]];
+        x[std::size_t(axis_[2])] = c / (n_[axis_[0]] * n_[axis_[1]]);
+        return x;
+    }
+    int index(int i, int j, int k) const {
+        const int x[3] = {i, j, k};
+        return x[axis_[0]] + n_[axis_[0]] * (x[axis_[1]] + n_[axis_[1]] * x[axis_[2]]);
+    }
 
     struct Neighbour {
         int cell;               // neighbour cell index
@@ -43,6 +55,7 @@ private:
     bool neighbour(const std::array<int, 3>& x, const int d[3], Neighbour& out) const;
 
     std::array<int, 3> n_{1, 1, 1};
+    std::array<int, 3> axis_{0, 1, 2};  // the axes from fastest-varying in the cell index to slowest
     Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), width_ = Eigen::Vector3d::Ones(), boxSize_ = Eigen::Vector3d::Ones();
     std::array<bool, 3> periodic_{false, false, false};
     std::vector<std::uint32_t> start_, order_;

@@ -83,9 +83,9 @@ bool ForceField::listHolds(const Model& model, const Particles& p) {
 void ForceField::gradientMapForces(const Model& model, Particles& p, ForceStats& stats) {
     if (oriented_) cpWeight_.assign(p.size(), 1.0f);  // curvature weights serve the co-planar pairs only
     if (!model.map) return;
-    if (fieldMap_ != model.map.get()) {
+    if (fieldMap_ != model.map) {
         field_ = std::make_unique<core::GmField>(*model.map, model.interpolation);
-        fieldMap_ = model.map.get();
+        fieldMap_ = model.map;
     }
     if (blendMap_ && blendFieldMap_ != blendMap_) {
         blendField_ = std::make_unique<core::GmField>(*blendMap_, model.interpolation);

@@ -105,8 +105,8 @@ private:
     std::size_t speciesBuild_ = 0;                // list build that ss_ was gathered for
     bool heldSinceCompute_ = false;               // listHolds() said yes since the last compute()
     std::unique_ptr<core::GmField> field_;
-    const GradientMap* fieldMap_ = nullptr;
-    std::unique_ptr<core::GmField> blendField_;  // of blendMap_
+    std::shared_ptr<const GradientMap> fieldMap_;  // field_'s map, held: a new map never takes its address
+    std::unique_ptr<core::GmField> blendField_;    // of blendMap_
     const GradientMap* blendFieldMap_ = nullptr;
     const GradientMap* blendMap_ = nullptr;
     double blendW_ = 0;

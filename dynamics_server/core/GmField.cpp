@@ -6,27 +6,35 @@
 namespace bop::core {
 
 GmField::GmField(const GradientMap& map, Interpolation interp)
-    : map_(map), interp_(interp), h_(voxelLength(map.r0Voxels)) {}
+    : map_(map), interp_(interp), h_(voxelLength(map.r0Voxels)) {
+    surfaceAt_.reserve(map.surface.size());
+    for (const SurfaceVoxel& s : map.surface) surfaceAt_.push_back(map.wholeDims().coords(s.voxel));
+}
 
 Eigen::Vector3d GmField::normalAtVoxel(std::size_t v) const {
     return map_.nearestSurface(v).normal.cast<double>();
 }
 
 Eigen::Vector3d GmField::ruleAtVoxel(std::size_t v, ParticleKind kind, int species, const Eigen::Vector3d& pVox) const {
+    return rule(v, map_.dims().coords(v), kind, species, pVox);
+}
+
+Eigen::Vector3d GmField::rule(std::size_t v, const Eigen::Vector3i& c, ParticleKind kind, int species,
+                              const Eigen::Vector3d& pVox) const {
     const int o = map_.occ[v];
-    const int sigma = map_.nearestSpecies(v);
-    const Eigen::Vector3d d = map_.delta(v).cast<double>();
+    const std::uint32_t k = map_.nearest[v];
+    const SurfaceVoxel& near = map_.surface[k];
+    const int sigma = near.species;
+    // d(v) of GradientMap::delta, from the surface voxel's coordinates kept at construction.
+    const Eigen::Vector3d d = (surfaceAt_[k] - c - map_.origin).cast<double>();
     // Direction "inward with respect to the nearest surface" (docs/physics.md §4.6).
     auto inward = [&]() -> Eigen::Vector3d {
         if (o < sigma) return d;
         if (o > sigma) return -d;
-        return -normalAtVoxel(v);
+        return -near.normal.cast<double>();
     };
     if (kind == ParticleKind::Surface) {
-        if (o == species) {
-            const Eigen::Vector3i c = map_.dims().coords(v);
-            return c.cast<double>() + Eigen::Vector3d::Constant(0.5) - pVox;
-        }
+        if (o == species) return c.cast<double>() + Eigen::Vector3d::Constant(0.5) - pVox;
         if (sigma == species) return d;
         if (sigma < species) return inward();
         return -inward();
@@ -56,7 +64,7 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
         const Eigen::Vector3i c =
             q.array().floor().cast<int>().min(Eigen::Array3i(dm.nx - 1, dm.ny - 1, dm.nz - 1)).matrix();
         const std::size_t v = dm.index(c.x(), c.y(), c.z());
-        f = ruleAtVoxel(v, kind, species, q);
+        f = rule(v, c, kind, species, q);
         n = normalAtVoxel(v);
     } else {
         const Eigen::Vector3d s = q - Eigen::Vector3d::Constant(0.5);  // centre-based coordinates
@@ -68,9 +76,10 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
             const int a = corner & 1, b = (corner >> 1) & 1, c = (corner >> 2) & 1;
             const double w = (a ? t.x() : 1 - t.x()) * (b ? t.y() : 1 - t.y()) * (c ? t.z() : 1 - t.z());
             if (w == 0.0) continue;
-            const std::size_t v = dm.index(std::min(base.x() + a, dm.nx - 1), std::min(base.y() + b, dm.ny - 1),
-                                           std::min(base.z() + c, dm.nz - 1));
-            f += w * ruleAtVoxel(v, kind, species, q);
+            const Eigen::Vector3i at(std::min(base.x() + a, dm.nx - 1), std::min(base.y() + b, dm.ny - 1),
+                                     std::min(base.z() + c, dm.nz - 1));
+            const std::size_t v = dm.index(at.x(), at.y(), at.z());
+            f += w * rule(v, at, kind, species, q);
             if (kind == ParticleKind::Surface) n += w * normalAtVoxel(v);
         }
         if (kind == ParticleKind::Surface) {

@@ -25,6 +25,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <vector>
+
 namespace bop::core {
 
 enum class ParticleKind : std::uint8_t { Surface, Volume };
@@ -53,9 +55,15 @@ public:
     Eigen::Vector3d normalAtVoxel(std::size_t v) const;
 
 private:
+    // The rule at voxel v, whose coordinates in this map are c (known to every caller in the step,
+    // so that no voxel index is divided back into coordinates there).
+    Eigen::Vector3d rule(std::size_t v, const Eigen::Vector3i& c, ParticleKind kind, int species,
+                         const Eigen::Vector3d& pVox) const;
+
     const GradientMap& map_;
     Interpolation interp_;
     double h_;
+    std::vector<Eigen::Vector3i> surfaceAt_;  // per surface voxel of the map: its whole-map coordinates
 };
 
 }  // namespace bop::core

@@ -8,6 +8,11 @@ namespace {
 
 constexpr double kChunkWork = 4000;  // listed pairs per chunk, an oriented one counting 3
 constexpr std::size_t kMaxChunks = 64;
+// Fewer chunks (down to kMinChunks) when their buffers would hold more than kMaxBuffer entries per
+// list entry: a buffer reaches past its rows by about two planes of cells (the wide pairs' range),
+// and zeroing and summing that spill cost more than the loops gain from the extra pieces.
+constexpr std::size_t kMinChunks = 4;
+constexpr double kMaxBuffer = 3.0;
 using Clock = std::chrono::steady_clock;
 
 // The largest neighbour in rows [x0, x1) of p, or 0.
@@ -34,7 +39,24 @@ void PairChunks::plan(const NeighbourList& list, bool oriented) {
     };
     double total = 0;
     for (std::size_t x = 0; x < ne; ++x) total += work(x);
-    const std::size_t count = std::clamp<std::size_t>(std::size_t(total / kChunkWork), 1, kMaxChunks);
+    std::size_t count = std::clamp<std::size_t>(std::size_t(total / kChunkWork), 1, kMaxChunks);
+    std::size_t offset = cut(list, count, total, work);
+    if (double(offset) > kMaxBuffer * double(ne) && count > kMinChunks) {
+        const double spill = double(offset - ne) / double(count);  // per chunk, past its rows
+        count = std::clamp<std::size_t>(std::size_t((kMaxBuffer - 1.0) * double(ne) / spill), kMinChunks, count);
+        offset = cut(list, count, total, work);
+    }
+    bf_.resize(offset);
+    if (oriented) bt_.resize(offset);
+    sums_.resize(chunks_.size());
+    ljSeconds_.resize(chunks_.size());
+    orientedSeconds_.resize(chunks_.size());
+    haloSums_.resize(chunks_.size());
+}
+
+template <typename Work>
+std::size_t PairChunks::cut(const NeighbourList& list, std::size_t count, double total, const Work& work) {
+    const std::size_t ne = list.entryCount();
     chunks_.clear();
     double done = 0;
     Chunk c;
@@ -51,7 +73,7 @@ void PairChunks::plan(const NeighbourList& list, bool oriented) {
         Chunk& ch = chunks_[k];
         std::uint32_t hi = ch.x1 > 0 ? ch.x1 - 1 : 0;
         hi = std::max({hi, farthest(list.pairs(), ch.x0, ch.x1), farthest(list.haloPairs(), ch.x0, ch.x1)});
-        if (oriented)
+        if (oriented_)
             hi = std::max({hi, farthest(list.widePairs(), ch.x0, ch.x1), farthest(list.wideHaloPairs(), ch.x0, ch.x1)});
         ch.hi = hi + 1;
         ch.offset = offset;
@@ -62,12 +84,7 @@ void PairChunks::plan(const NeighbourList& list, bool oriented) {
         for (std::uint32_t j = 0; j < ch.firstCover; ++j)
             if (chunks_[j].hi > ch.x0) ch.firstCover = j;
     }
-    bf_.resize(offset);
-    if (oriented) bt_.resize(offset);
-    sums_.resize(chunks_.size());
-    ljSeconds_.resize(chunks_.size());
-    orientedSeconds_.resize(chunks_.size());
-    haloSums_.resize(chunks_.size());
+    return offset;
 }
 
 void PairChunks::run(const PairKernel& kernel, const NeighbourList& list, PairInputs in, OrientedInputs o,

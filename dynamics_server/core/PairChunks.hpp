@@ -35,6 +35,10 @@ private:
         std::size_t offset = 0;        // its buffer in bf_ / bt_
         std::uint32_t firstCover = 0;  // the first chunk whose buffer may reach x0
     };
+    // Cuts the rows into `count` chunks of about total / count work each; their buffers' length.
+    template <typename Work>
+    std::size_t cut(const NeighbourList& list, std::size_t count, double total, const Work& work);
+
     std::vector<Chunk> chunks_;
     bool oriented_ = false;
     std::vector<Eigen::Vector3d> bf_, bt_;
