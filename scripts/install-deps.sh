@@ -30,7 +30,7 @@ packages=(
   libnetfilter-queue-dev iptables
 )
 if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(python3-scipy lammps time)
+  packages+=(python3-scipy python3-matplotlib lammps gromacs time)
 fi
 if [[ "${1:-}" == "--fuzz" ]]; then  # scripts/fuzz.sh: libFuzzer and sanitizer runtimes, symbolizer
   packages+=(clang libclang-rt-dev llvm)

@@ -51,7 +51,80 @@ run $steps
 LMP
 }
 
+# write_gromacs_inputs CELLS STEPS DIR: GROMACS's nearest equivalent of the switched box, a cost
+# reference per pair, not the same potential: 12-6 LJ with its minimum at r0 (C6 = 2 r0^6,
+# C12 = r0^12, epsilon 1), GROMACS's force switch on [1.2, 1.6] r0, pair list to 1.9 r0 rebuilt
+# every 10 steps (its dynamic pruning on), the same lattice, displacement, box and steps; 1 length
+# unit = 1 nm, mass 1 u, dt 0.005 ps. Writes DIR/conf.gro, DIR/topol.top, DIR/md.mdp.
+write_gromacs_inputs() {
+  local cells=$1 steps=$2 dir=$3
+  mkdir -p "$dir"
+  awk -v c="$cells" 'BEGIN {
+    a = sqrt(6); d = 0.08660254037844387; srand(4242); n = 4 * c * c * c
+    split("0 0.5 0.5 0", bx, " "); split("0 0.5 0 0.5", by, " "); split("0 0 0.5 0.5", bz, " ")
+    print "bulk fcc, displaced"; print n
+    k = 0
+    for (i = 0; i < c; i++) for (j = 0; j < c; j++) for (l = 0; l < c; l++) for (b = 1; b <= 4; b++) {
+      k++
+      x = (i + bx[b]) * a + d * (2 * rand() - 1); y = (j + by[b]) * a + d * (2 * rand() - 1)
+      z = (l + bz[b]) * a + d * (2 * rand() - 1)
+      printf "%5d%-5s%5s%5d%8.3f%8.3f%8.3f\n", k % 100000, "LJ", "LJ", k % 100000, x, y, z
+    }
+    printf "%10.5f%10.5f%10.5f\n", c * a, c * a, c * a
+  }' >"$dir/conf.gro"
+  cat >"$dir/topol.top" <<TOP
+[ defaults ]
+; nbfunc comb-rule gen-pairs
+1 1 no
+[ atomtypes ]
+; name at.num mass charge ptype C6 C12 (r0 = sqrt(3): C6 = 2 r0^6, C12 = r0^12)
+LJ 0 1.0 0.0 A 54.0 729.0
+[ moleculetype ]
+LJ 1
+[ atoms ]
+1 LJ 1 LJ LJ 1 0.0 1.0
+[ system ]
+bulk
+[ molecules ]
+LJ $((4 * cells * cells * cells))
+TOP
+  cat >"$dir/md.mdp" <<MDP
+integrator = md
+dt = 0.005
+nsteps = $steps
+cutoff-scheme = Verlet
+nstlist = 10
+verlet-buffer-tolerance = -1
+rlist = 3.2908965343808667
+vdwtype = Cut-off
+vdw-modifier = Force-switch
+rvdw-switch = 2.0784609690826525
+rvdw = 2.7712812921102037
+coulombtype = Cut-off
+rcoulomb = 2.7712812921102037
+pbc = xyz
+tcoupl = no
+pcoupl = no
+gen-vel = no
+DispCorr = no
+nstcalcenergy = $steps
+nstenergy = 0
+nstlog = 0
+MDP
+}
+
+# run_gromacs DIR: grompp and one mdrun on one core (-ntmpi 1 -ntomp 1 -nb cpu); its log is DIR/md.log.
+run_gromacs() {
+  (cd "$1" && gmx -quiet -nobackup grompp -f md.mdp -c conf.gro -p topol.top -o run.tpr >grompp.log 2>&1 &&
+    gmx -quiet -nobackup mdrun -s run.tpr -deffnm md -ntmpi 1 -ntomp 1 -nb cpu -noconfout >mdrun.out 2>&1) || true
+}
+
 # Rates from the logs: BoP's "this run" particle-steps/s, LAMMPS's atoms x steps / loop time.
 rate_of_bop() { awk '/^this run/ {print $7}' "$1"; }
+# GROMACS's atoms x steps / wall time of its performance summary ("Time:" line).
+rate_of_gromacs() {
+  awk '/nsteps *=/ && !s {s = $3} /^ *Time:/ {t = $3} END {if (t > 0) printf "%.0f", n * s / t}' \
+    n="$(sed -n 2p "$(dirname "$1")/conf.gro")" "$1"
+}
 rate_of_lammps() { awk '/^Loop time of/ {t=$4; s=$9; n=$12} END {if (t > 0) printf "%.0f", n*s/t}' "$1"; }
 best() { awk -v a="$1" -v b="${2:-0}" 'BEGIN {print (b > a ? b : a)}'; }

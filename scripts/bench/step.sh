@@ -5,7 +5,10 @@
 # one core, with the default switched cutoff [1.2, 1.6] r0 and with the paper's plain cutoff at
 # 3 r0, and in the same run LAMMPS (Debian package lammps) on the identical workload: the same
 # potential as a `pair_style table` written by bop-lj-table, same density, displacement
-# amplitude, cutoff, neighbour skin (0.3 r0), time step and steps.
+# amplitude, cutoff, neighbour skin (0.3 r0), time step and steps. With the switched cutoff, also
+# GROMACS (Debian package gromacs, its SIMD cluster-pair kernels, one core) as a second peer: 12-6
+# LJ with its force switch on the same [1.2, 1.6] r0 and a pair list to 1.9 r0 every 10 steps, on
+# the same lattice: a different potential form, so its ratio is a cost per pair, not a match.
 # Prints rates, their ratio, ns per particle-step and peak memory per particle; also the bag
 # scenes. Each code runs BOP_BENCH_REPEATS times (default 3), alternating, and the best rate of
 # each is kept: on a shared machine the slowest runs measure the neighbours, not the code.
@@ -22,12 +25,12 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "${BOP_JOBS:-2}" --target bop-server bop-lj-table >/dev/null
 out=out/bench/step; mkdir -p "$out"
 csv=out/bench/step.csv
-echo "workload,particles,steps,bop_particle_steps_per_s,lammps_atom_steps_per_s,ratio,bop_ns_per_particle_step,bop_peak_bytes_per_particle" >"$csv"
+echo "workload,particles,steps,bop_particle_steps_per_s,lammps_atom_steps_per_s,ratio,bop_ns_per_particle_step,bop_peak_bytes_per_particle,gromacs_atom_steps_per_s,gromacs_ratio" >"$csv"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 
 source scripts/bench/bulk-workload.sh
 
-printf "%-10s %9s %6s %14s %14s %7s %10s %10s\n" workload particles steps "BoP p-steps/s" "LAMMPS a-s/s" ratio "ns/p-step" "bytes/p"
+printf "%-10s %9s %6s %14s %14s %7s %10s %10s %14s %7s\n" workload particles steps "BoP p-steps/s" "LAMMPS a-s/s" ratio "ns/p-step" "bytes/p" "GROMACS a-s/s" ratio
 for mode in ${BOP_BENCH_MODES:-switched paper}; do
   write_lj_table "$mode" "$out/table-$mode.txt"
   for n in "${sizes[@]}"; do
@@ -37,7 +40,8 @@ for mode in ${BOP_BENCH_MODES:-switched paper}; do
     steps=$(awk -v n="$particles" -v m="$mode" 'BEGIN {s = int(3e7 / n); if (s > 300) s = 300; if (s < 10) s = 10; print s}')
     scene=$out/bulk-$mode-$particles.toml
     write_bulk_inputs "$mode" "$cells" "$steps" "$out/table-$mode.txt" "$scene" "$out/in-$mode-$particles.lmp"
-    bop=0 lmp_rate=0
+    [[ $mode == switched ]] && write_gromacs_inputs "$cells" "$steps" "$out/gromacs-$particles"
+    bop=0 lmp_rate=0 gmx_rate=0
     for ((rep = 1; rep <= ${BOP_BENCH_REPEATS:-3}; rep++)); do
       /usr/bin/time -f "%M" -o "$out/bop-$mode-$particles.mem" \
         build/dynamics_server/bop-server "$scene" --no-listen --steps "$steps" -o "$out/run-$mode-$particles" \
@@ -45,13 +49,19 @@ for mode in ${BOP_BENCH_MODES:-switched paper}; do
       bop=$(best "$bop" "$(rate_of_bop "$out/bop-$mode-$particles.log")")
       lmp -in "$out/in-$mode-$particles.lmp" -log none -screen "$out/lammps-$mode-$particles.log" >/dev/null 2>&1 || true
       lmp_rate=$(best "$lmp_rate" "$(rate_of_lammps "$out/lammps-$mode-$particles.log")")
+      if [[ $mode == switched ]]; then
+        run_gromacs "$out/gromacs-$particles"
+        gmx_rate=$(best "$gmx_rate" "$(rate_of_gromacs "$out/gromacs-$particles/md.log")")
+      fi
     done
     [[ $lmp_rate != 0 ]] || lmp_rate=""
+    [[ $gmx_rate != 0 ]] || gmx_rate=""
+    gmx_ratio=$(awk -v a="$bop" -v b="${gmx_rate:-0}" 'BEGIN {if (b > 0) printf "%.2f", a / b; else print "n/a"}')
     mem=$(awk -v k="$(cat "$out/bop-$mode-$particles.mem")" -v n="$particles" 'BEGIN {printf "%.0f", k * 1024 / n}')
     ratio=$(awk -v a="$bop" -v b="${lmp_rate:-0}" 'BEGIN {if (b > 0) printf "%.2f", a / b; else print "n/a"}')
     ns=$(awk -v a="$bop" 'BEGIN {printf "%.0f", 1e9 / a}')
-    printf "%-10s %9d %6d %14.0f %14s %7s %10s %10s\n" "$mode" "$particles" "$steps" "$bop" "${lmp_rate:-n/a}" "$ratio" "$ns" "$mem"
-    echo "bulk-$mode,$particles,$steps,$bop,${lmp_rate:-},$ratio,$ns,$mem" >>"$csv"
+    printf "%-10s %9d %6d %14.0f %14s %7s %10s %10s %14s %7s\n" "$mode" "$particles" "$steps" "$bop" "${lmp_rate:-n/a}" "$ratio" "$ns" "$mem" "${gmx_rate:-n/a}" "$gmx_ratio"
+    echo "bulk-$mode,$particles,$steps,$bop,${lmp_rate:-},$ratio,$ns,$mem,${gmx_rate:-},$gmx_ratio" >>"$csv"
   done
 done
 for scene in torus star bag-in-bag; do
