@@ -22,6 +22,10 @@ Eigen::Vector3d GmField::ruleAtVoxel(std::size_t v, ParticleKind kind, int speci
 Eigen::Vector3d GmField::rule(std::size_t v, const Eigen::Vector3i& c, ParticleKind kind, int species,
                               const Eigen::Vector3d& pVox) const {
     const int o = map_.occ[v];
+    if (o == species) {  // at home: no look-up of the nearest surface (most volume particles, every step)
+        if (kind == ParticleKind::Surface) return c.cast<double>() + Eigen::Vector3d::Constant(0.5) - pVox;
+        return Eigen::Vector3d::Zero();
+    }
     const std::uint32_t k = map_.nearest[v];
     const SurfaceVoxel& near = map_.surface[k];
     const int sigma = near.species;
@@ -34,12 +38,10 @@ Eigen::Vector3d GmField::rule(std::size_t v, const Eigen::Vector3i& c, ParticleK
         return -near.normal.cast<double>();
     };
     if (kind == ParticleKind::Surface) {
-        if (o == species) return c.cast<double>() + Eigen::Vector3d::Constant(0.5) - pVox;
         if (sigma == species) return d;
         if (sigma < species) return inward();
         return -inward();
     }
-    if (o == species) return Eigen::Vector3d::Zero();
     if (o < species) return inward();
     return -inward();
 }
