@@ -1,6 +1,7 @@
 #include "NeighbourList.hpp"
 
 #include "CellList.hpp"
+#include "Threads.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -22,6 +23,24 @@ void nearestFirst(std::vector<std::uint32_t>& list, std::uint32_t from, std::uin
         const double du = (pos[u] - pos[x]).squaredNorm(), dv = (pos[v] - pos[x]).squaredNorm();
         return du < dv || (du == dv && u < v);
     });
+}
+
+constexpr std::size_t kCellBlock = 64;          // cells per block of the threaded build
+constexpr std::size_t kThreadedEntries = 4096;  // fewer entries: one thread builds the list
+
+// Row lengths in p.start[1..] become offsets, and the blocks' neighbours are laid end to end.
+void join(std::vector<NeighbourList::Pairs>& parts, NeighbourList::Pairs& p) {
+    std::size_t total = 0;
+    for (const auto& q : parts) total += q.nbr.size();
+    if (total >= std::numeric_limits<std::uint32_t>::max())
+        throw std::length_error("neighbour list: more than 2^32 pairs in one process; use more ranks");
+    for (std::size_t e = 1; e < p.start.size(); ++e) p.start[e] += p.start[e - 1];
+    p.nbr.clear();
+    p.nbr.reserve(total);
+    for (auto& q : parts) {
+        p.nbr.insert(p.nbr.end(), q.nbr.begin(), q.nbr.end());
+        q = {};
+    }
 }
 
 void checkSize(const NeighbourList::Pairs& a, const NeighbourList::Pairs& b) {
@@ -113,34 +132,47 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
         image_[k] = order[k] >= originals;
     }
 
+    // Rows on the threads, in fixed blocks of cells (rows of a block are contiguous entries),
+    // each block's neighbours then joined in block order: the same list at any thread count.
     const double range2 = range * range;
     pairs_.start.assign(ne + 1, 0);
     haloPairs_.start.assign(ne + 1, 0);
-    pairs_.nbr.clear();
-    haloPairs_.nbr.clear();
-    std::array<CellList::Neighbour, 14> stencil;
-    for (int c = 0; c < cells.cellCount(); ++c) {
-        const std::uint32_t b0 = cells.start(c), b1 = cells.start(c + 1);
-        if (b0 == b1) continue;
-        const int m = cells.halfStencil(c, stencil);
-        for (std::uint32_t x = b0; x < b1; ++x) {
-            for (int s = 0; s < m; ++s) {
-                const std::uint32_t e0 = cells.start(stencil[std::size_t(s)].cell);
-                const std::uint32_t e1 = cells.start(stencil[std::size_t(s)].cell + 1);
-                for (std::uint32_t y = (s == 0 ? x + 1 : e0); y < e1; ++y) {
-                    if ((pos_[y] - pos_[x]).squaredNorm() >= range2) continue;
-                    const int k = kind(x, y);
-                    if (k == 1) pairs_.nbr.push_back(y);
-                    if (k == 2) haloPairs_.nbr.push_back(y);
+    const std::size_t blocks = (std::size_t(cells.cellCount()) + kCellBlock - 1) / kCellBlock;
+    std::vector<Pairs> part(blocks), haloPart(blocks);  // per block: nbr only; row lengths go to start
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1) if (blocks > 1 && ne >= kThreadedEntries)
+#endif
+    for (std::size_t b = 0; b < blocks; ++b) {
+        std::array<CellList::Neighbour, 14> stencil;
+        std::vector<std::uint32_t>& nbr = part[b].nbr;
+        std::vector<std::uint32_t>& hnbr = haloPart[b].nbr;
+        const int c1 = int(std::min<std::size_t>((b + 1) * kCellBlock, std::size_t(cells.cellCount())));
+        for (int c = int(b * kCellBlock); c < c1; ++c) {
+            const std::uint32_t b0 = cells.start(c), b1 = cells.start(c + 1);
+            if (b0 == b1) continue;
+            const int m = cells.halfStencil(c, stencil);
+            for (std::uint32_t x = b0; x < b1; ++x) {
+                const std::size_t from = nbr.size(), hfrom = hnbr.size();
+                for (int s = 0; s < m; ++s) {
+                    const std::uint32_t e0 = cells.start(stencil[std::size_t(s)].cell);
+                    const std::uint32_t e1 = cells.start(stencil[std::size_t(s)].cell + 1);
+                    for (std::uint32_t y = (s == 0 ? x + 1 : e0); y < e1; ++y) {
+                        if ((pos_[y] - pos_[x]).squaredNorm() >= range2) continue;
+                        const int k = kind(x, y);
+                        if (k == 1) nbr.push_back(y);
+                        if (k == 2) hnbr.push_back(y);
+                    }
                 }
+                nearestFirst(nbr, std::uint32_t(from), x, pos_);
+                nearestFirst(hnbr, std::uint32_t(hfrom), x, pos_);
+                pairs_.start[x + 1] = std::uint32_t(nbr.size() - from);  // the row's length, for now
+                haloPairs_.start[x + 1] = std::uint32_t(hnbr.size() - hfrom);
             }
-            nearestFirst(pairs_.nbr, pairs_.start[x], x, pos_);
-            nearestFirst(haloPairs_.nbr, haloPairs_.start[x], x, pos_);
-            checkSize(pairs_, haloPairs_);
-            pairs_.start[x + 1] = std::uint32_t(pairs_.nbr.size());
-            haloPairs_.start[x + 1] = std::uint32_t(haloPairs_.nbr.size());
         }
     }
+    join(part, pairs_);
+    join(haloPart, haloPairs_);
+    checkSize(pairs_, haloPairs_);
     widePairs_ = {};
     wideHaloPairs_ = {};
     if (wide) buildWide(extended, *wide);
@@ -158,23 +190,35 @@ void NeighbourList::buildWide(const Box& extended, const Wide& wide) {
     cells.build(extended, wide.range, at);
     const auto& order = cells.order();
     const double range2 = wide.range * wide.range;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> found[2];  // Newton, halo: (smaller, larger)
-    std::array<CellList::Neighbour, 14> stencil;
-    for (int c = 0; c < cells.cellCount(); ++c) {
-        const std::uint32_t b0 = cells.start(c), b1 = cells.start(c + 1);
-        if (b0 == b1) continue;
-        const int m = cells.halfStencil(c, stencil);
-        for (std::uint32_t u = b0; u < b1; ++u)
-            for (int s = 0; s < m; ++s) {
-                const std::uint32_t e1 = cells.start(stencil[std::size_t(s)].cell + 1);
-                for (std::uint32_t v = (s == 0 ? u + 1 : cells.start(stencil[std::size_t(s)].cell)); v < e1; ++v) {
-                    const std::uint32_t x = members[order[u]], y = members[order[v]];
-                    if ((pos_[y] - pos_[x]).squaredNorm() >= range2) continue;
-                    const int k = kind(x, y);
-                    if (k > 0) found[k - 1].emplace_back(std::min(x, y), std::max(x, y));
+    using Found = std::vector<std::pair<std::uint32_t, std::uint32_t>>;  // (smaller, larger)
+    // Per block of cells (on the threads), then joined in block order: Newton, halo.
+    const std::size_t blocks = (std::size_t(cells.cellCount()) + kCellBlock - 1) / kCellBlock;
+    std::vector<std::array<Found, 2>> part(blocks);
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1) if (blocks > 1 && members.size() >= kThreadedEntries)
+#endif
+    for (std::size_t b = 0; b < blocks; ++b) {
+        std::array<CellList::Neighbour, 14> stencil;
+        const int c1 = int(std::min<std::size_t>((b + 1) * kCellBlock, std::size_t(cells.cellCount())));
+        for (int c = int(b * kCellBlock); c < c1; ++c) {
+            const std::uint32_t b0 = cells.start(c), b1 = cells.start(c + 1);
+            if (b0 == b1) continue;
+            const int m = cells.halfStencil(c, stencil);
+            for (std::uint32_t u = b0; u < b1; ++u)
+                for (int s = 0; s < m; ++s) {
+                    const std::uint32_t e1 = cells.start(stencil[std::size_t(s)].cell + 1);
+                    for (std::uint32_t v = (s == 0 ? u + 1 : cells.start(stencil[std::size_t(s)].cell)); v < e1; ++v) {
+                        const std::uint32_t x = members[order[u]], y = members[order[v]];
+                        if ((pos_[y] - pos_[x]).squaredNorm() >= range2) continue;
+                        const int k = kind(x, y);
+                        if (k > 0) part[b][std::size_t(k - 1)].emplace_back(std::min(x, y), std::max(x, y));
+                    }
                 }
-            }
+        }
     }
+    Found found[2];
+    for (auto& q : part)
+        for (int k = 0; k < 2; ++k) found[k].insert(found[k].end(), q[std::size_t(k)].begin(), q[std::size_t(k)].end());
     Pairs* out[2] = {&widePairs_, &wideHaloPairs_};
     for (int k = 0; k < 2; ++k) {  // by the smaller entry, then nearest first
         Pairs& p = *out[k];
@@ -184,7 +228,8 @@ void NeighbourList::buildWide(const Box& extended, const Wide& wide) {
         p.nbr.resize(found[k].size());
         std::vector<std::uint32_t> fill(p.start.begin(), p.start.end() - 1);
         for (const auto& [x, y] : found[k]) p.nbr[fill[x]++] = y;
-        for (std::uint32_t e = 0; e < ne; ++e) nearestFirst(p.nbr, p.start[e], e, pos_, p.start[e + 1]);
+        forEachIndex(ne,
+                     [&](std::size_t e) { nearestFirst(p.nbr, p.start[e], std::uint32_t(e), pos_, p.start[e + 1]); });
     }
     checkSize(widePairs_, wideHaloPairs_);
 }

@@ -3,6 +3,7 @@
 // faces, appear and disappear, and the LJ-only fast path against the general one.
 #include "BruteForce.hpp"
 #include "core/ForceField.hpp"
+#include "core/Threads.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -121,6 +122,47 @@ TEST_CASE("the neighbour list holds every pair within range exactly once", "[cor
         CHECK(expectedWide.size() > 5000);
         CHECK(list.range() == wide.range);
         CHECK((list.ghostCount() > 0) == periodic);
+    }
+}
+
+TEST_CASE("the neighbour list is the same at 1, 2 and 3 threads, and complete", "[core][neighbours][threads]") {
+    // Enough entries that the build runs on the threads (blocks of cells joined in order).
+    for (bool periodic : {true, false}) {
+        Box box;
+        box.hi = Eigen::Vector3d(40, 26, 12);  // flat: the cells' slowest axis is x
+        box.periodic = {periodic, periodic, periodic};
+        const auto pts = randomPoints(box, 7000, periodic ? 11 : 12);
+        std::vector<Eigen::Vector3d> halo;  // ghosts beyond the faces of the open box
+        if (!periodic)
+            for (const auto& x : randomPoints(box, 600, 13)) halo.push_back(x + Eigen::Vector3d(0, 0, 13.5));
+        NeighbourList::Wide wide{4.9, std::vector<char>(pts.size() + halo.size())};
+        for (std::size_t i = 0; i < wide.member.size(); ++i) wide.member[i] = i % 3 != 0;
+        std::vector<NeighbourList> lists(3);
+        for (int t = 1; t <= 3; ++t) {
+            setThreadCount(t);
+            lists[std::size_t(t - 1)].build(box, 3.3, pts, halo, &wide);
+        }
+        setThreadCount(1);
+        const auto sets = [](const NeighbourList& l) {
+            return std::vector{&l.pairs(), &l.haloPairs(), &l.widePairs(), &l.wideHaloPairs()};
+        };
+        for (int t = 2; t <= 3; ++t)
+            for (std::size_t k = 0; k < 4; ++k) {
+                INFO("periodic " << periodic << ", " << t << " threads, pair set " << k);
+                CHECK(sets(lists[std::size_t(t - 1)])[k]->start == sets(lists[0])[k]->start);
+                CHECK(sets(lists[std::size_t(t - 1)])[k]->nbr == sets(lists[0])[k]->nbr);
+            }
+        std::size_t expected = 0, expectedHalo = 0;  // pairs within range, by brute force
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            for (std::size_t j = i + 1; j < pts.size(); ++j)
+                expected += minimumImage(box, pts[j] - pts[i]).norm() < 3.3;
+            for (const auto& g : halo) expectedHalo += (g - pts[i]).norm() < 3.3;
+        }
+        CHECK(lists[2].entryCount() > 4096);
+        CHECK(lists[2].pairs().size() == expected);
+        CHECK(lists[2].haloPairs().size() == expectedHalo);
+        CHECK(lists[2].widePairs().size() > 0);
+        CHECK((expectedHalo > 0) == !periodic);
     }
 }
 
