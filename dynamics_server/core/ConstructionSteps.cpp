@@ -9,6 +9,8 @@
 namespace bop::core {
 namespace {
 
+constexpr std::size_t kScanBlock = 4096;  // voxels or particles per block of a scan on the threads
+
 double unit(std::uint64_t h) {
     return double(h >> 11) * 0x1.0p-53;
 }  // [0, 1)
@@ -57,19 +59,29 @@ std::vector<DeathMark> markDeaths(const ConstructionParams& params, const Constr
     const double d = params.deathR0 * kR0;
     PointGrid grid;
     grid.build(view.box, d, p.pos);
+    // Every particle on its own, on the threads, in fixed blocks; a victim is marked whichever
+    // block finds it, so the marks do not depend on the thread count.
+    const std::size_t blocks = (p.size() + kScanBlock - 1) / kScanBlock;
+    std::vector<std::vector<std::uint32_t>> victims(blocks);
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1) if (blocks > 1)
+#endif
+    for (std::size_t b = 0; b < blocks; ++b)
+        for (std::size_t i = b * kScanBlock; i < std::min(p.size(), (b + 1) * kScanBlock); ++i)
+            grid.anyNear(p.pos[i], d, p.pos, [&](std::uint32_t j, double) {
+                if (j <= i || (j >= view.owned && i >= view.owned)) return false;  // each pair once; own ones only
+                const bool si = view.model.isSurface(p.species[i]), sj = view.model.isSurface(p.species[j]);
+                std::size_t victim;
+                if (si != sj)
+                    victim = si ? j : i;  // surface + volume: the volume particle dies
+                else
+                    victim = p.id[i] > p.id[j] ? i : j;
+                if (victim < view.owned) victims[b].push_back(std::uint32_t(victim));
+                return false;
+            });
     std::vector<char> marked(view.owned, 0);
-    for (std::size_t i = 0; i < p.size(); ++i)
-        grid.anyNear(p.pos[i], d, p.pos, [&](std::uint32_t j, double) {
-            if (j <= i || (j >= view.owned && i >= view.owned)) return false;  // each pair once; own ones only
-            const bool si = view.model.isSurface(p.species[i]), sj = view.model.isSurface(p.species[j]);
-            std::size_t victim;
-            if (si != sj)
-                victim = si ? j : i;  // surface + volume: the volume particle dies
-            else
-                victim = p.id[i] > p.id[j] ? i : j;
-            if (victim < view.owned) marked[victim] = 1;
-            return false;
-        });
+    for (const auto& v : victims)
+        for (const std::uint32_t i : v) marked[i] = 1;
     std::vector<DeathMark> out;
     for (std::size_t i = 0; i < view.owned; ++i)
         if (marked[i]) out.push_back({mixHash(params.seed, std::uint64_t(step), p.id[i]), p.id[i], p.species[i]});
@@ -107,14 +119,13 @@ std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, co
     close.build(view.box, dClose, p.pos);
     far.build(view.box, dFront, p.pos);
     // Every voxel on its own, on the threads, in fixed blocks joined in voxel order.
-    constexpr std::size_t kBlock = 4096;
-    const std::size_t blocks = (m.occ.size() + kBlock - 1) / kBlock;
+    const std::size_t blocks = (m.occ.size() + kScanBlock - 1) / kScanBlock;
     std::vector<std::vector<BirthCandidate>> found(blocks);
 #if defined(_OPENMP)
 #pragma omp parallel for schedule(dynamic, 8) if (blocks > 1)
 #endif
     for (std::size_t b = 0; b < blocks; ++b)
-        for (std::size_t v = b * kBlock; v < std::min(m.occ.size(), (b + 1) * kBlock); ++v) {
+        for (std::size_t v = b * kScanBlock; v < std::min(m.occ.size(), (b + 1) * kScanBlock); ++v) {
             if (m.occ[v] != species) continue;
             const std::uint64_t voxel = m.wholeIndex(v);
             const std::uint64_t key = mixHash(params.seed, std::uint64_t(step), std::uint64_t(species), voxel);
@@ -176,17 +187,29 @@ std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Mo
     const GradientMap& m = *model.map;
     // Surface species: a surface voxel chosen by the hash. Volume species: the deepest voxel
     // (farthest from any surface), so the seed does not die next to a surface particle.
+    // Per fixed block of voxels on the threads (the first smallest key of each), then the blocks
+    // in voxel order: the same choice as one pass, at any thread count.
     const bool surface = model.isSurface(species);
-    std::optional<SeedChoice> best;
-    for (std::size_t v = 0; v < m.occ.size(); ++v) {
-        if (m.occ[v] != species) continue;
-        const std::pair<long long, std::uint64_t> key{
-            surface ? 0 : -m.delta(v).squaredNorm(),
-            mixHash(params.seed, 0x5eedULL, std::uint64_t(species), m.wholeIndex(v))};
-        if (best && !(key < best->key)) continue;
-        const Eigen::Vector3d c = voxelCentre(m, v);
-        if (mine(c)) best = SeedChoice{key, c};
+    const std::size_t blocks = (m.occ.size() + kScanBlock - 1) / kScanBlock;
+    std::vector<std::optional<SeedChoice>> bestOf(blocks);
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 8) if (blocks > 1)
+#endif
+    for (std::size_t b = 0; b < blocks; ++b) {
+        std::optional<SeedChoice>& best = bestOf[b];
+        for (std::size_t v = b * kScanBlock; v < std::min(m.occ.size(), (b + 1) * kScanBlock); ++v) {
+            if (m.occ[v] != species) continue;
+            const std::pair<long long, std::uint64_t> key{
+                surface ? 0 : -m.delta(v).squaredNorm(),
+                mixHash(params.seed, 0x5eedULL, std::uint64_t(species), m.wholeIndex(v))};
+            if (best && !(key < best->key)) continue;
+            const Eigen::Vector3d c = voxelCentre(m, v);
+            if (mine(c)) best = SeedChoice{key, c};
+        }
     }
+    std::optional<SeedChoice> best;
+    for (const auto& c : bestOf)
+        if (c && (!best || c->key < best->key)) best = c;
     return best;
 }
 
