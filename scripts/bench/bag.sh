@@ -13,6 +13,8 @@
 #                                       out/bench/bag.png); scale 11 (10^6 particles) builds for hours
 #   BOP_BAG_STEPS    most steps from the built state (default 2000; fewer above 15k particles:
 #                    3e7 / particles, at least 20)
+#   BOP_BAG_BUILD_STEPS  construction steps in all (default 4,000 x the stretch; the volume still
+#                    starts at 1,500 x the stretch)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 scales=("$@"); [[ ${#scales[@]} -gt 0 ]] || scales=(1 1.4 2 5)
@@ -31,7 +33,7 @@ for s in "${scales[@]}"; do
   scene=$out/torus-$s.toml
   stretch=$(awk -v s="$s" 'BEGIN {print (s > 2 ? s / 2 : 1)}')
   volume_from=$(awk -v f="$stretch" 'BEGIN {printf "%d", 1500 * f}')
-  build_steps=$(awk -v f="$stretch" 'BEGIN {printf "%d", 4000 * f}')
+  build_steps=${BOP_BAG_BUILD_STEPS:-$(awk -v f="$stretch" 'BEGIN {printf "%d", 4000 * f}')}
   sed -e "s|file = \"../models/torus.obj\"|file = \"$PWD/config/models/torus.obj\"|" \
       -e "s|^scale_mm = 1.0 |scale_mm = $s |" -e "s|^step = 1500$|step = $volume_from|" \
       -e "s|^steps = 4000$|steps = $build_steps|" config/scenes/torus.toml >"$scene"
