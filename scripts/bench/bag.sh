@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The bag's step rate against its size: the torus scene (config/scenes/torus.toml) scaled by
-# SCALE (its mesh's mm per unit; particles grow about as SCALE^3: 1,363 at 1, 9,208 at 2, about
-# 10^5 at 5 and 10^6 at 11), each built by its own construction timeline (wall time and births per
+# SCALE (its mesh's mm per unit; particles grow about as SCALE^3: 1,363 at 1, 9,208 at 2,
+# 139,703 at 5 and 1.1 million at 10), each built by its own construction timeline (wall time and births per
 # second; the surface grows from step 0, the volume from step 1,500, 4,000 steps in all, each
 # stretched by SCALE / 2 above scale 2 because the growth fronts travel farther), then stepped from
 # its built state at one rank with 1 thread, with 2 threads, and at 2 ranks of 1 thread. Per run:
@@ -10,11 +10,13 @@
 # and each loop's CPU time per pair of its kind (summed over threads). A PNG plots steps/s and
 # ns per particle-step against the particle count.
 #   scripts/bench/bag.sh [SCALE ...]   (default 1 1.4 2 5; CSV in out/bench/bag.csv, plot in
-#                                       out/bench/bag.png); scale 11 (10^6 particles) builds for hours
+#                                       out/bench/bag.png); scale 10 (10^6 particles) built for 67
+#                                       minutes here with BOP_BAG_BUILD_STEPS=12500 (longer by default)
 #   BOP_BAG_STEPS    most steps from the built state (default 2000; fewer above 15k particles:
 #                    3e7 / particles, at least 20)
 #   BOP_BAG_BUILD_STEPS  construction steps in all (default 4,000 x the stretch; the volume still
 #                    starts at 1,500 x the stretch)
+#   BOP_BAG_APPEND=1 add rows to an existing CSV (a large scale run on its own) instead of a new one
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 scales=("$@"); [[ ${#scales[@]} -gt 0 ]] || scales=(1 1.4 2 5)
@@ -24,7 +26,7 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "${BOP_JOBS:-2}" --target bop-server >/dev/null
 out=out/bench/bag; mkdir -p "$out"
 csv=out/bench/bag.csv
-echo "scale,surface,volume,particles,construction_s,births_per_s,layout,steps_per_s,ns_per_particle_step,pairs_ms_per_step,lj_pairs,oriented_pairs,ns_per_pair,cpu_ns_per_lj_pair,cpu_ns_per_oriented_pair" >"$csv"
+[[ -n ${BOP_BAG_APPEND:-} && -s $csv ]] || echo "scale,surface,volume,particles,construction_s,births_per_s,layout,steps_per_s,ns_per_particle_step,pairs_ms_per_step,lj_pairs,oriented_pairs,ns_per_pair,cpu_ns_per_lj_pair,cpu_ns_per_oriented_pair" >"$csv"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 server=build/dynamics_server/bop-server
 printf "%-6s %9s %10s %9s  %-18s %9s %11s %9s %9s %9s %8s %7s %7s\n" scale particles "build s" births/s layout steps/s ns/p-step \
