@@ -1,20 +1,22 @@
 #include "OrientedPairLoop.hpp"
 
 #include "HotLoop.hpp"
-
-#include <cmath>
+#include "PairBlocks.hpp"
 
 namespace bop::core {
 namespace {
 
-// The weights of one ordered species pair (a, b): force and torque to each side, energy.
-struct PairWeights {
-    double cnFab, cnFba, cpFab, cpFba, cnTab, cnTba, cpTab, cpTba, cnE, cpE;
+// One block's results per entry: force on j and on i, torque on i and on j.
+struct Block {
+    alignas(32) double fj[3][kPairBlock];
+    alignas(32) double fi[3][kPairBlock];
+    alignas(32) double ti[3][kPairBlock];
+    alignas(32) double tj[3][kPairBlock];
 };
 
-PairWeights weightsOf(const PairKernel::OrientedTables& t, std::size_t ab, std::size_t ba) {
-    return {t.cnF[ab], t.cnF[ba], t.cpF[ab], t.cpF[ba], t.cnT[ab],
-            t.cnT[ba], t.cpT[ab], t.cpT[ba], t.cnE[ab], t.cpE[ab]};
+// A species table's entries for four pairs.
+[[gnu::always_inline]] inline V4 table4(const double* t, const std::size_t* k) {
+    return V4{t[k[0]], t[k[1]], t[k[2]], t[k[3]]};
 }
 
 // One: every pair is of the one oriented species (a bag's surface), its weights held throughout.
@@ -26,64 +28,110 @@ template <bool Energy, bool One>
     const PairKernel::OrientedTables tab = kernel.orientedTables();
     const std::size_t side = std::size_t(kernel.tableSide());
     const std::size_t single = std::size_t(kernel.singleOrientedSpecies()) * (side + 1);
-    const PairWeights one = weightsOf(tab, single, single);
+    // The single species' weights, copied: the force stores may alias the tables.
+    const double cnF1 = tab.cnF[single], cpF1 = tab.cpF[single], cnT1 = tab.cnT[single], cpT1 = tab.cpT[single];
+    const double cnE1 = tab.cnE[single], cpE1 = tab.cpE[single];
     const double cut2 = w.cutoff2(), rOn = w.taperOn(), invWidth = w.invTaperWidth();
     const double inv2s2 = w.invTwoSigma2(), invS2 = w.invSigma2();
     const bool curvature = kernel.curvature();
-    const std::uint32_t* nbr = pairs.nbr.data();
-    const std::uint32_t* start = pairs.start.data();
-    PairKernel::Sums s;
-    for (std::size_t x = x0; x < x1; ++x) {
-        const std::uint32_t k0 = start[x], k1 = start[x + 1];
-        if (k0 == k1) continue;
-        const Eigen::Vector3d pi = in.e[x], ni = o.normal[x];  // copies: the stores may alias
-        const std::size_t a = in.species[x];
-        const double wi = double(o.curvature[x]);
-        Eigen::Vector3d fi = Eigen::Vector3d::Zero(), ti = Eigen::Vector3d::Zero();
-        for (std::uint32_t k = k0; k < k1; ++k) {
-            const std::uint32_t y = nbr[k];
-            const Eigen::Vector3d r = in.e[y] - pi;
-            const double r2 = r.squaredNorm();
-            if (r2 >= cut2) continue;
-            PairWeights pw = one;
+    const double* e = in.e[0].data();
+    const double* nrm = o.normal[0].data();
+    const float* cw = o.curvature;
+    const std::uint8_t* sp = in.species;
+    double* f = in.f[0].data() - 3 * in.base;
+    double* tq = o.t[0].data() - 3 * in.base;
+    const V4 zero = splat(0.0);
+    V4 energy = zero, virial = zero;
+    V4Mask count = V4Mask{0, 0, 0, 0};
+    Block b;
+    PairBlocks blocks(pairs, x0, x1);
+    std::uint32_t k0 = 0;
+    for (std::uint32_t n; (n = blocks.next(k0)) > 0;) {
+        for (std::uint32_t q = 0; q < n; q += 4) {
+            const std::uint32_t* iq = blocks.i + q;
+            const std::uint32_t* jq = blocks.j(q);
+            const V4 rx = gather3(e, jq, 0) - gather3(e, iq, 0), ry = gather3(e, jq, 1) - gather3(e, iq, 1),
+                     rz = gather3(e, jq, 2) - gather3(e, iq, 2);
+            const V4 r2 = rx * rx + ry * ry + rz * rz;
+            V4 cnFab = splat(cnF1), cnFba = cnFab, cpFab = splat(cpF1), cpFba = cpFab, cnTab = splat(cnT1);
+            V4 cnTba = cnTab, cpTab = splat(cpT1), cpTba = cpTab, cnE = splat(cnE1), cpE = splat(cpE1);
+            V4Mask near = lanes(q, n) & (r2 < cut2);
             if constexpr (!One) {
-                const std::size_t b = in.species[y], ab = a * side + b, ba = b * side + a;
-                if (!tab.on[ab]) continue;
-                pw = weightsOf(tab, ab, ba);
+                std::size_t ab[4], ba[4];
+                for (int l = 0; l < 4; ++l) {
+                    ab[l] = sp[iq[l]] * side + sp[jq[l]];
+                    ba[l] = sp[jq[l]] * side + sp[iq[l]];
+                }
+                cnFab = table4(tab.cnF, ab), cnFba = table4(tab.cnF, ba), cpFab = table4(tab.cpF, ab);
+                cpFba = table4(tab.cpF, ba), cnTab = table4(tab.cnT, ab), cnTba = table4(tab.cnT, ba);
+                cpTab = table4(tab.cpT, ab), cpTba = table4(tab.cpT, ba), cnE = table4(tab.cnE, ab);
+                cpE = table4(tab.cpE, ab);
+                near &= V4Mask{tab.on[ab[0]], tab.on[ab[1]], tab.on[ab[2]], tab.on[ab[3]]} != 0;
             }
-            ++s.orientedInRange;
-            const double rlen = std::sqrt(r2);
-            const double invR = rlen > 0.0 ? 1.0 / rlen : 0.0;
+            const V4 rlen = vsqrt(r2);
+            const V4 invR = select(rlen > 0.0, 1.0 / rlen, zero);
             // psi = exp(-r^2 / 2 sigma^2) S(r) and its derivative, S the cubic taper.
-            const double g = std::exp(-rlen * rlen * inv2s2);
-            const double u = (rlen - rOn) * invWidth;
-            const double t = u > 0.0 ? u : 0.0;
-            const double taper = 1.0 + t * t * (2.0 * t - 3.0);
-            const double psi = g * taper;
-            const double dpsi = (-rlen * invS2 * g) * taper + g * (6.0 * t * (t - 1.0) * invWidth);
-            const Eigen::Vector3d nj = o.normal[y];
-            // Co-normal |n_i - n_j|^2 psi.
-            const double d2 = (ni - nj).squaredNorm();
-            const Eigen::Vector3d cnF = (-d2 * dpsi * invR) * r;
-            const Eigen::Vector3d cnTi = (2.0 * psi) * ni.cross(nj);
+            const V4 g = simdExp(-r2 * inv2s2);
+            const V4 t = atLeast((rlen - rOn) * invWidth, 0.0);
+            const V4 taper = 1.0 + t * t * (2.0 * t - 3.0);
+            const V4 psi = g * taper;
+            const V4 dpsi = (-rlen * invS2 * g) * taper + g * (6.0 * t * (t - 1.0) * invWidth);
+            const V4 nix = gather3(nrm, iq, 0), niy = gather3(nrm, iq, 1), niz = gather3(nrm, iq, 2);
+            const V4 njx = gather3(nrm, jq, 0), njy = gather3(nrm, jq, 1), njz = gather3(nrm, jq, 2);
+            // Co-normal |n_i - n_j|^2 psi: force on j along r, torque n_i x n_j.
+            const V4 dx = nix - njx, dy = niy - njy, dz = niz - njz;
+            const V4 d2 = dx * dx + dy * dy + dz * dz;
+            const V4 cn = -d2 * dpsi * invR;
+            const V4 p2 = 2.0 * psi;
+            const V4 cnTx = p2 * (niy * njz - niz * njy), cnTy = p2 * (niz * njx - nix * njz),
+                     cnTz = p2 * (nix * njy - niy * njx);
             // Co-planar ((n_i.r)^2 + (n_j.r)^2) c psi, c the mean curvature weight of the two.
-            const double c = curvature ? 0.5 * (wi + double(o.curvature[y])) : 1.0;
-            const double cpsi = c * psi, cdpsi = c * dpsi;
-            const double A = ni.dot(r), B = nj.dot(r), ab2 = A * A + B * B;
-            const Eigen::Vector3d cpF = (-2.0 * cpsi) * (A * ni + B * nj) - (ab2 * cdpsi * invR) * r;
-            in.f[y - in.base] += pw.cnFba * cnF + pw.cpFba * cpF;
-            fi -= pw.cnFab * cnF + pw.cpFab * cpF;
-            ti += pw.cnTab * cnTi + pw.cpTab * ((2.0 * A * cpsi) * r.cross(ni));
-            o.t[y - in.base] += pw.cnTba * -cnTi + pw.cpTba * ((2.0 * B * cpsi) * r.cross(nj));
-            s.virial += pw.cnE * r.dot(cnF) + pw.cpE * r.dot(cpF);
-            if constexpr (Energy) s.energy += pw.cnE * (d2 * psi) + pw.cpE * (ab2 * cpsi);
+            V4 c = splat(1.0);
+            if (curvature)
+                for (int l = 0; l < 4; ++l) c[l] = 0.5 * (double(cw[iq[l]]) + double(cw[jq[l]]));
+            const V4 cpsi = c * psi, cdpsi = c * dpsi;
+            const V4 A = nix * rx + niy * ry + niz * rz, B = njx * rx + njy * ry + njz * rz;
+            const V4 ab2 = A * A + B * B;
+            const V4 cpN = -2.0 * cpsi, cpR = -ab2 * cdpsi * invR;
+            const V4 cpx = cpN * (A * nix + B * njx) + cpR * rx, cpy = cpN * (A * niy + B * njy) + cpR * ry,
+                     cpz = cpN * (A * niz + B * njz) + cpR * rz;
+            // Torques of the co-planar term: 2 A c psi r x n_i on i, 2 B c psi r x n_j on j.
+            const V4 ai = 2.0 * A * cpsi, bj = 2.0 * B * cpsi;
+            store4(b.fj[0] + q, select(near, cnFba * cn * rx + cpFba * cpx, zero));
+            store4(b.fj[1] + q, select(near, cnFba * cn * ry + cpFba * cpy, zero));
+            store4(b.fj[2] + q, select(near, cnFba * cn * rz + cpFba * cpz, zero));
+            store4(b.fi[0] + q, select(near, -(cnFab * cn * rx + cpFab * cpx), zero));
+            store4(b.fi[1] + q, select(near, -(cnFab * cn * ry + cpFab * cpy), zero));
+            store4(b.fi[2] + q, select(near, -(cnFab * cn * rz + cpFab * cpz), zero));
+            store4(b.ti[0] + q, select(near, cnTab * cnTx + cpTab * ai * (ry * niz - rz * niy), zero));
+            store4(b.ti[1] + q, select(near, cnTab * cnTy + cpTab * ai * (rz * nix - rx * niz), zero));
+            store4(b.ti[2] + q, select(near, cnTab * cnTz + cpTab * ai * (rx * niy - ry * nix), zero));
+            store4(b.tj[0] + q, select(near, -cnTba * cnTx + cpTba * bj * (ry * njz - rz * njy), zero));
+            store4(b.tj[1] + q, select(near, -cnTba * cnTy + cpTba * bj * (rz * njx - rx * njz), zero));
+            store4(b.tj[2] + q, select(near, -cnTba * cnTz + cpTba * bj * (rx * njy - ry * njx), zero));
+            virial += select(near, cnE * cn * r2 + cpE * (rx * cpx + ry * cpy + rz * cpz), zero);
+            if constexpr (Energy) energy += select(near, cnE * d2 * psi + cpE * ab2 * cpsi, zero);
+            count -= near;  // a true lane is -1
         }
-        in.f[x - in.base] += fi;
-        o.t[x - in.base] += ti;
+        // Into the particles, in list order; a row's own force and torque summed first.
+        const std::uint32_t* nb = pairs.nbr.data() + k0;
+        for (std::uint32_t q = 0; q < n;) {
+            const std::size_t i = blocks.i[q];
+            double fx = 0, fy = 0, fz = 0, tx = 0, ty = 0, tz = 0;
+            for (; q < n && blocks.i[q] == i; ++q) {
+                const std::size_t j = 3 * std::size_t(nb[q]);
+                f[j] += b.fj[0][q], f[j + 1] += b.fj[1][q], f[j + 2] += b.fj[2][q];
+                tq[j] += b.tj[0][q], tq[j + 1] += b.tj[1][q], tq[j + 2] += b.tj[2][q];
+                fx += b.fi[0][q], fy += b.fi[1][q], fz += b.fi[2][q];
+                tx += b.ti[0][q], ty += b.ti[1][q], tz += b.ti[2][q];
+            }
+            f[3 * i] += fx, f[3 * i + 1] += fy, f[3 * i + 2] += fz;
+            tq[3 * i] += tx, tq[3 * i + 1] += ty, tq[3 * i + 2] += tz;
+        }
     }
-    sums.energy += s.energy;
-    sums.virial += s.virial;
-    sums.orientedInRange += s.orientedInRange;
+    sums.energy += laneSum(energy);
+    sums.virial += laneSum(virial);
+    sums.orientedInRange += std::size_t(count[0] + count[1] + count[2] + count[3]);
 }
 
 }  // namespace

@@ -1,9 +1,11 @@
 #pragma once
 // The oriented pair loop: co-normal and co-planar forces and torques (docs/physics.md §1.2) over
 // the wide neighbour list, which holds only surface particles with oriented weights, within the
-// oriented cutoff plus skin. The LJ part of those pairs is the LJ loop's. Per pair: one
-// exponential and one square root; the taper is branch-free (t clamps to 0 below its start).
-// Forces and torques equal PairKernel::apply's oriented part to rounding.
+// oriented cutoff plus skin. The LJ part of those pairs is the LJ loop's. Four entries at a
+// time (PairBlocks.hpp, V4 lanes of SimdMath.hpp): per pair one exponential (simdExp, within a
+// few ulp of std::exp) and one square root, the taper branch-free (t clamps to 0 below its
+// start), entries beyond the cutoff masked out. Forces and torques equal PairKernel::apply's
+// oriented part to rounding (tests/core/TestBagKernel.cpp).
 #include "LjPairLoop.hpp"
 
 namespace bop::core {
