@@ -2,18 +2,24 @@
 # The whole system on the embedded default scene (the torus) in one command: installs what is
 # missing, builds, builds the torus's gradient map (slice pictures) and its bag of particles
 # (a batch run), then serves the bag for about BOP_DEMO_SECONDS (30) seconds, at one rank with
-# every core as a thread (BOP_DEMO_RANKS=2 runs it under mpirun at 2 ranks instead), with a
+# every core but one as a thread (BOP_DEMO_RANKS=2 runs it under mpirun at 2 ranks instead;
+# BOP_DEMO_THREADS sets the threads per rank), with a
 # scripted haptic device poking it (sim:poke) and a viewer watching: headless (PNG frames, an MP4
 # when ffmpeg is present) or, when a display is present, the window. Ends with a summary of the
 # measured figures and where the pictures are.
 #   scripts/demo.sh                     BOP_DEMO_SECONDS=60 for longer; BOP_DEMO_HEADLESS=1 forces headless
 # A bag this small steps fastest on one machine as one process whose threads share the cores (no
-# halo, no messages between ranks; docs/parallel.md); the server prints the layout it took.
+# halo, no messages between ranks; docs/parallel.md); the server prints the layout it took. The
+# haptic client and the viewer run on the same machine, so the server leaves them a core: on a
+# 2-core machine, 1 server thread stepped the torus at 1,204-1,265 steps/s with a probe round
+# trip p99 of 4.0-5.0 ms, 2 threads at 540-907 steps/s and 13-16 ms (docs/parallel.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=${BOP_JOBS:-2}
 seconds=${BOP_DEMO_SECONDS:-30}
 ranks=${BOP_DEMO_RANKS:-1}
+cores=$(nproc)
+threads=${BOP_DEMO_THREADS:-$(((cores - 1) / ranks > 0 ? (cores - 1) / ranks : 1))}
 out=out/demo
 
 scripts/install-deps.sh
@@ -27,14 +33,14 @@ build/dynamics_server/bop-shape config/scenes/torus.toml -o "$out/torus" --expor
 echo "== the torus bag: construction and relaxation (bop-server batch run, about 10 s) =="
 build/dynamics_server/bop-server config/scenes/torus.toml --no-listen -o "$out/torus" | tail -6
 
-echo "== served for ${seconds} s ($ranks rank(s)): a haptic device pokes it, a viewer watches =="
+echo "== served for ${seconds} s ($ranks rank(s) x $threads thread(s), a core left to the clients): a haptic device pokes it, a viewer watches =="
 pids=()
 cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
 launch=()
 [[ $ranks -gt 1 ]] && launch=(mpirun --oversubscribe -np "$ranks")
 "${launch[@]}" build/dynamics_server/bop-server config/scenes/torus.toml \
-  --restart "$out/torus/final.xyz" --cache "$out/torus/gradient-map.bopgm" --port 0 --publish-hz 30 \
+  --restart "$out/torus/final.xyz" --cache "$out/torus/gradient-map.bopgm" --port 0 --publish-hz 30 --threads "$threads" \
   -o "$out/served" >"$out/server.log" 2>&1 &
 server=$!
 pids+=("$server")
