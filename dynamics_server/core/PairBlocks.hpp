@@ -63,8 +63,12 @@ private:
     return V4{a[3 * std::size_t(idx[0]) + c], a[3 * std::size_t(idx[1]) + c], a[3 * std::size_t(idx[2]) + c],
               a[3 * std::size_t(idx[3]) + c]};
 }
-[[gnu::always_inline]] inline void store4(double* to, V4 v) { std::memcpy(to, &v, sizeof v); }
+[[gnu::always_inline]] inline void store4(double* to, V4 v) {
+    std::memcpy(to, &v, sizeof v);
+}
 // The lanes' sum, lane 0 first: the same order every time.
-[[gnu::always_inline]] inline double laneSum(V4 v) { return ((v[0] + v[1]) + v[2]) + v[3]; }
+[[gnu::always_inline]] inline double laneSum(V4 v) {
+    return ((v[0] + v[1]) + v[2]) + v[3];
+}
 
 }  // namespace bop::core

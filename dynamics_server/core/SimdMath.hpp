@@ -13,22 +13,46 @@ using V4 = double __attribute__((vector_size(32)));
 using V4Mask = std::int64_t __attribute__((vector_size(32)));  // lanes all ones (true) or zero
 using V4Bits = std::uint64_t __attribute__((vector_size(32)));
 
-[[gnu::always_inline]] inline V4 splat(double x) { return V4{x, x, x, x}; }
-[[gnu::always_inline]] inline double select(bool m, double a, double b) { return m ? a : b; }
-[[gnu::always_inline]] inline V4 select(V4Mask m, V4 a, V4 b) { return m ? a : b; }
-[[gnu::always_inline]] inline double vsqrt(double x) { return std::sqrt(x); }
+[[gnu::always_inline]] inline V4 splat(double x) {
+    return V4{x, x, x, x};
+}
+[[gnu::always_inline]] inline double select(bool m, double a, double b) {
+    return m ? a : b;
+}
+[[gnu::always_inline]] inline V4 select(V4Mask m, V4 a, V4 b) {
+    return m ? a : b;
+}
+[[gnu::always_inline]] inline double vsqrt(double x) {
+    return std::sqrt(x);
+}
 [[gnu::always_inline]] inline V4 vsqrt(V4 x) {
     return V4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
 }
 // max(x, lo) and min(x, hi), written as selects (no library call)
-[[gnu::always_inline]] inline double atLeast(double x, double lo) { return x > lo ? x : lo; }
-[[gnu::always_inline]] inline V4 atLeast(V4 x, double lo) { return x > lo ? x : splat(lo); }
-[[gnu::always_inline]] inline double atMost(double x, double hi) { return x < hi ? x : hi; }
-[[gnu::always_inline]] inline V4 atMost(V4 x, double hi) { return x < hi ? x : splat(hi); }
-[[gnu::always_inline]] inline std::uint64_t bitsOf(double x) { return std::bit_cast<std::uint64_t>(x); }
-[[gnu::always_inline]] inline V4Bits bitsOf(V4 x) { return std::bit_cast<V4Bits>(x); }
-[[gnu::always_inline]] inline double fromBits(std::uint64_t b) { return std::bit_cast<double>(b); }
-[[gnu::always_inline]] inline V4 fromBits(V4Bits b) { return std::bit_cast<V4>(b); }
+[[gnu::always_inline]] inline double atLeast(double x, double lo) {
+    return x > lo ? x : lo;
+}
+[[gnu::always_inline]] inline V4 atLeast(V4 x, double lo) {
+    return x > lo ? x : splat(lo);
+}
+[[gnu::always_inline]] inline double atMost(double x, double hi) {
+    return x < hi ? x : hi;
+}
+[[gnu::always_inline]] inline V4 atMost(V4 x, double hi) {
+    return x < hi ? x : splat(hi);
+}
+[[gnu::always_inline]] inline std::uint64_t bitsOf(double x) {
+    return std::bit_cast<std::uint64_t>(x);
+}
+[[gnu::always_inline]] inline V4Bits bitsOf(V4 x) {
+    return std::bit_cast<V4Bits>(x);
+}
+[[gnu::always_inline]] inline double fromBits(std::uint64_t b) {
+    return std::bit_cast<double>(b);
+}
+[[gnu::always_inline]] inline V4 fromBits(V4Bits b) {
+    return std::bit_cast<V4>(b);
+}
 
 // e^x, with x clamped to [-700, 700] (e^-700 is about 1e-304), for a double or four lanes.
 // Within a few units in the last place of std::exp (tests/core/TestSimdMath.cpp). Cody-Waite
@@ -37,7 +61,7 @@ using V4Bits = std::uint64_t __attribute__((vector_size(32)));
 template <typename T>
 [[gnu::always_inline]] inline T simdExp(T x) {
     constexpr double kLog2e = 1.4426950408889634074;
-    constexpr double kShift = 0x1.8p52;  // adding it rounds to an integer kept in the low bits
+    constexpr double kShift = 0x1.8p52;                    // adding it rounds to an integer kept in the low bits
     constexpr double kLn2Hi = 6.93147180369123816490e-01;  // ln 2's leading bits: n kLn2Hi is exact for |n| < 2^11
     constexpr double kLn2Lo = 1.90821492927058770002e-10;  // ln 2 - kLn2Hi
     x = atMost(atLeast(x, -700.0), 700.0);

@@ -10,7 +10,9 @@
 using namespace bop::core;
 
 namespace {
-double relativeError(double got, double want) { return std::abs(got - want) / want; }
+double relativeError(double got, double want) {
+    return std::abs(got - want) / want;
+}
 }  // namespace
 
 TEST_CASE("simdExp is within a few units in the last place of std::exp, in one lane and in four", "[core][simd]") {
