@@ -2,6 +2,7 @@
 
 #include "CellList.hpp"
 #include "Integrator.hpp"
+#include "Threads.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -61,13 +62,9 @@ std::vector<DeathMark> markDeaths(const ConstructionParams& params, const Constr
     grid.build(view.box, d, p.pos);
     // Every particle on its own, on the threads, in fixed blocks; a victim is marked whichever
     // block finds it, so the marks do not depend on the thread count.
-    const std::size_t blocks = (p.size() + kScanBlock - 1) / kScanBlock;
-    std::vector<std::vector<std::uint32_t>> victims(blocks);
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1) if (blocks > 1)
-#endif
-    for (std::size_t b = 0; b < blocks; ++b)
-        for (std::size_t i = b * kScanBlock; i < std::min(p.size(), (b + 1) * kScanBlock); ++i)
+    std::vector<std::vector<std::uint32_t>> victims(blockCount(p.size(), kScanBlock));
+    forBlocks(p.size(), kScanBlock, [&](std::size_t b, std::size_t i0, std::size_t i1) {
+        for (std::size_t i = i0; i < i1; ++i)
             grid.anyNear(p.pos[i], d, p.pos, [&](std::uint32_t j, double) {
                 if (j <= i || (j >= view.owned && i >= view.owned)) return false;  // each pair once; own ones only
                 const bool si = view.model.isSurface(p.species[i]), sj = view.model.isSurface(p.species[j]);
@@ -79,6 +76,7 @@ std::vector<DeathMark> markDeaths(const ConstructionParams& params, const Constr
                 if (victim < view.owned) victims[b].push_back(std::uint32_t(victim));
                 return false;
             });
+    });
     std::vector<char> marked(view.owned, 0);
     for (const auto& v : victims)
         for (const std::uint32_t i : v) marked[i] = 1;
@@ -119,13 +117,9 @@ std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, co
     close.build(view.box, dClose, p.pos);
     far.build(view.box, dFront, p.pos);
     // Every voxel on its own, on the threads, in fixed blocks joined in voxel order.
-    const std::size_t blocks = (m.occ.size() + kScanBlock - 1) / kScanBlock;
-    std::vector<std::vector<BirthCandidate>> found(blocks);
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(dynamic, 8) if (blocks > 1)
-#endif
-    for (std::size_t b = 0; b < blocks; ++b)
-        for (std::size_t v = b * kScanBlock; v < std::min(m.occ.size(), (b + 1) * kScanBlock); ++v) {
+    std::vector<std::vector<BirthCandidate>> found(blockCount(m.occ.size(), kScanBlock));
+    const auto scan = [&](std::size_t b, std::size_t v0, std::size_t v1) {
+        for (std::size_t v = v0; v < v1; ++v) {
             if (m.occ[v] != species) continue;
             const std::uint64_t voxel = m.wholeIndex(v);
             const std::uint64_t key = mixHash(params.seed, std::uint64_t(step), std::uint64_t(species), voxel);
@@ -142,6 +136,8 @@ std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, co
                 far.anyNear(c, dFront, p.pos, [&](std::uint32_t j, double) { return p.species[j] == species; });
             if (front) found[b].push_back({c, key, voxel});
         }
+    };
+    forBlocks(m.occ.size(), kScanBlock, scan, 8);
     std::vector<BirthCandidate> accepted;
     for (const auto& f : found) accepted.insert(accepted.end(), f.begin(), f.end());
     return accepted;
@@ -190,14 +186,10 @@ std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Mo
     // Per fixed block of voxels on the threads (the first smallest key of each), then the blocks
     // in voxel order: the same choice as one pass, at any thread count.
     const bool surface = model.isSurface(species);
-    const std::size_t blocks = (m.occ.size() + kScanBlock - 1) / kScanBlock;
-    std::vector<std::optional<SeedChoice>> bestOf(blocks);
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(dynamic, 8) if (blocks > 1)
-#endif
-    for (std::size_t b = 0; b < blocks; ++b) {
+    std::vector<std::optional<SeedChoice>> bestOf(blockCount(m.occ.size(), kScanBlock));
+    const auto scan = [&](std::size_t b, std::size_t v0, std::size_t v1) {
         std::optional<SeedChoice>& best = bestOf[b];
-        for (std::size_t v = b * kScanBlock; v < std::min(m.occ.size(), (b + 1) * kScanBlock); ++v) {
+        for (std::size_t v = v0; v < v1; ++v) {
             if (m.occ[v] != species) continue;
             const std::pair<long long, std::uint64_t> key{
                 surface ? 0 : -m.delta(v).squaredNorm(),
@@ -206,7 +198,8 @@ std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Mo
             const Eigen::Vector3d c = voxelCentre(m, v);
             if (mine(c)) best = SeedChoice{key, c};
         }
-    }
+    };
+    forBlocks(m.occ.size(), kScanBlock, scan, 8);
     std::optional<SeedChoice> best;
     for (const auto& c : bestOf)
         if (c && (!best || c->key < best->key)) best = c;

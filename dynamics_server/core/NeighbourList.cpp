@@ -137,17 +137,14 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
     const double range2 = range * range;
     pairs_.start.assign(ne + 1, 0);
     haloPairs_.start.assign(ne + 1, 0);
-    const std::size_t blocks = (std::size_t(cells.cellCount()) + kCellBlock - 1) / kCellBlock;
+    const std::size_t cellCount = std::size_t(cells.cellCount());
+    const std::size_t blocks = blockCount(cellCount, kCellBlock);
     std::vector<Pairs> part(blocks), haloPart(blocks);  // per block: nbr only; row lengths go to start
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1) if (blocks > 1 && ne >= kThreadedEntries)
-#endif
-    for (std::size_t b = 0; b < blocks; ++b) {
+    const auto rows = [&](std::size_t b, std::size_t c0, std::size_t c1) {
         std::array<CellList::Neighbour, 14> stencil;
         std::vector<std::uint32_t>& nbr = part[b].nbr;
         std::vector<std::uint32_t>& hnbr = haloPart[b].nbr;
-        const int c1 = int(std::min<std::size_t>((b + 1) * kCellBlock, std::size_t(cells.cellCount())));
-        for (int c = int(b * kCellBlock); c < c1; ++c) {
+        for (int c = int(c0); c < int(c1); ++c) {
             const std::uint32_t b0 = cells.start(c), b1 = cells.start(c + 1);
             if (b0 == b1) continue;
             const int m = cells.halfStencil(c, stencil);
@@ -169,10 +166,10 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
                 haloPairs_.start[x + 1] = std::uint32_t(hnbr.size() - hfrom);
             }
         }
-    }
+    };
+    forBlocks(cellCount, kCellBlock, rows, 1, ne >= kThreadedEntries);
     join(part, pairs_);
-    join(haloPart, haloPairs_);
-    checkSize(pairs_, haloPairs_);
+    join(haloPart, haloPairs_);  // each join checks its size
     widePairs_ = {};
     wideHaloPairs_ = {};
     if (wide) buildWide(extended, *wide);
@@ -192,15 +189,11 @@ void NeighbourList::buildWide(const Box& extended, const Wide& wide) {
     const double range2 = wide.range * wide.range;
     using Found = std::vector<std::pair<std::uint32_t, std::uint32_t>>;  // (smaller, larger)
     // Per block of cells (on the threads), then joined in block order: Newton, halo.
-    const std::size_t blocks = (std::size_t(cells.cellCount()) + kCellBlock - 1) / kCellBlock;
-    std::vector<std::array<Found, 2>> part(blocks);
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1) if (blocks > 1 && members.size() >= kThreadedEntries)
-#endif
-    for (std::size_t b = 0; b < blocks; ++b) {
+    const std::size_t cellCount = std::size_t(cells.cellCount());
+    std::vector<std::array<Found, 2>> part(blockCount(cellCount, kCellBlock));
+    const auto rows = [&](std::size_t b, std::size_t c0, std::size_t c1) {
         std::array<CellList::Neighbour, 14> stencil;
-        const int c1 = int(std::min<std::size_t>((b + 1) * kCellBlock, std::size_t(cells.cellCount())));
-        for (int c = int(b * kCellBlock); c < c1; ++c) {
+        for (int c = int(c0); c < int(c1); ++c) {
             const std::uint32_t b0 = cells.start(c), b1 = cells.start(c + 1);
             if (b0 == b1) continue;
             const int m = cells.halfStencil(c, stencil);
@@ -215,7 +208,8 @@ void NeighbourList::buildWide(const Box& extended, const Wide& wide) {
                     }
                 }
         }
-    }
+    };
+    forBlocks(cellCount, kCellBlock, rows, 1, members.size() >= kThreadedEntries);
     Found found[2];
     for (auto& q : part)
         for (int k = 0; k < 2; ++k) found[k].insert(found[k].end(), q[std::size_t(k)].begin(), q[std::size_t(k)].end());

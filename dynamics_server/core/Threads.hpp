@@ -41,6 +41,24 @@ void forEachIndex(std::size_t n, F&& f) {
     for (std::size_t i = 0; i < n; ++i) f(i);
 }
 
+// The number of blocks of `block` items that cover [0, n).
+inline std::size_t blockCount(std::size_t n, std::size_t block) {
+    return (n + block - 1) / block;
+}
+
+// f(b, begin, end) for each block b = [b * block, min(n, (b + 1) * block)) of [0, n), on the
+// threads (dynamic schedule, `grain` blocks at a time) when `threaded` and there are several.
+// The blocks depend on n and block alone: a caller that keeps each block's results and joins
+// them in block order gets the same bits at any thread count.
+template <class F>
+void forBlocks(std::size_t n, std::size_t block, F&& f, std::size_t grain = 1, bool threaded = true) {
+    const std::size_t blocks = blockCount(n, block);
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, grain) if (threaded && blocks > 1)
+#endif
+    for (std::size_t b = 0; b < blocks; ++b) f(b, b * block, std::min(n, (b + 1) * block));
+}
+
 // The sum of f(i) over [0, n) in blocks of kSumBlock: the same at any thread count.
 template <class F>
 double sumIndex(std::size_t n, F&& f) {
