@@ -20,9 +20,10 @@ struct PairBlocks {
         : start_(pairs.start.data()), nbr_(pairs.nbr.data()), x_(x0), k_(start_[x0]), end_(start_[x1]) {}
 
     // The next block: its first entry k0 and its length n (0 at the end). For q < n, entry
-    // k0 + q pairs row i[q] with particle j[q]; up to the next multiple of 4 both are the last
-    // row (a pair of a particle with itself, which the loops mask out by lanes()). j points
-    // into the list but for the block's last four lanes, which are copied.
+    // k0 + q pairs row i[q] with the list's nbr[k0 + q]; lanes up to the next multiple of 4
+    // pair the last row with itself, and the loops mask them out by lanes(). j(q) gives the
+    // second particles of lanes q..q+3: a pointer into the list, or for the block's last four
+    // lanes a padded copy.
     [[gnu::always_inline]] std::uint32_t next(std::uint32_t& k0) {
         k0 = k_;
         const std::uint32_t n = std::min(kPairBlock, end_ - k_), kEnd = k_ + n;

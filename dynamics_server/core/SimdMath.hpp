@@ -1,8 +1,9 @@
 #pragma once
 // Four doubles at a time for the pair loops (GCC/Clang vector extensions): V4 holds four lanes,
-// arithmetic works lane by lane, and the few functions here (square root, e^x, clamps, selects)
-// take either a double or a V4, so that one formula serves the scalar and the vector path. In
-// an x86-64-v3 clone (HotLoop.hpp) a V4 is one AVX register; in the baseline, two SSE2 halves.
+// arithmetic works lane by lane, with a few functions (square root, e^x, clamps, selects) the
+// compiler evaluates in every lane. simdExp also takes a double, so that its test compares one
+// lane with std::exp. In an x86-64-v3 clone (HotLoop.hpp) a V4 is one AVX register; in the
+// baseline, two SSE2 halves.
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -16,14 +17,8 @@ using V4Bits = std::uint64_t __attribute__((vector_size(32)));
 [[gnu::always_inline]] inline V4 splat(double x) {
     return V4{x, x, x, x};
 }
-[[gnu::always_inline]] inline double select(bool m, double a, double b) {
-    return m ? a : b;
-}
 [[gnu::always_inline]] inline V4 select(V4Mask m, V4 a, V4 b) {
     return m ? a : b;
-}
-[[gnu::always_inline]] inline double vsqrt(double x) {
-    return std::sqrt(x);
 }
 [[gnu::always_inline]] inline V4 vsqrt(V4 x) {
     return V4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
