@@ -105,7 +105,7 @@ void ForceField::gradientMapForces(const Model& model, Particles& p, ForceStats&
         p.force[i] += sp.alphaForceGm * g.force;
         if (sp.kind == ParticleKind::Surface) {
             p.torque[i] += sp.alphaTorqueGm * g.torque;
-            if (oriented_) cpWeight_[i] = curvatureWeight(model, p.pos[i], p.species[i]);
+            if (oriented_) cpWeight_[i] = g.cpWeight;  // curvatureWeight(), from the same voxel
             return 0.0;
         }
         return (p.pos[i] - centre).dot(sp.alphaForceGm * g.force);

@@ -60,6 +60,7 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
     const Eigen::Vector3d q = pVox.cwiseMax(Eigen::Vector3d::Constant(0.5)).cwiseMin(hi);
 
     Eigen::Vector3d f = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero();
+    float cpWeight = 1.0f;
     const bool nearest =
         interp_ == Interpolation::Nearest || (interp_ == Interpolation::Mixed && kind == ParticleKind::Surface);
     if (nearest) {
@@ -67,37 +68,50 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
             q.array().floor().cast<int>().min(Eigen::Array3i(dm.nx - 1, dm.ny - 1, dm.nz - 1)).matrix();
         const std::size_t v = dm.index(c.x(), c.y(), c.z());
         f = rule(v, c, kind, species, q);
-        n = normalAtVoxel(v);
+        const SurfaceVoxel& s = map_.nearestSurface(v);
+        n = s.normal.cast<double>();
+        cpWeight = s.cpWeight;
     } else {
         const Eigen::Vector3d s = q - Eigen::Vector3d::Constant(0.5);  // centre-based coordinates
         Eigen::Vector3i base = s.array().floor().cast<int>().matrix();
         base = base.cwiseMin(Eigen::Vector3i(dm.nx - 2, dm.ny - 2, dm.nz - 2)).cwiseMax(Eigen::Vector3i::Zero());
         const Eigen::Vector3d t =
             (s - base.cast<double>()).cwiseMax(Eigen::Vector3d::Zero()).cwiseMin(Eigen::Vector3d::Ones());
+        // The 8 voxels around the particle; a volume particle whose species fills all of them
+        // (most of a bag's volume) feels no force from them: rule() would give zeros.
+        std::size_t at[8];
+        const int hi1[3] = {std::min(base.x() + 1, dm.nx - 1), std::min(base.y() + 1, dm.ny - 1),
+                            std::min(base.z() + 1, dm.nz - 1)};
+        bool home = kind == ParticleKind::Volume;
         for (int corner = 0; corner < 8; ++corner) {
+            at[corner] = dm.index(corner & 1 ? hi1[0] : base.x(), corner & 2 ? hi1[1] : base.y(),
+                                  corner & 4 ? hi1[2] : base.z());
+            home = home && map_.occ[at[corner]] == species;
+        }
+        for (int corner = 0; corner < 8 && !home; ++corner) {
             const int a = corner & 1, b = (corner >> 1) & 1, c = (corner >> 2) & 1;
             const double w = (a ? t.x() : 1 - t.x()) * (b ? t.y() : 1 - t.y()) * (c ? t.z() : 1 - t.z());
             if (w == 0.0) continue;
-            const Eigen::Vector3i at(std::min(base.x() + a, dm.nx - 1), std::min(base.y() + b, dm.ny - 1),
-                                     std::min(base.z() + c, dm.nz - 1));
-            const std::size_t v = dm.index(at.x(), at.y(), at.z());
-            f += w * rule(v, at, kind, species, q);
-            if (kind == ParticleKind::Surface) n += w * normalAtVoxel(v);
+            const Eigen::Vector3i xyz(a ? hi1[0] : base.x(), b ? hi1[1] : base.y(), c ? hi1[2] : base.z());
+            f += w * rule(at[corner], xyz, kind, species, q);
+            if (kind == ParticleKind::Surface) n += w * normalAtVoxel(at[corner]);
         }
         if (kind == ParticleKind::Surface) {
             const double len = n.norm();
             if (len > 1e-6)
                 n /= len;
             else {
-                const Eigen::Vector3i c = q.array().floor().cast<int>().matrix();
-                n = normalAtVoxel(
-                    dm.index(std::min(c.x(), dm.nx - 1), std::min(c.y(), dm.ny - 1), std::min(c.z(), dm.nz - 1)));
+                n = normalAtVoxel(floorVoxel(q));
             }
+            cpWeight = map_.nearestSurface(floorVoxel(q)).cpWeight;
         }
     }
     GmSample out;
     out.force = (f + back) * h_;
-    if (kind == ParticleKind::Surface) out.torque = normal.cross(n);
+    if (kind == ParticleKind::Surface) {
+        out.torque = normal.cross(n);
+        out.cpWeight = cpWeight;
+    }
     return out;
 }
 

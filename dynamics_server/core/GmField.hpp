@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <vector>
 
 namespace bop::core {
@@ -35,6 +36,9 @@ enum class Interpolation : std::uint8_t { Mixed, Trilinear, Nearest };
 struct GmSample {
     Eigen::Vector3d force = Eigen::Vector3d::Zero();   // f^GM, simulation length units
     Eigen::Vector3d torque = Eigen::Vector3d::Zero();  // tau^GM = n_i x n(p); zero for volume kind
+    // Surface kind: the co-planar weight of the nearest surface of the voxel holding the particle
+    // (clamped into the map; ForceField::curvatureWeight's), dimensionless; 1 for volume kind.
+    float cpWeight = 1.0f;
 };
 
 class GmField {
@@ -59,6 +63,13 @@ private:
     // so that no voxel index is divided back into coordinates there).
     Eigen::Vector3d rule(std::size_t v, const Eigen::Vector3i& c, ParticleKind kind, int species,
                          const Eigen::Vector3d& pVox) const;
+
+    // This map's voxel holding q (this map's voxel coordinates), clamped into the map.
+    std::size_t floorVoxel(const Eigen::Vector3d& q) const {
+        const Dims& dm = map_.dims();
+        const Eigen::Vector3i c = q.array().floor().cast<int>().matrix();
+        return dm.index(std::min(c.x(), dm.nx - 1), std::min(c.y(), dm.ny - 1), std::min(c.z(), dm.nz - 1));
+    }
 
     const GradientMap& map_;
     Interpolation interp_;

@@ -122,3 +122,51 @@ TEST_CASE("a particle beyond the grid is pulled back", "[shape][gm]") {
     const Eigen::Vector3d force = f.sample(ParticleKind::Volume, 2, far, Eigen::Vector3d::UnitZ()).force;
     CHECK(force.x() > 5 * h);  // at least the spring back to the grid edge
 }
+
+TEST_CASE("trilinear samples blend the 8 voxels' rules, and carry the voxel's co-planar weight", "[shape][gm]") {
+    const GradientMap m = ball();
+    const Dims& d = m.dims();
+    const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.2, 0.9).normalized();
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> inside(1.0, 29.0), anywhere(-4.0, 34.0);
+    for (const Interpolation interp : {Interpolation::Mixed, Interpolation::Trilinear, Interpolation::Nearest}) {
+        const GmField f(m, interp);
+        const double h = f.voxelSize();
+        std::size_t blendMismatches = 0, weightMismatches = 0, homeVolume = 0, weightsBelowOne = 0;
+        for (int k = 0; k < 20000; ++k) {
+            const Eigen::Vector3d x(inside(rng), inside(rng), inside(rng));  // voxel units, away from the edge
+            // By definition: the rules of the voxels around x, trilinear weights from the centres.
+            const Eigen::Vector3d s = x - Eigen::Vector3d::Constant(0.5);
+            const Eigen::Vector3i base = s.array().floor().cast<int>().matrix();
+            const Eigen::Vector3d t = s - base.cast<double>();
+            Eigen::Vector3d expected = Eigen::Vector3d::Zero();
+            bool home = true;
+            for (int c = 0; c < 8; ++c) {
+                const Eigen::Vector3i at = base + Eigen::Vector3i(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+                const double w =
+                    (c & 1 ? t.x() : 1 - t.x()) * (c & 2 ? t.y() : 1 - t.y()) * (c & 4 ? t.z() : 1 - t.z());
+                const std::size_t v = d.index(at.x(), at.y(), at.z());
+                expected += w * f.ruleAtVoxel(v, ParticleKind::Volume, 2, x);
+                home = home && m.occ[v] == 2;
+            }
+            homeVolume += home;
+            if (interp != Interpolation::Nearest)
+                blendMismatches += (f.sample(ParticleKind::Volume, 2, x * h, n).force - expected * h).norm() >
+                                   1e-12 * (1 + expected.norm());
+            // The co-planar weight is that of the nearest surface of the voxel holding the particle
+            // (ForceField::curvatureWeight), for any interpolation, on and beyond the grid.
+            const Eigen::Vector3d y = k % 2 ? x : Eigen::Vector3d(anywhere(rng), anywhere(rng), anywhere(rng));
+            const float wanted = m.nearestSurface(m.voxelAt((y).array().floor().cast<int>().matrix())).cpWeight;
+            weightMismatches += f.sample(ParticleKind::Surface, 1, y * h, n).cpWeight != wanted;
+            weightsBelowOne += wanted < 0.999f;
+            CHECK(f.sample(ParticleKind::Volume, 2, y * h, n).cpWeight == 1.0f);
+        }
+        INFO("interpolation " << int(interp) << ": " << homeVolume << " samples with all 8 voxels volume, "
+                              << weightsBelowOne << " weights below 1");
+        CHECK(blendMismatches == 0);
+        CHECK(weightMismatches == 0);
+        CHECK(homeVolume > 1000);       // the fast path for volume particles at home is exercised
+        CHECK(homeVolume < 19000);      // and so is the blend near the surface
+        CHECK(weightsBelowOne > 1000);  // the weights differ between voxels: a wrong voxel would show
+    }
+}
