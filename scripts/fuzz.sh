@@ -12,9 +12,13 @@
 #   scripts/fuzz.sh --campaign [T...]    every target (decoders and front), each for BOP_FUZZ_RUNS
 #                                        executions (default 10,000,000; hours); a log per target in
 #                                        build-fuzz/fuzz/logs and the figures at the end
+# Ctrl-C (or TERM) stops the running target with libFuzzer's figures, skips the rest and exits 130;
+# the summary says "stopped".
 # Environment:
 #   BOP_FUZZ_SECONDS   seconds per target (default 30; not with --campaign)
 #   BOP_FUZZ_RUNS      executions per target with --campaign (default 10000000)
+#   BOP_FUZZ_WORKERS   processes per target with --campaign, sharing its corpus, the executions
+#                      split between them (default 1; the front target is slow: one per core)
 #   BOP_FUZZ_TIMEOUT   seconds one input may take before it counts as a hang (default 10)
 #   BOP_JOBS           build jobs (default 2)
 #   BOP_FUZZ_CXX       the Clang C++ compiler (default clang++)
@@ -22,6 +26,10 @@
 # The corpus grows across runs in build-fuzz/fuzz/corpus/<target>. To replay one reproducer:
 #   build-fuzz/tests/fuzz/bop_fuzz_<target> build-fuzz/fuzz/artifacts/<target>-crash-...
 set -euo pipefail
+if [[ ${1:-} == -h || ${1:-} == --help ]]; then  # the comment above is the help
+  sed -n '2,/^set -euo/{/^#/s/^# \{0,1\}//p}' "$0"
+  exit 0
+fi
 cd "$(dirname "$0")/.."
 jobs=${BOP_JOBS:-2}
 seconds=${BOP_FUZZ_SECONDS:-30}
@@ -34,6 +42,10 @@ if [[ "${1:-}" == "--campaign" ]]; then
   shift
 fi
 runs=${BOP_FUZZ_RUNS:-10000000}
+workers=${BOP_FUZZ_WORKERS:-1}
+stopped=0
+[[ $workers =~ ^[1-9][0-9]*$ ]] || { echo "fuzz: BOP_FUZZ_WORKERS must be a whole number from 1 (got '$workers')" >&2; exit 2; }
+[[ $campaign -eq 1 ]] || workers=1
 decoders=(hello scene frame probe feedback command reply maprequest mapchunk refusal mcap)
 all_targets=("${decoders[@]}" front)
 targets=("$@")
@@ -83,24 +95,46 @@ for t in "${targets[@]}"; do
   # Artifacts of earlier runs stay; only the ones this run writes count.
   before=$(find "$work/artifacts" -maxdepth 1 -name "$t-*" -type f | sort)
   budget=(-max_total_time="$seconds")
-  [[ $campaign -eq 1 ]] && budget=(-runs="$runs")
+  [[ $campaign -eq 1 ]] && budget=(-runs="$(((runs + workers - 1) / workers))")
   extra=()
   leaks=$ASAN_OPTIONS
   # The front runs MPI and ZeroMQ threads that keep their allocations to the end: no leak checks.
   [[ $t == front ]] && extra=(-detect_leaks=0) && leaks=detect_leaks=0
-  echo "== fuzz $t (${budget[*]}, -max_len=$max_len) =="
+  echo "== fuzz $t (${budget[*]}, -max_len=$max_len$([[ $workers -gt 1 ]] && echo ", $workers processes")) =="
   rc=0
   start=$(date +%s)
-  ASAN_OPTIONS=$leaks OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
-    "$bin/bop_fuzz_$t" -max_len="$max_len" -rss_limit_mb=2048 -timeout="$timeout" "${budget[@]}" "${extra[@]}" \
-    -print_final_stats=1 -artifact_prefix="$work/artifacts/$t-" "$work/corpus/$t" "$work/seeds/$t" >"$log" 2>&1 || rc=$?
+  cmd=(env ASAN_OPTIONS="$leaks" OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+    "$bin/bop_fuzz_$t" -max_len="$max_len" -rss_limit_mb=2048 -timeout="$timeout" "${budget[@]}" "${extra[@]}"
+    -print_final_stats=1 -artifact_prefix="$work/artifacts/$t-" "$work/corpus/$t" "$work/seeds/$t")
+  logs=("$log") pids=() stopped=0
+  # Ctrl-C or TERM: libFuzzer stops with its figures (exit 72); the summary says "stopped".
+  trap 'stopped=1; [[ ${#pids[@]} -eq 0 ]] || kill -INT "${pids[@]}" 2>/dev/null || true' INT TERM
+  # Each worker writes its own log ($t.1.log ...), gathered into $t.log at the end.
+  [[ $workers -eq 1 ]] || logs=()
+  for w in $(seq "$workers"); do
+    [[ $workers -eq 1 ]] || logs+=("$work/logs/$t.$w.log")
+    "${cmd[@]}" >"${logs[-1]}" 2>&1 &  # in the background, so that a signal reaches the trap
+    pids+=($!)
+  done
+  for p in "${pids[@]}"; do wait "$p" || rc=$?; done
+  wait  # the workers a signal took the loop past
+  [[ $workers -eq 1 ]] || cat "${logs[@]}" >"$log"
+  trap - INT TERM
   took=$(( $(date +%s) - start ))
   after=$(find "$work/artifacts" -maxdepth 1 -name "$t-*" -type f | sort)
   new_artifacts=$(comm -13 <(echo "$before") <(echo "$after") | sed '/^$/d' || true)
-  execs=$(final_stat number_of_executed_units "$log")
-  rate=$(final_stat average_exec_per_sec "$log")
+  execs=0 rate=0
+  for l in "${logs[@]}"; do  # summed over the workers; "?" where a log has no final figures
+    e=$(final_stat number_of_executed_units "$l") r=$(final_stat average_exec_per_sec "$l")
+    [[ $e =~ ^[0-9]+$ && $execs != "?" ]] && execs=$((execs + e)) || execs="?"
+    [[ $r =~ ^[0-9]+$ && $rate != "?" ]] && rate=$((rate + r)) || rate="?"
+  done
   corpus=$(find "$work/corpus/$t" -type f | wc -l)
-  if [[ $rc -ne 0 || -n "$new_artifacts" ]]; then
+  if [[ $stopped -eq 1 && -z "$new_artifacts" ]]; then
+    summary+=("$(printf '%-10s stopped  %s exec/s  %s execs  %s s  corpus %s' "$t" "${rate:-?}" "${execs:-?}" "$took" "$corpus")")
+    echo "fuzz: $t stopped: ${execs:-?} executions, no failure"
+    break
+  elif [[ $rc -ne 0 || -n "$new_artifacts" ]]; then
     failed+=("$t")
     summary+=("$(printf '%-9s CRASH (exit %s)  %s exec/s' "$t" "$rc" "${rate:-?}")")
     echo "fuzz: $t FAILED (exit $rc); log: $log"
@@ -120,3 +154,4 @@ if [[ ${#failed[@]} -gt 0 ]]; then
   echo "fuzz: crashes in: ${failed[*]} (reproducers in $work/artifacts)" >&2
   exit 1
 fi
+[[ $stopped -eq 0 ]] || { echo "fuzz: stopped before the end" >&2; exit 130; }
