@@ -26,7 +26,8 @@ ForceField::ForceField(const Model& model)
       isVolume_(std::size_t(model.speciesCount()) + 1, 0),
       isWide_(std::size_t(model.speciesCount()) + 1, 0),
       oriented_(kernel_.anyOriented()),
-      skin_(model.integration.skinR0 * kR0) {
+      skin_(model.integration.skinR0 * kR0),
+      prune_(model.integration.pruneR0 < model.integration.skinR0 ? model.integration.pruneR0 * kR0 : 0.0) {
     for (int s = 1; s <= model.speciesCount(); ++s) {
         isVolume_[std::size_t(s)] = !model.isSurface(s);
         isWide_[std::size_t(s)] = oriented_ && kernel_.orientedSpecies(s);
@@ -65,6 +66,10 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
         revision_ = p.revision;
     }
     list_.move(haloPos);
+    // Half the inner skin, less a margin for rounding: a dropped pair stays beyond its cutoff.
+    if (prune_ > 0 && !pruned_.holds(list_))
+        pruned_.prune(list_, kernel_.lj().cutoff() + prune_, kernel_.weight().cutoff() + prune_,
+                      0.5 * prune_ * (1.0 - 1e-9));
     if (times) times->neighbours += since(t0);
     t0 = Clock::now();
     gatherEntries(model, p, halo);
@@ -146,7 +151,8 @@ void ForceField::pairForces(Particles& p, const Halo* halo, ForceStats& stats, b
     const PairInputs in{list_.positions().data(), ss_.data(), isVolume_.data(), sf_.data()};
     const OrientedInputs o{sn_.data(), sw_.data(), st_.data()};
     double loopSeconds[2] = {0, 0};
-    chunks_.run(kernel_, list_, in, o, energies, halo != nullptr, sums, haloSums, loopSeconds);
+    const PrunedPairs::Sets sets = prune_ > 0 ? pruned_.sets() : PrunedPairs::whole(list_);
+    chunks_.run(kernel_, sets, in, o, energies, halo != nullptr, sums, haloSums, loopSeconds);
     // Forces on images go to their particles; forces on halo ghosts are their owners' business.
     for (std::size_t k = 0; k < ne; ++k)
         if (owner[k] < n) p.force[owner[k]] += sf_[k];

@@ -81,6 +81,10 @@ public:
     // The co-planar curvature weight at x (1 without a map or for volume species).
     static float curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species);
     const NeighbourList& neighbours() const { return list_; }
+    // The pair loops' pruned copies of the list, and their inner skin (length units; 0: the
+    // loops read the whole list).
+    const PrunedPairs& pruned() const { return pruned_; }
+    double pruneSkin() const { return prune_; }
     std::size_t pairChunks() const { return chunks_.count(); }  // the pair loops' pieces of work
     // The largest cutoff + skin (length units): the halo's depth. The LJ pairs are listed to the
     // LJ cutoff + skin, the oriented ones (surface particles with weights) to theirs.
@@ -97,7 +101,9 @@ private:
     std::vector<char> isWide_;    // per species number: in the oriented (wide) pairs
     bool oriented_ = false;       // some species pair has co-normal or co-planar weights
     double skin_ = 0;             // neighbour-list skin, length units
+    double prune_ = 0;            // inner skin of pruned_, length units (0: no pruning)
     NeighbourList list_;
+    PrunedPairs pruned_;
     NeighbourList::Wide wide_;  // the members of the last build's wide pairs
     PairChunks chunks_;         // the pair loops on the threads, planned per list build
     std::size_t chunkedBuild_ = 0;

@@ -60,6 +60,9 @@ struct Integration {
     double dt = 0.02;      // time step, simulation time units (docs/physics.md §3.4: 0.02-0.03)
     double inertia = 0.3;  // moment of inertia of a surface particle, mass * length^2
     double skinR0 = 0.3;   // neighbour-list skin beyond the largest cutoff, multiples of r0
+    // Inner skin of the pair loops' pruned copies of the list (PrunedPairs.hpp), multiples of r0;
+    // 0, or at least skinR0: the loops read the whole list.
+    double pruneR0 = 0.05;
     // The most a particle moves in one step, multiples of r0 (0: no limit); its velocity is
     // scaled down to it after each half kick, as LAMMPS's fix nve/limit does. No sound run comes
     // near it (thermal motion moves about 0.01 r0 a step); it keeps a blow-up (a probe driven

@@ -87,7 +87,7 @@ std::size_t PairChunks::cut(const NeighbourList& list, std::size_t count, double
     return offset;
 }
 
-void PairChunks::run(const PairKernel& kernel, const NeighbourList& list, PairInputs in, OrientedInputs o,
+void PairChunks::run(const PairKernel& kernel, const PrunedPairs::Sets& sets, PairInputs in, OrientedInputs o,
                      bool energies, bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums, double seconds[2]) {
     Eigen::Vector3d* f = in.f;
     Eigen::Vector3d* t = o.t;
@@ -108,12 +108,12 @@ void PairChunks::run(const PairKernel& kernel, const NeighbourList& list, PairIn
         }
         PairKernel::Sums s, h;
         const auto t0 = Clock::now();
-        ljForcePairs(kernel, list.pairs(), ci, energies, c.x0, c.x1, s);
-        if (halo) ljForcePairs(kernel, list.haloPairs(), ci, energies, c.x0, c.x1, h);
+        ljForcePairs(kernel, *sets.lj, ci, energies, c.x0, c.x1, s);
+        if (halo) ljForcePairs(kernel, *sets.ljHalo, ci, energies, c.x0, c.x1, h);
         const auto t1 = Clock::now();
         if (oriented_) {
-            orientedPairs(kernel, list.widePairs(), ci, co, energies, c.x0, c.x1, s);
-            if (halo) orientedPairs(kernel, list.wideHaloPairs(), ci, co, energies, c.x0, c.x1, h);
+            orientedPairs(kernel, *sets.wide, ci, co, energies, c.x0, c.x1, s);
+            if (halo) orientedPairs(kernel, *sets.wideHalo, ci, co, energies, c.x0, c.x1, h);
         }
         ljSeconds_[k] = std::chrono::duration<double>(t1 - t0).count();
         orientedSeconds_[k] = std::chrono::duration<double>(Clock::now() - t1).count();

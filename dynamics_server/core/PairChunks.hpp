@@ -8,6 +8,7 @@
 // virials likewise: the same bits at 1, 2 or 16 threads.
 #include "LjPairLoop.hpp"
 #include "OrientedPairLoop.hpp"
+#include "PrunedPairs.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -20,10 +21,11 @@ public:
     void plan(const NeighbourList& list, bool oriented);
 
     // Every loop of the step over every chunk: LJ pairs, oriented pairs (if planned so), and
-    // each one's halo pairs when `halo`. Writes f (and t when oriented) for every entry, and the
+    // each one's halo pairs when `halo`, from `sets` (the planned list's pairs or a pruned copy
+    // of them: the same rows, so the same chunks). Writes f (and t when oriented) for every entry, and the
     // sums of the pairs within the subdomain and of those with halo ghosts; adds the LJ and the
     // oriented loops' time, summed over threads, to seconds[0] and seconds[1].
-    void run(const PairKernel& kernel, const NeighbourList& list, PairInputs in, OrientedInputs o, bool energies,
+    void run(const PairKernel& kernel, const PrunedPairs::Sets& sets, PairInputs in, OrientedInputs o, bool energies,
              bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums, double seconds[2]);
 
     std::size_t count() const { return chunks_.size(); }

@@ -47,6 +47,12 @@ void BatchReport::summary(const core::Simulation& sim, long long steps, double s
         << " LJ pairs within its cutoff + skin (" << f.pairsInRange << " within the cutoff), " << list.widePairCount()
         << " oriented pairs within theirs (" << f.orientedPairsInRange << "), " << list.ghostCount()
         << " periodic images\n";
+    const core::ForceField& field = sim.forceField();
+    if (field.pruneSkin() > 0)
+        os_ << "pair loops read the list pruned to each cutoff + " << std::setprecision(3)
+            << field.pruneSkin() / core::kR0 << " r0: pruned " << field.pruned().prunes() << " times, "
+            << field.pruned().pairCount() << " LJ and " << field.pruned().widePairCount()
+            << " oriented pairs at the last\n";
     const double rate = double(steps) / std::max(seconds, 1e-12);
     os_ << "\n            Surface  Volume   Total   steps/s   particle-steps/s\n"
         << "this run  " << std::setw(9) << surface << std::setw(8) << volume << std::setw(8) << surface + volume

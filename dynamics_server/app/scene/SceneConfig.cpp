@@ -86,6 +86,9 @@ void readDynamics(const ConfigTable& root, core::Model& m, std::uint64_t& seed) 
     m.integration.skinR0 = t->number("neighbour_skin_r0", m.integration.skinR0);
     if (!(m.integration.skinR0 >= 0 && m.integration.skinR0 <= 2))
         t->fail("neighbour_skin_r0", "expected a skin from 0 to 2 r0");
+    m.integration.pruneR0 = t->number("neighbour_prune_r0", m.integration.pruneR0);
+    if (!(m.integration.pruneR0 >= 0 && m.integration.pruneR0 <= 2))
+        t->fail("neighbour_prune_r0", "expected 0 (no pruning) or an inner skin up to 2 r0");
     m.integration.maxStepR0 = t->number("max_step_r0", m.integration.maxStepR0);
     if (!(m.integration.maxStepR0 >= 0 && m.integration.maxStepR0 <= 10))
         t->fail("max_step_r0", "expected 0 (no limit) or the most a particle moves in a step, up to 10 r0");
