@@ -30,6 +30,11 @@ double kick(const Model& model, const DragFactors& drag, Particles& p);
 // Kinetic energy: sum of v^2/2 + I omega^2/2 over particles, energy units.
 double kineticEnergy(const Model& model, const Particles& p);
 
+// The rotation by |theta| radians about theta, exp(theta / 2) as a unit quaternion: below 0.1
+// radians (every sound step: a turn is limited to max_turn_rad) the Taylor series of cos(a / 2)
+// and sin(a / 2) / a, exact to rounding, without a square root, sine or cosine.
+Eigen::Quaterniond rotationBy(const Eigen::Vector3d& theta);
+
 // Shortest-arc rotation that carries e_z to n (docs/physics.md §3.3).
 Eigen::Quaterniond orientationFor(const Eigen::Vector3d& n);
 

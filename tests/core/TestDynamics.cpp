@@ -1,5 +1,5 @@
 // The dynamics core without a shape: cell lists against brute force, momentum conservation,
-// energy conservation of an undamped LJ cluster, exact drag, and deterministic runs.
+// energy conservation of an undamped LJ cluster, exact drag and rotation, and deterministic runs.
 #include "BruteForce.hpp"
 #include "core/Simulation.hpp"
 #include "core/Threads.hpp"
@@ -160,6 +160,26 @@ TEST_CASE("drag is integrated exactly and runs are deterministic", "[core][integ
     b.run(200);
     CHECK(a.particles().pos == b.particles().pos);
     CHECK(a.particles().q[7].coeffs() == b.particles().q[7].coeffs());
+}
+
+TEST_CASE("a step's rotation equals the axis-angle quaternion on both sides of its series' bound",
+          "[core][integrator]") {
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> u(-1, 1);
+    double worst = 0, worstNorm = 0;
+    int series = 0, trig = 0;
+    for (double a = 1e-9; a < 0.6; a *= 1.07) {
+        const Eigen::Vector3d axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+        const Eigen::Quaterniond q = rotationBy(a * axis), ref(Eigen::AngleAxisd(a, axis));
+        worst = std::max(worst, (q.coeffs() - ref.coeffs()).cwiseAbs().maxCoeff());
+        worstNorm = std::max(worstNorm, std::abs(q.norm() - 1.0));
+        (a < 0.1 ? series : trig) += 1;
+    }
+    INFO(series << " angles below 0.1 rad, " << trig << " above; largest difference " << worst);
+    CHECK(series > 200);
+    CHECK(trig > 10);
+    CHECK(worst < 4e-16);
+    CHECK(worstNorm < 4e-16);
 }
 
 TEST_CASE("an undamped cluster of oriented particles conserves energy", "[core][conservation]") {
