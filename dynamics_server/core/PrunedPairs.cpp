@@ -54,7 +54,7 @@ bool PrunedPairs::holds(const NeighbourList& list) const {
     const std::vector<Eigen::Vector3d>& pos = list.positions();
     if (list.builds() != build_ || pos.size() != at_.size()) return false;
     for (std::size_t e = 0; e < pos.size(); ++e)
-        if ((pos[e] - at_[e]).squaredNorm() >= maxMove2_) return false;
+        if (!((pos[e] - at_[e]).squaredNorm() < maxMove2_)) return false;  // NaN too: pruned again
     return true;
 }
 
