@@ -29,7 +29,7 @@ template <bool OneSpecies, bool Energy>
     const double wE = OneSpecies ? w.wE11 : w.wE[a * w.side + b];
     const double v = wE * fr * r2;
     s.virial += v;
-    if (in.isVolume[a] & in.isVolume[b]) s.virialVolume += v;
+    s.virialVolume += double(in.isVolume[a] & in.isVolume[b]) * v;  // no branch on the pair's kinds
     if constexpr (Energy) s.energy += wE * lj.energyOfR2(r2);
 }
 
