@@ -106,14 +106,13 @@ for t in "${targets[@]}"; do
   cmd=(env ASAN_OPTIONS="$leaks" OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
     "$bin/bop_fuzz_$t" -max_len="$max_len" -rss_limit_mb=2048 -timeout="$timeout" "${budget[@]}" "${extra[@]}"
     -print_final_stats=1 -artifact_prefix="$work/artifacts/$t-" "$work/corpus/$t" "$work/seeds/$t")
-  logs=("$log") pids=() stopped=0
+  # One log per worker ($t.1.log ...), gathered into $t.log at the end; one worker writes $t.log.
+  logs=("$log") pids=()
+  [[ $workers -eq 1 ]] || mapfile -t logs < <(for w in $(seq "$workers"); do echo "$work/logs/$t.$w.log"; done)
   # Ctrl-C or TERM: libFuzzer stops with its figures (exit 72); the summary says "stopped".
   trap 'stopped=1; [[ ${#pids[@]} -eq 0 ]] || kill -INT "${pids[@]}" 2>/dev/null || true' INT TERM
-  # Each worker writes its own log ($t.1.log ...), gathered into $t.log at the end.
-  [[ $workers -eq 1 ]] || logs=()
-  for w in $(seq "$workers"); do
-    [[ $workers -eq 1 ]] || logs+=("$work/logs/$t.$w.log")
-    "${cmd[@]}" >"${logs[-1]}" 2>&1 &  # in the background, so that a signal reaches the trap
+  for l in "${logs[@]}"; do
+    "${cmd[@]}" >"$l" 2>&1 &  # in the background, so that a signal reaches the trap
     pids+=($!)
   done
   for p in "${pids[@]}"; do wait "$p" || rc=$?; done

@@ -212,6 +212,50 @@ TEST_CASE("forces match brute force as particles drift across periodic faces and
     }
 }
 
+TEST_CASE("pruned pair lists give the whole list's forces and torques to the bit as particles drift",
+          "[core][neighbours][prune]") {
+    // An outer skin of 0.6 r0: the pruned copies must be pruned again many times between builds.
+    Model whole = *model(true, true, 9.0), pruned = whole;
+    whole.integration.skinR0 = pruned.integration.skinR0 = 0.6;
+    whole.integration.pruneR0 = 0.0;
+    pruned.integration.pruneR0 = 0.05;
+    Particles p = particles(whole, 320, 3);
+    ForceField a(whole), b(pruned);
+    std::mt19937 rng(9);
+    std::normal_distribution<double> g(0, 0.004 * kR0);  // per move
+    const Eigen::Vector3d L = whole.box.size();
+    std::size_t differing = 0, fewerLj = 0, fewerWide = 0;
+    for (int it = 0; it < 80; ++it) {
+        for (auto& x : p.pos) {
+            x += Eigen::Vector3d(g(rng), g(rng), g(rng)) + Eigen::Vector3d(0.004, 0.0, -0.003) * kR0;
+            for (int c = 0; c < 3; ++c) x[c] -= L[c] * std::floor((x[c] - whole.box.lo[c]) / L[c]);
+        }
+        Particles pa = p, pb = p;
+        ForceStats sa, sb;
+        a.compute(whole, ProbeState{}, pa, sa, nullptr, it % 4 == 0);
+        b.compute(pruned, ProbeState{}, pb, sb, nullptr, it % 4 == 0);
+        for (std::size_t i = 0; i < p.size(); ++i)
+            differing += pa.force[i] != pb.force[i] || pa.torque[i] != pb.torque[i];
+        CHECK(sa.pairsInRange == sb.pairsInRange);
+        CHECK(sa.orientedPairsInRange == sb.orientedPairsInRange);
+        CHECK(sb.virial == Approx(sa.virial).epsilon(1e-13));
+        CHECK(sb.pairEnergy == Approx(sa.pairEnergy).epsilon(1e-13));
+        fewerLj += b.pruned().pairCount() < a.neighbours().pairCount();
+        fewerWide += b.pruned().widePairCount() < a.neighbours().widePairCount();
+    }
+    INFO(a.neighbours().builds() << " list builds, " << b.pruned().prunes() << " prunings, last "
+                                 << b.pruned().pairCount() << " of " << b.neighbours().pairCount() << " LJ pairs, "
+                                 << b.pruned().widePairCount() << " of " << b.neighbours().widePairCount()
+                                 << " oriented");
+    CHECK(differing == 0);
+    CHECK(b.neighbours().builds() == a.neighbours().builds());
+    CHECK(a.pruneSkin() == 0);
+    CHECK(b.pruned().prunes() > b.neighbours().builds() + 3);  // pruned again between builds
+    CHECK(b.pruned().prunes() < 60);                           // and reused in between
+    CHECK(fewerLj == 80);
+    CHECK(fewerWide == 80);
+}
+
 TEST_CASE("two subdomains with halos give the forces and energy of the whole box", "[core][neighbours][halo]") {
     // The decomposed run's core half: split a periodic box in x, give each half the other's
     // particles within range (shifted across the periodic x faces) as a halo.
