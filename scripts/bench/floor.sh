@@ -2,7 +2,7 @@
 # The arithmetic floor of the pair loops on this machine's CPU (bop-kernel-floor): ns per element
 # of a division, a square root, both side by side (every LJ and oriented pair needs them), the
 # loops' e^x (every oriented pair) and the LJ loop's own f(r)/r, each over an array in the L1
-# cache, in the x86-64-v3 clone the loops run, best of 5 timings. Beside them, the issue #20
+# cache, in the x86-64-v3 clone the loops run, best of 5 timings. Beside them, the bag's speed
 # targets: an LJ pair in 1 ns and an oriented pair in 3 ns of one core. A floor above a target
 # means no layout of the loops meets it in double precision here. The first row, a dependent
 # chain of integer additions, reads the clock period, so ns can be turned into cycles.
