@@ -23,35 +23,30 @@ namespace bop::tools {
 using core::V4;
 constexpr std::size_t kLanes = 4;
 
-// One pass of each operation over n elements (n a multiple of 8); out keeps the results live.
-BOP_HOT_LOOP void divisions(const double* x, double* out, std::size_t n) {
+// One pass of op over n elements (n a multiple of 8), four lanes at a time; out keeps the
+// results live.
+template <typename Op>
+[[gnu::always_inline]] inline void overLanes(const double* x, double* out, std::size_t n, Op op) {
     for (std::size_t k = 0; k < n; k += kLanes) {
-        const V4 v{x[k], x[k + 1], x[k + 2], x[k + 3]};
-        const V4 r = 1.0 / v;
+        const V4 r = op(V4{x[k], x[k + 1], x[k + 2], x[k + 3]});
         for (std::size_t l = 0; l < kLanes; ++l) out[k + l] = r[l];
     }
+}
+
+BOP_HOT_LOOP void divisions(const double* x, double* out, std::size_t n) {
+    overLanes(x, out, n, [](V4 v) { return 1.0 / v; });
 }
 
 BOP_HOT_LOOP void roots(const double* x, double* out, std::size_t n) {
-    for (std::size_t k = 0; k < n; k += kLanes) {
-        const V4 r = core::vsqrt(V4{x[k], x[k + 1], x[k + 2], x[k + 3]});
-        for (std::size_t l = 0; l < kLanes; ++l) out[k + l] = r[l];
-    }
+    overLanes(x, out, n, [](V4 v) { return core::vsqrt(v); });
 }
 
 BOP_HOT_LOOP void divisionsAndRoots(const double* x, double* out, std::size_t n) {
-    for (std::size_t k = 0; k < n; k += kLanes) {
-        const V4 v{x[k], x[k + 1], x[k + 2], x[k + 3]};
-        const V4 r = 1.0 / v + core::vsqrt(v);
-        for (std::size_t l = 0; l < kLanes; ++l) out[k + l] = r[l];
-    }
+    overLanes(x, out, n, [](V4 v) { return 1.0 / v + core::vsqrt(v); });
 }
 
 BOP_HOT_LOOP void exponentials(const double* x, double* out, std::size_t n) {
-    for (std::size_t k = 0; k < n; k += kLanes) {
-        const V4 r = core::simdExp(-V4{x[k], x[k + 1], x[k + 2], x[k + 3]});
-        for (std::size_t l = 0; l < kLanes; ++l) out[k + l] = r[l];
-    }
+    overLanes(x, out, n, [](V4 v) { return core::simdExp(-v); });
 }
 
 // The LJ loop's own f(r)/r, over independent pairs (the compiler may use all four lanes).
