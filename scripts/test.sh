@@ -46,7 +46,7 @@ if [[ $sanitize -eq 1 ]]; then
   # -O1 and line tables only: half the compile time of -O2 -g, stack traces still name the lines.
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
     -DBOP_SANITIZE=ON -DBOP_WERROR=ON >/dev/null
-  cmake --build build-asan -j "$jobs" --target bop_unit_tests bop_mpi_tests
+  cmake --build build-asan -j "$jobs" --target bop_unit_tests bop_mpi_tests bop-deadline
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan -L unit -j "$jobs" --output-on-failure
   # Open MPI keeps its allocations until exit by design: leak checks off for the MPI tests only.

@@ -45,6 +45,13 @@ void printLoop(const RateLoop& loop, bool realtime) {
         "deadlines; %llu ticks a period or more late; real-time priority: %s\n",
         (unsigned long long)s.ticks, s.rateHz, s.p50Us, s.p99Us, s.maxUs, (unsigned long long)s.missed,
         (unsigned long long)s.late, realtime ? "yes" : "no (not permitted)");
+    if (s.timed)
+        std::printf(
+            "loop time: ticks' work %.1f ms on a CPU, blocked %.2f ms (longest in one tick %.1f us); the machine's: "
+            "waiting for a CPU %.1f ms, blocked on pages read from disk %.2f ms\n",
+            s.workMs, s.blockedMs, s.blockedLongestUs, s.waitingMs, s.pagingMs);
+    else
+        std::printf("loop time: not measured (no /proc/thread-self/schedstat on this kernel)\n");
 }
 
 bool scripted(const std::string& device) {

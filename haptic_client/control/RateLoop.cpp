@@ -1,5 +1,7 @@
 #include "control/RateLoop.hpp"
 
+#include "control/ThreadTimes.hpp"
+
 #include <pthread.h>
 #include <sched.h>
 
@@ -55,6 +57,9 @@ bool RateLoop::requestRealtime(int priority) {
 }
 
 void RateLoop::run(const std::function<bool(const LoopTick&)>& body) {
+    const ThreadTimes times;
+    timed_ = times.available();
+    const ThreadTime first = times.now();
     const std::int64_t period = std::llround(period_ * kNsPerS), start = nowNs();
     std::int64_t k = 0, previous = start;
     for (;;) {
@@ -79,7 +84,20 @@ void RateLoop::run(const std::function<bool(const LoopTick&)>& body) {
         if (recentUs_.size() > std::size_t(std::llround(1.0 / period_))) recentUs_.pop_front();
         ++ticks_;
         elapsedS_ = 1e-9 * double(woke - start);
-        if (!body(t)) return;
+        const ThreadTime before = times.now();
+        const bool more = body(t);
+        const ThreadTime after = times.now();
+        const std::int64_t work = after.cpuNs - before.cpuNs,
+                           blocked = (after.wallNs - before.wallNs) - work - (after.waitingNs - before.waitingNs);
+        workNs_ += work;
+        if (after.majorFaults > before.majorFaults) {
+            pagingNs_ += std::max<std::int64_t>(blocked, 0);
+        } else {
+            blockedNs_ += std::max<std::int64_t>(blocked, 0);
+            blockedLongestNs_ = std::max(blockedLongestNs_, blocked);
+        }
+        waitingNs_ = after.waitingNs - first.waitingNs;
+        if (!more) return;
         ++k;
     }
 }
@@ -93,6 +111,12 @@ PeriodStats RateLoop::whole() const {
     s.p50Us = histogram_.percentile(50);
     s.p99Us = histogram_.percentile(99);
     s.maxUs = histogram_.max();
+    s.timed = timed_;
+    s.workMs = 1e-6 * double(workNs_);
+    s.blockedMs = 1e-6 * double(blockedNs_);
+    s.pagingMs = 1e-6 * double(pagingNs_);
+    s.waitingMs = 1e-6 * double(waitingNs_);
+    s.blockedLongestUs = 1e-3 * double(blockedLongestNs_);
     return s;
 }
 

@@ -4,8 +4,9 @@
 // up. A tick up to four periods late is followed at once by the next ones until the loop is on
 // time again, so the rate holds; after a longer stall the deadlines in between are skipped and
 // counted as missed, rather than run in a burst. Statistics of the period error (how late each
-// tick woke) for the whole run and for the newest second. Asks for real-time scheduling
-// (SCHED_FIFO) where the system permits it.
+// tick woke) for the whole run and for the newest second, and of where the thread's time went
+// (its work, blocked, waiting for a CPU). Asks for real-time scheduling (SCHED_FIFO) where the
+// system permits it.
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -26,6 +27,13 @@ struct PeriodStats {
     std::uint64_t ticks = 0;                 // ticks run
     std::uint64_t late = 0;                  // ticks that started a whole period or more late
     std::uint64_t missed = 0;                // deadlines skipped after stalls (no tick ran for them)
+    // Where the loop thread's time went (ThreadTimes.hpp; all 0 where the kernel keeps no
+    // schedstat, then `timed` is false): the ticks' own work on a CPU, the ticks' work blocked
+    // (not runnable: waiting on something) in ticks without and with a page read from disk (the
+    // machine's memory), and the whole run's time runnable but not running (the machine kept the
+    // loop from its CPU), ms; the longest block in one tick without a page read, us.
+    bool timed = false;
+    double workMs = 0, blockedMs = 0, pagingMs = 0, waitingMs = 0, blockedLongestUs = 0;
 };
 
 // Period errors in microsecond bins up to 100 ms (later ones in the last bin), for percentiles
@@ -62,6 +70,8 @@ private:
     std::deque<double> recentUs_;  // the newest ticks' lateness
     std::uint64_t ticks_ = 0, late_ = 0, missed_ = 0;
     double elapsedS_ = 0;
+    bool timed_ = false;
+    std::int64_t workNs_ = 0, blockedNs_ = 0, pagingNs_ = 0, waitingNs_ = 0, blockedLongestNs_ = 0;
 };
 
 }  // namespace bop::haptic

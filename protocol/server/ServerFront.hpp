@@ -52,8 +52,12 @@ struct FrontStats {
     std::size_t clients = 0;            // sessions now: identities that said Hello and are not forgotten
     std::uint64_t sessionsOpened = 0;   // identities that said Hello, over the run
     std::uint64_t sessionsExpired = 0;  // sessions forgotten after FrontOptions::sessionTimeout of silence
-    std::string recordError;            // why recording stopped early, if it did
-    std::string publishError;           // why the last frame that could not be encoded was not sent
+    // The step loop's waits for the front's lock, held by the front's threads (the only way the
+    // step loop can wait on the front): how many, the longest and all together, ms.
+    std::uint64_t loopWaits = 0;
+    double loopWaitLongestMs = 0, loopWaitTotalMs = 0;
+    std::string recordError;   // why recording stopped early, if it did
+    std::string publishError;  // why the last frame that could not be encoded was not sent
 };
 
 // A command as the step loop sees it; answer it with ServerFront::reply().

@@ -10,13 +10,39 @@ namespace bop::protocol {
 using front::nowNs;
 using Clock = front::Clock;
 
+namespace {
+
+// The step loop's hold on the front's mutex: taken at once when free; when one of the front's
+// threads holds it, the wait is timed into FrontStats (loopWait*), so that a run says how long
+// its step loop ever waited on the front.
+class LoopLock {
+public:
+    LoopLock(std::mutex& m, FrontStats& stats) : m_(m) {
+        if (m.try_lock()) return;
+        const auto t0 = Clock::now();
+        m.lock();
+        const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        ++stats.loopWaits;
+        stats.loopWaitTotalMs += ms;
+        stats.loopWaitLongestMs = std::max(stats.loopWaitLongestMs, ms);
+    }
+    ~LoopLock() { m_.unlock(); }
+    LoopLock(const LoopLock&) = delete;
+    LoopLock& operator=(const LoopLock&) = delete;
+
+private:
+    std::mutex& m_;
+};
+
+}  // namespace
+
 std::vector<PendingCommand> ServerFront::takeCommands() {
-    std::lock_guard lock(impl_->m);
+    LoopLock lock(impl_->m, impl_->stats);
     return std::exchange(impl_->commands, {});
 }
 
 std::optional<Probe> ServerFront::takeProbe() {
-    std::lock_guard lock(impl_->m);
+    LoopLock lock(impl_->m, impl_->stats);
     return std::exchange(impl_->probe, std::nullopt);
 }
 
@@ -30,32 +56,32 @@ bool ServerFront::frameDue(Clock::time_point now) {
 }
 
 void ServerFront::offerFrame(StateFrame frame) {
-    std::lock_guard lock(impl_->m);
+    LoopLock lock(impl_->m, impl_->stats);
     if (impl_->frame) ++impl_->stats.framesDropped;
     impl_->frame = std::move(frame);
     impl_->frameOffered.notify_one();
 }
 
 void ServerFront::offerEncodedFrame(std::vector<Buffer> chunks) {
-    std::lock_guard lock(impl_->m);
+    LoopLock lock(impl_->m, impl_->stats);
     if (impl_->encodedFrame) ++impl_->stats.framesDropped;
     impl_->encodedFrame = std::move(chunks);
     impl_->frameOffered.notify_one();
 }
 
 StateFrame ServerFront::takeSpareFrame() {
-    std::lock_guard lock(impl_->m);
+    LoopLock lock(impl_->m, impl_->stats);
     return std::exchange(impl_->spareFrame, {});
 }
 
 bool ServerFront::framePending() const {
-    std::lock_guard lock(impl_->m);
+    LoopLock lock(impl_->m, impl_->stats);
     return impl_->frame.has_value() || impl_->encodedFrame.has_value();
 }
 
 void ServerFront::offerFeedback(const Feedback& feedback) {
     const Validation v = validate(feedback);
-    std::lock_guard lock(impl_->m);
+    LoopLock lock(impl_->m, impl_->stats);
     if (!v.ok()) return impl_->internalError("feedback not sent: " + v.message);
     impl_->feedback = feedback;
     impl_->wake();
@@ -69,10 +95,10 @@ void ServerFront::reply(const PendingCommand& command, const CommandReply& reply
         b = encodeCommandReply(r);
         in = encodeCommand(command.command);  // for the recording, if one runs
     } catch (const std::exception& e) {
-        std::lock_guard lock(impl_->m);
+        LoopLock lock(impl_->m, impl_->stats);
         return impl_->internalError(std::string("reply not sent: ") + e.what());
     }
-    std::lock_guard lock(impl_->m);
+    LoopLock lock(impl_->m, impl_->stats);
     impl_->replies.emplace_back(command.client, b);
     if (impl_->recorder) impl_->toRecord.emplace_back(std::move(in), b);
     impl_->wake();
@@ -85,7 +111,7 @@ void ServerFront::inject(const std::string& id, const std::uint8_t* data, std::s
 }
 
 void ServerFront::probeApplied(const Probe& probe, std::uint64_t step) {
-    std::lock_guard lock(impl_->m);
+    LoopLock lock(impl_->m, impl_->stats);
     if (!impl_->recorder) return;
     try {
         impl_->toRecord.emplace_back(encodeProbe(probe), encodeFeedback({probe.seq, step, {}, nowNs()}));
@@ -127,7 +153,7 @@ std::string ServerFront::stopRecording() {
 }
 
 void ServerFront::setParticleCount(std::uint64_t n) {
-    std::lock_guard lock(impl_->m);
+    LoopLock lock(impl_->m, impl_->stats);
     impl_->particleCount = n;
 }
 

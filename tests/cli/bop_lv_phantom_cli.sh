@@ -7,13 +7,12 @@ set -u
 exe=$1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-fail=0
-check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+source "$(dirname "$0")/cli-checks.sh"
 
-"$exe" --help >"$work/help.txt" 2>&1
+bounded 30 "$work/help.txt" "$exe" --help
 check "--help exits 0 and names the volumes" "grep -q -- '--edv-ml' '$work/help.txt'"
 
-"$exe" "$work/a/lv.nii.gz" --frames 6 --voxel-mm 2.5 >"$work/run.txt" 2>&1
+bounded 120 "$work/run.txt" "$exe" "$work/a/lv.nii.gz" --frames 6 --voxel-mm 2.5
 rc=$?
 cat "$work/run.txt"
 check "a 4D file exits 0" "[ $rc -eq 0 ] && [ -s '$work/a/lv.nii.gz' ] && [ -s '$work/a/lv-truth.csv' ]"
@@ -22,13 +21,13 @@ check "the truth CSV has a row per frame" "[ \$(wc -l <'$work/a/lv-truth.csv') -
 ef=$(awk -F, 'NR > 1 {if (max == "" || $3 > max) max = $3; if (min == "" || $3 < min) min = $3} END {printf "%.2f", 100 * (max - min) / max}' "$work/a/lv-truth.csv")
 check "the printed ejection fraction ($ef%) is the CSV's" "grep -q \"ejection fraction: $ef% exact\" '$work/run.txt'"
 
-"$exe" "$work/b/frame.nii" --series >"$work/series.txt" 2>&1
+bounded 120 "$work/series.txt" "$exe" "$work/b/frame.nii" --series
 check "--series writes 8 numbered files" "[ -s '$work/b/frame-00.nii' ] && [ -s '$work/b/frame-07.nii' ] && [ ! -e '$work/b/frame-08.nii' ]"
 
-"$exe" "$work/c/lv.nii" --edv-ml 50 --esv-ml 80 >"$work/e1.txt" 2>&1
+bounded 30 "$work/e1.txt" "$exe" "$work/c/lv.nii" --edv-ml 50 --esv-ml 80
 rc=$?
 check "end-systolic above end-diastolic exits non-zero naming --esv-ml" "[ $rc -ne 0 ] && grep -q -- '--esv-ml' '$work/e1.txt'"
-"$exe" "$work/c/lv.png" >"$work/e2.txt" 2>&1
+bounded 30 "$work/e2.txt" "$exe" "$work/c/lv.png"
 rc=$?
 check "a file that is not .nii or .nii.gz exits non-zero saying so" "[ $rc -ne 0 ] && grep -q 'expected a .nii or .nii.gz' '$work/e2.txt'"
 exit $fail

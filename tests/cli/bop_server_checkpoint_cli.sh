@@ -10,24 +10,23 @@ mpi=$2
 src=$3
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-fail=0
-check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+source "$(dirname "$0")/cli-checks.sh"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 scene=$src/config/scenes/torus.toml
-server() {  # ranks, then bop-server's options
-  local n=$1
-  shift
-  if [[ $n == 1 ]]; then "$exe" "$scene" --no-listen --cache "$work/map.bopgm" "$@"
-  else "$mpi" --oversubscribe -np "$n" "$exe" "$scene" --no-listen --cache "$work/map.bopgm" "$@"; fi
+server() {  # ranks, its log, then bop-server's options; at most 150 s
+  local n=$1 log=$2
+  shift 2
+  if [[ $n == 1 ]]; then bounded 150 "$log" "$exe" "$scene" --no-listen --cache "$work/map.bopgm" "$@"
+  else bounded 150 "$log" "$mpi" --oversubscribe -np "$n" "$exe" "$scene" --no-listen --cache "$work/map.bopgm" "$@"; fi
 }
 ids() { awk 'NR > 2 {print $(NF - 1)}' "$1" | sort; }  # the id column of an extended XYZ frame
 
 for ranks in 1 2; do
   # The volume is seeded at step 1500: after the restart at 900, so the seed count must carry over.
-  server "$ranks" --steps 1800 --checkpoint-every 900 --report-every 300 -o "$work/a$ranks" >"$work/a$ranks.log" 2>&1
-  server "$ranks" --steps 900 --report-every 300 -o "$work/b$ranks" >"$work/b$ranks.log" 2>&1
-  server "$ranks" --steps 900 --checkpoint-every 900 --report-every 300 -o "$work/c$ranks" \
-    --restart "$work/b$ranks/checkpoint.xyz" >"$work/c$ranks.log" 2>&1
+  server "$ranks" "$work/a$ranks.log" --steps 1800 --checkpoint-every 900 --report-every 300 -o "$work/a$ranks"
+  server "$ranks" "$work/b$ranks.log" --steps 900 --report-every 300 -o "$work/b$ranks"
+  server "$ranks" "$work/c$ranks.log" --steps 900 --checkpoint-every 900 --report-every 300 -o "$work/c$ranks" \
+    --restart "$work/b$ranks/checkpoint.xyz"
   check "$ranks rank(s): the checkpoint at the end of a run is at step 900" \
     "grep -q 'Step=900 Births=' '$work/b$ranks/checkpoint.xyz'"
   check "$ranks rank(s): stopped at 900 and restarted, the run ends bit for bit as the uninterrupted one" \
@@ -36,9 +35,10 @@ for ranks in 1 2; do
     "[ \$(grep -c '^torus-volume ' '$work/c$ranks/final.xyz') -gt 10 ]"
 done
 
-# SIGTERM to mpirun: a whole checkpoint, then a restart at other rank counts.
-"$mpi" --oversubscribe -np 2 "$exe" "$scene" --no-listen --cache "$work/map.bopgm" --steps 10000000 \
-  --report-every 200 -o "$work/t" >"$work/t.log" 2>&1 &
+# SIGTERM to mpirun (through bop-deadline, which passes it on): a whole checkpoint, then a
+# restart at other rank counts.
+"$BOP_DEADLINE" --log "$work/t.log" 150 -- "$mpi" --oversubscribe -np 2 "$exe" "$scene" --no-listen \
+  --cache "$work/map.bopgm" --steps 10000000 --report-every 200 -o "$work/t" &
 pid=$!
 for _ in $(seq 1 300); do grep -q '^step ' "$work/t.log" && break; sleep 0.1; done
 sleep 1
@@ -50,8 +50,8 @@ check "the checkpoint is whole: its count line matches its rows, no temporary fi
   "[ -s '$work/t/checkpoint.xyz' ] && [ ! -e '$work/t/checkpoint.xyz.tmp' ] && \
    [ \$((\$(wc -l <'$work/t/checkpoint.xyz') - 2)) = \$(head -1 '$work/t/checkpoint.xyz') ]"
 # SIGUSR1, which mpirun passes on without killing the ranks a second later: the same stop.
-"$mpi" --oversubscribe -np 2 "$exe" "$scene" --no-listen --cache "$work/map.bopgm" --steps 10000000 \
-  --report-every 200 -o "$work/u" >"$work/u.log" 2>&1 &
+"$BOP_DEADLINE" --log "$work/u.log" 150 -- "$mpi" --oversubscribe -np 2 "$exe" "$scene" --no-listen \
+  --cache "$work/map.bopgm" --steps 10000000 --report-every 200 -o "$work/u" &
 pid=$!
 for _ in $(seq 1 300); do grep -q '^step ' "$work/u.log" && break; sleep 0.1; done
 kill -USR1 "$pid"
@@ -61,7 +61,7 @@ check "SIGUSR1 to mpirun stops the run with a checkpoint and exit code 0 (got $r
   "[ $rc -eq 0 ] && grep -q 'stopped by a signal after step' '$work/u.log' && [ -s '$work/u/checkpoint.xyz' ]"
 
 for ranks in 1 3; do
-  server "$ranks" --steps 0 --restart "$work/t/checkpoint.xyz" -o "$work/r$ranks" >"$work/r$ranks.log" 2>&1
+  server "$ranks" "$work/r$ranks.log" --steps 0 --restart "$work/t/checkpoint.xyz" -o "$work/r$ranks"
   check "a restart at $ranks rank(s) holds every particle of the checkpoint" \
     "[ -s '$work/r$ranks/final.xyz' ] && diff -q <(ids '$work/t/checkpoint.xyz') <(ids '$work/r$ranks/final.xyz') >/dev/null"
 done

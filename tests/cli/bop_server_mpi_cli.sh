@@ -8,14 +8,13 @@ set -u
 exe=$1 mpiexec=$2 repo=$3
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-fail=0
-check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+source "$(dirname "$0")/cli-checks.sh"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
 scene=$repo/config/scenes/bulk-box.toml
-"$exe" "$scene" --no-listen --steps 200 --report-every 200 -o "$work/np1" >"$work/np1.txt" 2>&1
+bounded 120 "$work/np1.txt" "$exe" "$scene" --no-listen --steps 200 --report-every 200 -o "$work/np1"
 check "1 rank exits 0" "[ $? -eq 0 ]"
-"$mpiexec" -np 2 --oversubscribe "$exe" "$scene" --no-listen --steps 200 --report-every 200 -o "$work/np2" >"$work/np2.txt" 2>&1
+bounded 120 "$work/np2.txt" "$mpiexec" -np 2 --oversubscribe "$exe" "$scene" --no-listen --steps 200 --report-every 200 -o "$work/np2"
 check "2 ranks exit 0" "[ $? -eq 0 ]"
 check "2 ranks say how the box was split" "grep -q 'decomposed over 2 ranks' '$work/np2.txt'"
 # Energies after 200 steps agree to the printed digits (pair sums differ only in order).
@@ -26,9 +25,9 @@ n1=$(head -1 "$work/np1/final.xyz") n2=$(head -1 "$work/np2/final.xyz")
 check "final.xyz holds every particle once ($n2 of $n1)" "[ '$n1' = '$n2' ] && [ \$(tail -n +3 '$work/np2/final.xyz' | awk '{print \$(NF-1)}' | sort -u | wc -l) -eq $n1 ]"
 
 star=$repo/config/scenes/star.toml
-"$exe" "$star" --no-listen --report-every 100000 -o "$work/star1" >"$work/star1.txt" 2>&1
+bounded 120 "$work/star1.txt" "$exe" "$star" --no-listen --report-every 100000 -o "$work/star1"
 check "the star builds at 1 rank" "[ $? -eq 0 ]"
-"$mpiexec" -np 2 --oversubscribe "$exe" "$star" --no-listen --report-every 100000 -o "$work/star2" >"$work/star2.txt" 2>&1
+bounded 120 "$work/star2.txt" "$mpiexec" -np 2 --oversubscribe "$exe" "$star" --no-listen --report-every 100000 -o "$work/star2"
 check "the star builds at 2 ranks" "[ $? -eq 0 ]"
 c1=$(awk '/^this run/ {print $3, $4}' "$work/star1.txt") c2=$(awk '/^this run/ {print $3, $4}' "$work/star2.txt")
 check "surface and volume particles at 2 ranks ($c2) equal 1 rank ($c1)" "[ -n '$c1' ] && [ '$c1' = '$c2' ]"

@@ -7,23 +7,22 @@ set -u
 exe=$1 repo=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-fail=0
-check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+source "$(dirname "$0")/cli-checks.sh"
 
-"$exe" --help >"$work/help.txt" 2>&1
+bounded 30 "$work/help.txt" "$exe" --help
 check "--help exits 0 and names the scene argument" "grep -q 'scene' '$work/help.txt'"
 
-"$exe" "$repo/config/scenes/torus-analytic.toml" -o "$work/out" --export all >"$work/run1.txt" 2>&1
+bounded 120 "$work/run1.txt" "$exe" "$repo/config/scenes/torus-analytic.toml" -o "$work/out" --export all
 rc=$?
 check "a torus build exits 0" "[ $rc -eq 0 ]"
 check "the report gives grid size and label counts" "grep -q '^grid ' '$work/run1.txt' && grep -q 'surface' '$work/run1.txt'"
 check "three slice pictures are PNG files" "[ \$(ls '$work/out'/slice-*.png | wc -l) -eq 3 ] && head -c 8 '$work/out/slice-xy.png' | grep -q PNG"
-"$exe" "$repo/config/scenes/torus-analytic.toml" -o "$work/out" --export none --no-png >"$work/run2.txt" 2>&1
+bounded 120 "$work/run2.txt" "$exe" "$repo/config/scenes/torus-analytic.toml" -o "$work/out" --export none --no-png
 check "the second run reads the cache" "grep -q 'from the cache' '$work/run2.txt'"
 
 py=/usr/bin/python3
 if "$py" -c 'import numpy' 2>/dev/null; then
-  "$py" - "$work/out" <<'PY' >"$work/py.txt" 2>&1
+  bounded 60 "$work/py.txt" "$py" - "$work/out" <<'PY'
 import sys, numpy as np
 d = sys.argv[1]
 labels = np.load(d + "/labels.npy"); vec = np.load(d + "/vectors.npy"); dist = np.load(d + "/distance.npy")
@@ -47,14 +46,14 @@ else
   echo "skip NumPy check (python3-numpy missing)"
 fi
 
-"$exe" "$work/absent.toml" >"$work/err1.txt" 2>&1
+bounded 30 "$work/err1.txt" "$exe" "$work/absent.toml"
 rc=$?
 check "a missing scene exits non-zero naming the file" "[ $rc -ne 0 ] && grep -q 'absent.toml: file not found' '$work/err1.txt'"
 printf '[grid]\nvoxel_size_mm = 1.0\n[shape]\n[[shape.bag]]\nsource = "mesh"\nfile = "none.stl"\n' >"$work/bad.toml"
-"$exe" "$work/bad.toml" -o "$work/bad" >"$work/err2.txt" 2>&1
+bounded 30 "$work/err2.txt" "$exe" "$work/bad.toml" -o "$work/bad"
 rc=$?
 check "a missing mesh exits non-zero naming the key" "[ $rc -ne 0 ] && grep -q 'shape.bag\[0\].file' '$work/err2.txt'"
-"$exe" "$repo/config/scenes/torus-analytic.toml" -o "$work/out" --export bogus >"$work/err3.txt" 2>&1
+bounded 60 "$work/err3.txt" "$exe" "$repo/config/scenes/torus-analytic.toml" -o "$work/out" --export bogus
 rc=$?
 check "an unknown --export array is refused" "[ $rc -ne 0 ] && grep -q \"unknown array 'bogus'\" '$work/err3.txt'"
 exit $fail

@@ -3,7 +3,7 @@
 // the device without force within 50 ms, and one restarted on its port is connected to again;
 // a simulated fingertip pressed on the bag comes to rest.
 // Traces stay in build/test-output/haptic/.
-#include "ServerProcess.hpp"
+#include "NetTestUtil.hpp"
 #include "TestUtil.hpp"
 #include "client/ClientSession.hpp"
 
@@ -117,7 +117,7 @@ void waitUntilPushing(const std::string& trace, std::size_t rows, double afterS 
 TEST_CASE("bop-haptic pokes the served torus: the reaction opposes the poke, grows with depth, and moves the surface",
           "[net][haptic]") {
     test::TempDir dir("haptic-poke");
-    test::ServerProcess srv(torusServer(dir.file("run")));
+    test::ChildProcess srv(torusServer(dir.file("run")));
     const std::string out = test::outputDir("haptic", "poke");
     // A watcher: the surface before the poke, and how far the poke moves it near the probe.
     protocol::ClientSession watcher;
@@ -130,7 +130,7 @@ TEST_CASE("bop-haptic pokes the served torus: the reaction opposes the poke, gro
     std::pair<int, std::string> result;
     std::thread run([&] {
         result = test::runCommand(
-            haptic(srv.endpoint(), "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 1 --out " + out));
+            haptic(srv.endpoint(), "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 1 --out " + out), 60s);
         done = true;
     });
     // The surface gives way: at the probe's deepest frame, the nearest surface particle to the
@@ -189,14 +189,15 @@ TEST_CASE("bop-haptic pokes the served torus: the reaction opposes the poke, gro
 
 TEST_CASE("bop-haptic: a server stopped mid-poke leaves the device without force within 50 ms", "[net][haptic]") {
     test::TempDir dir("haptic-safety");
-    test::ServerProcess srv(torusServer(dir.file("run")));
+    test::ChildProcess srv(torusServer(dir.file("run")));
     const std::string out = test::outputDir("haptic", "safety");
     std::pair<int, std::string> result;
     std::thread run([&] {
         result = test::runCommand(haptic(srv.endpoint(),
                                          "--device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 10 "
                                          "--seconds 8 --out " +
-                                             out));
+                                             out),
+                                  60s);
     });
     // Wait until the device pushes back, then stop the server.
     waitUntilPushing(out + "/haptic-trace.csv", 1);
@@ -231,10 +232,10 @@ TEST_CASE("bop-haptic connects again on its own when the server restarts on its 
     std::vector<std::string> once = torusServer(dir.file("a"));
     REQUIRE(once[8] == "--port");
     once[9] = port;
-    auto first = std::make_unique<test::ServerProcess>(once);
+    auto first = std::make_unique<test::ChildProcess>(once);
     const std::string endpoint = first->endpoint();
     const std::string out = test::outputDir("haptic", "reconnect");
-    test::ServerProcess client(
+    test::ChildProcess client(
         {test::buildDir() + "/haptic_client/bop-haptic", endpoint, "--device", "sim:poke", "--standoff", "3", "--depth",
          "1.5", "--speed", "1", "--hold", "60", "--reconnect-after", "1", "--out", out},
         30s, "bop-haptic: sim:poke at");
@@ -244,7 +245,7 @@ TEST_CASE("bop-haptic connects again on its own when the server restarts on its 
     // The same scene from the same checkpoint on the same port.
     std::vector<std::string> again = torusServer(dir.file("b"));
     again[9] = port;
-    test::ServerProcess second(again);
+    test::ChildProcess second(again);
     // Once the client says it is back: half a second of pushing from then on.
     for (int k = 0; k < 300 && client.output().find("connected again") == std::string::npos; ++k)
         std::this_thread::sleep_for(100ms);
@@ -276,10 +277,10 @@ TEST_CASE("bop-haptic connects again on its own when the server restarts on its 
 
 TEST_CASE("bop-haptic sim:finger pressed on the served torus comes to rest at its surface", "[net][haptic]") {
     test::TempDir dir("haptic-finger");
-    test::ServerProcess srv(torusServer(dir.file("run")));
+    test::ChildProcess srv(torusServer(dir.file("run")));
     const std::string out = test::outputDir("haptic", "finger");
     const auto [code, printed] = test::runCommand(
-        haptic(srv.endpoint(), "--device sim:finger --standoff 3 --depth 1.5 --speed 1 --hold 3 --out " + out));
+        haptic(srv.endpoint(), "--device sim:finger --standoff 3 --depth 1.5 --speed 1 --hold 3 --out " + out), 60s);
     INFO(printed);
     REQUIRE(code == 0);
     srv.stop(SIGINT);

@@ -3,7 +3,8 @@
 // dropped onto its particles at the strongest allowed setting, physics that goes unsound stopping
 // with a checkpoint of the last sound state and nothing non-finite streamed, and periodic frames
 // wrapped into the box.
-#include "ServerProcess.hpp"
+#include "HapticLoopChecks.hpp"
+#include "NetTestUtil.hpp"
 #include "TestUtil.hpp"
 #include "client/ClientSession.hpp"
 #include "codec/MessageKind.hpp"
@@ -23,7 +24,7 @@
 
 using namespace bop;
 using namespace bop::protocol;
-using test::ServerProcess;
+using test::ChildProcess;
 using namespace std::chrono_literals;
 
 namespace {
@@ -65,7 +66,8 @@ std::string openBox(const test::TempDir& dir, bool limit = false) {
 // and it passes 1e6 beyond the box after about 120 steps.
 std::string thrownStart(const test::TempDir& dir, const std::string& scene) {
     const auto [code, out] = test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + scene +
-                                              " --no-listen --steps 0 -o " + dir.file("start") + " 2>&1");
+                                                  " --no-listen --steps 0 -o " + dir.file("start") + " 2>&1",
+                                              60s);
     REQUIRE(code == 0);
     std::ifstream in(dir.file("start/checkpoint.xyz"));
     std::ostringstream edited;
@@ -98,8 +100,8 @@ long long checkpointStep(const std::string& path) {
 TEST_CASE("the served torus keeps stepping through every out-of-range message and a probe dropped onto its particles",
           "[net][hardening]") {
     test::TempDir dir("hardening-served");
-    ServerProcess srv(test::serverCommand(1, test::sourceDir() + "/config/scenes/torus.toml",
-                                          {"--restart", test::builtTorus(), "-o", dir.file("run")}));
+    ChildProcess srv(test::serverCommand(1, test::sourceDir() + "/config/scenes/torus.toml",
+                                         {"--restart", test::builtTorus(), "-o", dir.file("run")}));
     ClientSession c;
     const SceneInfo scene = c.connect(srv.endpoint(), 20s);
     const std::vector<test::hostile::Case> cases = test::hostile::outOfRange(scene);
@@ -150,7 +152,8 @@ TEST_CASE("a run whose physics goes unsound stops with exit 3 and the last sound
         const std::string launch = ranks > 1 ? test::mpiexec() + " -np 2 --oversubscribe " : "";
         const auto [code, log] =
             test::runCommand(launch + test::buildDir() + "/dynamics_server/bop-server " + scene +
-                             " --no-listen --steps 400 --restart " + start + " -o " + out + " 2>&1");
+                                 " --no-listen --steps 400 --restart " + start + " -o " + out + " 2>&1",
+                             120s);
         INFO(log);
         CHECK(code == 3);
         std::smatch m;
@@ -164,13 +167,14 @@ TEST_CASE("a run whose physics goes unsound stops with exit 3 and the last sound
         CHECK(saved > 0);  // not the start: a later sound state
         CHECK_FALSE(std::filesystem::exists(out + "/final.xyz"));
         // The checkpoint restarts: the run goes on from the last sound state.
-        const auto again =
-            test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + scene +
-                             " --no-listen --steps 1 --restart " + out + "/checkpoint.xyz -o " + out + "/again 2>&1");
+        const auto again = test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + scene +
+                                                " --no-listen --steps 1 --restart " + out + "/checkpoint.xyz -o " +
+                                                out + "/again 2>&1",
+                                            60s);
         CHECK(again.first == 0);
     }
     // Served: frames up to the stop are finite, the server exits 3 by itself, nothing after it.
-    ServerProcess srv(test::serverCommand(
+    ChildProcess srv(test::serverCommand(
         2, scene, {"--restart", start, "--wait-for-client", "--publish-hz", "200", "-o", dir.file("served")}));
     ClientSession c;
     c.connect(srv.endpoint(), 20s);
@@ -187,7 +191,8 @@ TEST_CASE("a run whose physics goes unsound stops with exit 3 and the last sound
     const std::string limited = openBox(dir, true);
     const auto held =
         test::runCommand(test::buildDir() + "/dynamics_server/bop-server " + limited +
-                         " --no-listen --steps 400 --restart " + start + " -o " + dir.file("limited") + " 2>&1");
+                             " --no-listen --steps 400 --restart " + start + " -o " + dir.file("limited") + " 2>&1",
+                         120s);
     INFO(held.second);
     CHECK(held.first == 0);
     const std::string log = srv.output();
@@ -205,7 +210,7 @@ TEST_CASE("frames of a periodic box carry positions inside it, float and quantis
         INFO((quantised ? "quantised" : "float") << " frames");
         std::vector<std::string> extra{"--publish-hz", "100", "-o", dir.file(quantised ? "q" : "f")};
         if (quantised) extra.push_back("--quantised");
-        ServerProcess srv(test::serverCommand(2, test::sourceDir() + "/config/scenes/bulk-box.toml", extra));
+        ChildProcess srv(test::serverCommand(2, test::sourceDir() + "/config/scenes/bulk-box.toml", extra));
         ClientSession c;
         const SceneInfo scene = c.connect(srv.endpoint(), 20s);
         long long frames = 0, outside = 0, onFace = 0, coordinates = 0;
@@ -241,17 +246,18 @@ TEST_CASE(
     "working",
     "[net][hardening][churn]") {
     test::TempDir dir("hardening-churn");
-    ServerProcess srv(
+    ChildProcess srv(
         test::serverCommand(1, test::sourceDir() + "/config/scenes/torus.toml",
                             {"--restart", test::builtTorus(), "--session-timeout", "1", "-o", dir.file("run")}));
     // The haptic client pokes the bag through the whole churn; the watcher in bop-churn is the viewer.
-    ServerProcess haptic({test::buildDir() + "/haptic_client/bop-haptic", srv.endpoint(), "--device", "sim:poke",
-                          "--seconds", "12", "--out", dir.file("haptic")},
-                         30s, "bop-haptic: connected");
+    ChildProcess haptic({test::buildDir() + "/haptic_client/bop-haptic", srv.endpoint(), "--device", "sim:poke",
+                         "--seconds", "12", "--out", dir.file("haptic")},
+                        30s, "bop-haptic: connected");
     const auto [code, churn] = test::runCommand(test::buildDir() + "/protocol/bop-churn " + srv.endpoint() +
-                                                " --clients 300 --concurrency 4 --burst 20 --baseline 2 --settle 3 "
-                                                "--server-pid " +
-                                                std::to_string(srv.pid()) + " 2>&1");
+                                                    " --clients 300 --concurrency 4 --burst 20 --baseline 2 --settle 3 "
+                                                    "--server-pid " +
+                                                    std::to_string(srv.pid()) + " 2>&1",
+                                                120s);
     INFO(churn);
     REQUIRE(code == 0);
     const auto figure = [&](const std::string& key) {
@@ -262,10 +268,12 @@ TEST_CASE(
     CHECK(figure("clients") == 300);
     CHECK(figure("no_scene") == 0);  // every client's Hello answered, however it behaved
     CHECK(figure("refusals_received") >= 300);
-    CHECK(figure("frames_during") > 10);         // the viewer kept taking frames...
-    CHECK(figure("longest_frame_gap_s") < 1.0);  // ...without a pause
-    // Loose: this machine's rate drifts by 10-20%; a server that waited on clients would stall.
-    CHECK(figure("steps_per_s_during") >= 0.5 * figure("steps_per_s_before"));
+    CHECK(figure("frames_during") > 10);  // the viewer kept taking frames
+    std::printf(
+        "churn: steps/s %.1f before, %.1f during, %.1f after; longest frame gap %.3f s (reported, not "
+        "asserted: scripts/bench/churn.sh)\n",
+        figure("steps_per_s_before"), figure("steps_per_s_during"), figure("steps_per_s_after"),
+        figure("longest_frame_gap_s"));
     CHECK(figure("rss_after_mb") <= figure("rss_before_mb") + 4.0);
     CHECK(haptic.stop(SIGINT, 20s) == 0);
     const std::string felt = haptic.output();
@@ -273,13 +281,15 @@ TEST_CASE(
     std::smatch m;
     REQUIRE(std::regex_search(felt, m, std::regex("([0-9]+) feedback messages")));
     CHECK(std::stoll(m[1]) > 1000);  // feedback all along
-    REQUIRE(std::regex_search(felt, m, std::regex("ticks at ([0-9.]+) Hz")));
-    // Loose: the churn, the server and this loop share the machine's cores (a fresh 2-core
-    // machine gave 825 Hz); scripts/bench/churn.sh measures it quiet (996.5 Hz).
-    CHECK(std::stod(m[1]) > 500);
+    // The churn, the server and this loop share the machine's cores: the loop's rate is the
+    // machine's (scripts/bench/churn.sh measures it quiet); that it never blocked on the server
+    // and missed only the deadlines the machine took from it is the client's.
+    test::checkHapticLoop(felt, dir.file("haptic") + "/haptic-trace.csv", 20);
     CHECK(srv.stop(SIGINT) == 0);
     const std::string out = srv.output();
     INFO(out);
+    // The step loop never waited on the front for the churning clients.
+    CHECK(test::longestFrontWaitMs(out) < 1000);
     CHECK(test::printedCount(out, "sessions expired") >= 300);
     CHECK(test::printedCount(out, "messages with values out of range refused") > 300);
     CHECK(test::printedCount(out, "malformed messages refused") > 300);

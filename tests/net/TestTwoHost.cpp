@@ -2,7 +2,8 @@
 // host, viewers and haptic clients on the graphics host, over a veth pair that loses datagrams
 // or delays packets. Each case is its own ctest entry (net.two-host.*), skipped where this
 // machine cannot make the hosts. Pictures and traces in build/test-output/two-host/.
-#include "ServerProcess.hpp"
+#include "HapticLoopChecks.hpp"
+#include "NetTestUtil.hpp"
 #include "TestUtil.hpp"
 #include "TwoHost.hpp"
 
@@ -71,7 +72,7 @@ std::vector<double> column(const std::string& path, std::size_t col, std::size_t
 }
 
 // Stops a served run as a user's Ctrl-C does; it writes its checkpoint and final state.
-void stopServer(test::ServerProcess& srv) {
+void stopServer(test::ChildProcess& srv) {
     srv.stop(SIGINT);
     INFO(srv.output());
     REQUIRE(srv.output().find("final state:") != std::string::npos);
@@ -117,11 +118,13 @@ TEST_CASE("two hosts, 10% and 30% datagram loss: the viewer draws only whole fra
         const double p = percent / 100.0;
         test::TwoHost hosts("--loss " + std::to_string(percent));
         const std::string run = dir.file("run-" + std::to_string(percent));
-        test::ServerProcess srv(hosts.on("dyn", server(scene, {"--publish-hz", "100", "--quantised", "-o", run})));
+        test::ChildProcess srv(hosts.on("dyn", server(scene, {"--publish-hz", "100", "--quantised", "-o", run})));
         const std::string out = test::outputDir("two-host", "loss-" + std::to_string(percent));
-        const auto [code, printed] = test::runCommand(hosts.shell(
-            "gfx", tool("viz_client/bop-viewer") + " " + srv.endpoint() + " --headless --no-panel --udp-port 7400 " +
-                       "--frames 100 --width 96 --height 72 --out " + out + " 2>&1"));
+        const auto [code, printed] =
+            test::runCommand(hosts.shell("gfx", tool("viz_client/bop-viewer") + " " + srv.endpoint() +
+                                                    " --headless --no-panel --udp-port 7400 " +
+                                                    "--frames 100 --width 96 --height 72 --out " + out + " 2>&1"),
+                             60s);
         INFO(printed);
         REQUIRE(code == 0);
         stopServer(srv);
@@ -164,31 +167,33 @@ TEST_CASE("two hosts, 20 ms delay each way: the haptic loop keeps 1 kHz and feel
           "[two-host][delay]") {
     test::TwoHost hosts("--delay 20");
     test::TempDir dir("two-host-delay");
-    test::ServerProcess srv(hosts.on("dyn", torusServer(dir.file("run"))));
+    test::ChildProcess srv(hosts.on("dyn", torusServer(dir.file("run"))));
     const std::string out = test::outputDir("two-host", "delay");
-    const auto [code, printed] = test::runCommand(hosts.shell(
-        "gfx", tool("haptic_client/bop-haptic") + " " + srv.endpoint() +
-                   " --device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 2 --out " + out + " 2>&1"));
+    const auto [code, printed] = test::runCommand(
+        hosts.shell("gfx", tool("haptic_client/bop-haptic") + " " + srv.endpoint() +
+                               " --device sim:poke --standoff 3 --depth 1.5 --speed 1 --hold 2 --out " + out + " 2>&1"),
+        60s);
     INFO(printed);
     REQUIRE(code == 0);
     stopServer(srv);
-    std::printf("20 ms each way: loop at %.1f Hz, probe round trip p50 %.2f ms, largest force %.3f N\n",
-                after(printed, "ticks at"), after(printed, "probe round trip: p50"),
-                after(printed, "largest force rendered:"));
-    // "At 1 kHz": within 5%, on a 2-core machine that also runs both ranks and the delayer.
-    CHECK(after(printed, "ticks at") >= 950);              // Hz
-    CHECK(after(printed, "probe round trip: p50") >= 39);  // ms: the delay was there
-    CHECK(after(printed, "probe round trip: p50") < 100);
+    std::printf(
+        "20 ms each way: loop at %.1f Hz (reported, not asserted: scripts/bench/haptic.sh), probe round trip "
+        "p50 %.2f ms, largest force %.3f N\n",
+        after(printed, "ticks at"), after(printed, "probe round trip: p50"), after(printed, "largest force rendered:"));
+    // The loop kept its 1 kHz deadlines whatever the network did: each was a tick or is counted
+    // as missed, and its own work never waited on the 40 ms round trip.
+    test::checkHapticLoop(printed, out + "/haptic-trace.csv", 20);
+    CHECK(after(printed, "probe round trip: p50") >= 39);    // ms: the delay was there
     CHECK(after(printed, "largest force rendered:") > 0.5);  // N: the bag was felt through it
 }
 
 TEST_CASE(
-    "two hosts: kill -9 of a viewer, a haptic client and a client reconnecting mid-message leaves the server's step "
-    "rate",
+    "two hosts: kill -9 of a viewer, a haptic client and a client reconnecting mid-message never blocks the server's "
+    "step loop",
     "[two-host][kill]") {
     test::TwoHost hosts("");
     test::TempDir dir("two-host-kill");
-    test::ServerProcess srv(hosts.on("dyn", torusServer(dir.file("run"))));
+    test::ChildProcess srv(hosts.on("dyn", torusServer(dir.file("run"))));
     const std::string out = test::outputDir("two-host", "kill");
     const std::string csv = out + "/watcher/frames.csv";
     const auto viewer = [&](const std::string& name) {
@@ -200,8 +205,8 @@ TEST_CASE(
         return hosts.on("gfx", {tool("haptic_client/bop-haptic"), srv.endpoint(), "--device", "sim:poke", "--hold",
                                 "100", "--out", out + "/" + name});
     };
-    // The watcher stays throughout; the server's own step rate comes in its frames (column 7).
-    test::ServerProcess watcher(viewer("watcher"), 60s, "frame 1:");
+    // The watcher stays throughout; the server's steps and step rate come in its frames (columns 1, 6).
+    test::ChildProcess watcher(viewer("watcher"), 60s, "frame 1:");
     const auto sample = [&](std::chrono::seconds phase) {
         const std::size_t from = column(csv, 6).size();
         const auto t0 = std::chrono::steady_clock::now();
@@ -209,34 +214,49 @@ TEST_CASE(
             std::this_thread::sleep_for(200ms);
             watcher.output();  // its console lines read, so that it never waits on a full pipe
         }
-        return column(csv, 6, from);
+        return std::pair{column(csv, 1, from), column(csv, 6, from)};  // steps, steps/s
     };
     sample(1s);
-    const std::vector<double> before = sample(4s);
+    const auto [stepsBefore, before] = sample(4s);
+    const double residentBefore = test::serverResidentMb(srv.pid());
     {
-        test::ServerProcess doomedViewer(viewer("viewer"), 60s, "frame 1:");
-        test::ServerProcess doomedHaptic(haptic("haptic"), 60s, "bop-haptic: sim:poke at");
+        test::ChildProcess doomedViewer(viewer("viewer"), 60s, "frame 1:");
+        test::ChildProcess doomedHaptic(haptic("haptic"), 60s, "bop-haptic: sim:poke at");
         std::this_thread::sleep_for(3s);
-        CHECK(doomedViewer.stop(SIGKILL) == 128 + SIGKILL);
-        CHECK(doomedHaptic.stop(SIGKILL) == 128 + SIGKILL);
+        CHECK(doomedViewer.stop(SIGKILL, 60s) == 128 + SIGKILL);
+        CHECK(doomedHaptic.stop(SIGKILL, 60s) == 128 + SIGKILL);
     }
     // A client connecting again and again, killed each time while the gradient map is on its way.
     for (int k = 0; k < 5; ++k) {
-        test::ServerProcess reconnecting(haptic("reconnecting"), 60s, "bop-haptic: connected");
-        CHECK(reconnecting.stop(SIGKILL) == 128 + SIGKILL);
+        test::ChildProcess reconnecting(haptic("reconnecting"), 60s, "bop-haptic: connected");
+        CHECK(reconnecting.stop(SIGKILL, 60s) == 128 + SIGKILL);
     }
     sample(1s);
-    const std::vector<double> afterKills = sample(4s);
+    const auto [stepsAfter, afterKills] = sample(4s);
+    const double residentAfter = test::serverResidentMb(srv.pid());
     REQUIRE(srv.running());
     watcher.stop(SIGTERM);
     stopServer(srv);
     const std::string summary = srv.output();
     INFO(summary);
-    std::printf("median steps/s: %.1f before, %.1f after the kills (ratio %.3f)\n", median(before), median(afterKills),
-                median(afterKills) / median(before));
-    // Loose here: this 2-core machine's rate drifts by 10-20% over seconds; a server that waited
-    // on a dead client would stop. scripts/bench/two-host-faults.sh measures the 5% target.
-    CHECK(median(afterKills) >= 0.8 * median(before));
+    std::printf(
+        "median steps/s: %.1f before, %.1f after the kills (ratio %.3f: reported, not asserted; "
+        "scripts/bench/two-host-faults.sh measures it); the server's resident memory %.1f MB before, %.1f MB after; "
+        "its step loop's longest wait on the front %.2f ms\n",
+        median(before), median(afterKills), median(afterKills) / median(before), residentBefore, residentAfter,
+        test::longestFrontWaitMs(summary));
+    // The step loop went on through the kills: steps after them, beyond those before.
+    REQUIRE(!stepsBefore.empty());
+    REQUIRE(!stepsAfter.empty());
+    CHECK(stepsAfter.front() > stepsBefore.back());
+    CHECK(stepsAfter.back() > stepsAfter.front());
+    // It never waited on the front for a client: a step loop that waited on a dead client would
+    // wait for the client's timeouts (seconds); a busy 2-core machine delays a lock held for
+    // microseconds by tens of milliseconds at most.
+    CHECK(test::longestFrontWaitMs(summary) < 1000);
+    // Frames for the dead clients are dropped, not queued: 7 clients at 20 frames/s of about 70 kB
+    // would have queued some 50 MB over the phase.
+    CHECK(residentAfter < residentBefore + 16);
     CHECK(after(summary, "steps to") >= 8);  // clients: the watcher, 2 killed, 5 reconnections
 }
 
@@ -245,25 +265,28 @@ TEST_CASE("two hosts: a firewall on the dynamics host refusing every datagram ou
     test::TwoHost hosts("--loss 0");  // asks for nftables, which the refusal is made with
     test::TempDir dir("two-host-refused");
     const std::string scene = test::writeText(dir.file("small-box.toml"), kSmallBox);
-    test::ServerProcess srv(hosts.on("dyn", server(scene, {"--publish-hz", "50", "-o", dir.file("run")})));
+    test::ChildProcess srv(hosts.on("dyn", server(scene, {"--publish-hz", "50", "-o", dir.file("run")})));
     // Refused on the way out, the server's sends fail with EPERM rather than vanish on the wire.
     const auto [nft, why] = test::runCommand(
         hosts.shell("dyn",
                     "nft 'add table inet refuse; add chain inet refuse out { type filter hook output priority 0; }; "
-                    "add rule inet refuse out meta l4proto udp drop' 2>&1"));
+                    "add rule inet refuse out meta l4proto udp drop' 2>&1"),
+        30s);
     INFO(why);
     REQUIRE(nft == 0);
     const std::string out = test::outputDir("two-host", "refused");
     const auto [code, printed] =
         test::runCommand(hosts.shell("gfx", tool("haptic_client/bop-haptic") + " " + srv.endpoint() +
-                                                " --udp --device sim:poke --seconds 2 --out " + out + " 2>&1"));
+                                                " --udp --device sim:poke --seconds 2 --out " + out + " 2>&1"),
+                         60s);
     INFO(printed);
     CHECK(code == 0);                                                   // no feedback came, which the device survives
     CHECK(printed.find("; 0 feedback messages") != std::string::npos);  // none got through
     // A viewer asking for frames as datagrams sees none; it keeps trying until it is stopped.
     const auto [viewerCode, viewerPrinted] = test::runCommand(
         hosts.shell("gfx", "timeout 5 " + tool("viz_client/bop-viewer") + " " + srv.endpoint() +
-                               " --headless --udp-port 7400 " + "--frames 1 --lost-after 1 --out " + out + " 2>&1"));
+                               " --headless --udp-port 7400 " + "--frames 1 --lost-after 1 --out " + out + " 2>&1"),
+        30s);
     INFO(viewerPrinted);
     CHECK(viewerCode == 124);  // still waiting for a frame when stopped
     REQUIRE(srv.running());

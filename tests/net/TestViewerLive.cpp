@@ -2,7 +2,7 @@
 // probe pressed into the torus bag (the frames show it; the server's state and the reaction
 // force say it indented the surface), and the window under Xvfb with its panel. Pictures stay
 // in build/test-output/viewer/ to look at.
-#include "ServerProcess.hpp"
+#include "NetTestUtil.hpp"
 #include "TestUtil.hpp"
 
 #include <Eigen/Core>
@@ -99,11 +99,12 @@ double nearest(const std::vector<Eigen::Vector3d>& ps, const Eigen::Vector3d& x)
 
 TEST_CASE("bop-viewer --headless writes the frames of a 2-rank server as pictures of its particles", "[net][gui]") {
     test::TempDir dir("viewer-headless");
-    test::ServerProcess srv(server("bulk-box", {"--publish-hz", "20", "-o", dir.file("run")}));
+    test::ChildProcess srv(server("bulk-box", {"--publish-hz", "20", "-o", dir.file("run")}));
     const std::string out = test::outputDir("viewer", "headless");
     const auto [code, printed] =
         test::runCommand(test::buildDir() + "/viz_client/bop-viewer " + srv.endpoint() +
-                         " --headless --no-panel --frames 4 --width 320 --height 240 --out " + out + " 2>&1");
+                             " --headless --no-panel --frames 4 --width 320 --height 240 --out " + out + " 2>&1",
+                         60s);
     INFO(printed);
     REQUIRE(code == 0);
     // Steps advance from frame to frame: the pictures are of a running server.
@@ -136,7 +137,7 @@ TEST_CASE("a probe scripted in bop-viewer --headless indents the served torus ba
     // k0 = 2.5: the probe's own r0 is 2.5 r0 = 4.3 and its reach 1.6 times that, 6.9 (length).
     // From beyond its reach above the top of the tube down to 1.2 above the surface, in 2 s.
     const Eigen::Vector3d from = top + Eigen::Vector3d(0, 0, 8.5), to = top + Eigen::Vector3d(0, 0, 1.2);
-    test::ServerProcess srv(server("torus", {"--restart", start, "--publish-hz", "10", "-o", dir.file("run")}));
+    test::ChildProcess srv(server("torus", {"--restart", start, "--publish-hz", "10", "-o", dir.file("run")}));
     const std::string out = test::outputDir("viewer", "probe");
     const auto point = [](const Eigen::Vector3d& p) {
         std::ostringstream s;
@@ -145,7 +146,8 @@ TEST_CASE("a probe scripted in bop-viewer --headless indents the served torus ba
     };
     const auto [code, printed] = test::runCommand(
         test::buildDir() + "/viz_client/bop-viewer " + srv.endpoint() + " --headless --frames 30 --out " + out +
-        " --probe-from " + point(from) + " --probe-to " + point(to) + " --probe-seconds 2 --probe-k0 2.5 2>&1");
+            " --probe-from " + point(from) + " --probe-to " + point(to) + " --probe-seconds 2 --probe-k0 2.5 2>&1",
+        60s);
     INFO(printed);
     REQUIRE(code == 0);
     srv.stop(SIGINT);  // holds the probe where it ended until the state is written
@@ -194,14 +196,15 @@ TEST_CASE("bop-viewer reconnects on its own when the server is lost and another 
     std::vector<std::string> once = server("bulk-box", {"--publish-hz", "2", "-o", dir.file("a")});
     REQUIRE(once[6] == "--port");
     once[7] = port;
-    auto first = std::make_unique<test::ServerProcess>(once);
+    auto first = std::make_unique<test::ChildProcess>(once);
     const std::string endpoint = first->endpoint();
     const std::string out = test::outputDir("viewer", "reconnect");
     std::pair<int, std::string> viewer;
     std::thread run([&] {
         viewer = test::runCommand(test::buildDir() + "/viz_client/bop-viewer " + endpoint +
-                                  " --headless --no-panel --frames 6 " +
-                                  "--width 160 --height 120 --lost-after 2 --out " + out + " 2>&1");
+                                      " --headless --no-panel --frames 6 " +
+                                      "--width 160 --height 120 --lost-after 2 --out " + out + " 2>&1",
+                                  120s);
     });
     // Frames from the first server, then it stops; a second one starts on the same port.
     const auto lines = [&] {
@@ -218,13 +221,13 @@ TEST_CASE("bop-viewer reconnects on its own when the server is lost and another 
     std::vector<std::string> again =
         server("bulk-box", {"--publish-hz", "2", "--wait-for-client", "-o", dir.file("b")});
     again[7] = port;
-    std::unique_ptr<test::ServerProcess> second;
+    std::unique_ptr<test::ChildProcess> second;
     std::string secondError;
     try {
-        second = std::make_unique<test::ServerProcess>(again);
+        second = std::make_unique<test::ChildProcess>(again);
     } catch (const std::exception& e) {  // the viewer would wait for it forever: stop the viewer too
         secondError = e.what();
-        test::runCommand("pkill -INT -f 'bop-viewer .*--out " + out + "'");
+        test::runCommand("pkill -INT -f 'bop-viewer .*--out " + out + "'", 30s);
     }
     run.join();
     // The lines that say why, short enough to survive a CI log's cuts.
@@ -253,11 +256,12 @@ TEST_CASE("the window viewer under Xvfb draws the served particles and its panel
         return;
     }
     test::TempDir dir("viewer-window");
-    test::ServerProcess srv(server("bulk-box", {"--publish-hz", "20", "-o", dir.file("run")}));
+    test::ChildProcess srv(server("bulk-box", {"--publish-hz", "20", "-o", dir.file("run")}));
     const std::string shot = test::outputDir("viewer", "window") + "/window.png";
     const auto [code, printed] =
         test::runCommand("xvfb-run -a -s '-screen 0 1280x800x24' " + test::buildDir() + "/viz_client/bop-viewer " +
-                         srv.endpoint() + " --frames 5 --width 800 --height 500 --screenshot " + shot + " 2>&1");
+                             srv.endpoint() + " --frames 5 --width 800 --height 500 --screenshot " + shot + " 2>&1",
+                         60s);
     INFO(printed);
     REQUIRE(code == 0);
     CHECK(printed.find("drew 5 new frames") != std::string::npos);

@@ -1,6 +1,6 @@
 #include "TwoHost.hpp"
 
-#include "ServerProcess.hpp"
+#include "NetTestUtil.hpp"
 #include "TestUtil.hpp"
 
 #include <cstdio>
@@ -11,6 +11,9 @@
 
 namespace bop::test {
 namespace {
+
+using namespace std::chrono_literals;
+
 std::string script() {
     return sourceDir() + "/scripts/two-host.sh";
 }
@@ -18,7 +21,7 @@ std::string script() {
 
 TwoHost::TwoHost(const std::string& impairments) : name_("bth" + std::to_string(getpid())) {
     setenv("BOP_BUILD_DIR", buildDir().c_str(), 1);  // where the script finds bop-netdelay
-    const auto [check, why] = runCommand(script() + " check " + impairments + " 2>&1");
+    const auto [check, why] = runCommand(script() + " check " + impairments + " 2>&1", 30s);
     if (check == 77) {  // not possible here: the whole test is skipped, saying why
         std::printf("%s", why.c_str());
         std::fflush(stdout);
@@ -28,17 +31,22 @@ TwoHost::TwoHost(const std::string& impairments) : name_("bth" + std::to_string(
     // Hosts left by a test process that was killed (a ctest timeout) go first.
     runCommand(
         "for ns in $(ip netns list 2>/dev/null | grep -oE '^bth[0-9]+-(dyn|gfx)'); do p=${ns#bth}; "
-        "kill -0 ${p%-*} 2>/dev/null || ip netns del $ns; done");
-    const auto [code, out] = runCommand(script() + " up " + name_ + " " + impairments + " 2>&1");
+        "kill -0 ${p%-*} 2>/dev/null || ip netns del $ns; done",
+        30s);
+    const auto [code, out] = runCommand(script() + " up " + name_ + " " + impairments + " 2>&1", 60s);
     if (code != 0) {
-        runCommand(script() + " down " + name_);  // the destructor does not run after a throw
+        runCommand(script() + " down " + name_, 30s);  // the destructor does not run after a throw
         throw std::runtime_error("two-host.sh up failed:\n" + out);
     }
     std::printf("%s", out.c_str());
 }
 
 TwoHost::~TwoHost() {
-    runCommand(script() + " down " + name_);
+    try {
+        runCommand(script() + " down " + name_, 30s);
+    } catch (const std::exception& e) {  // reported; a destructor may run while a test fails
+        std::fprintf(stderr, "two-host.sh down %s: %s\n", name_.c_str(), e.what());
+    }
 }
 
 std::vector<std::string> TwoHost::on(const std::string& host, std::vector<std::string> argv) const {

@@ -145,7 +145,9 @@ int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) 
               << s.oversized << " oversized), " << s.outOfRange << " messages with values out of range refused ("
               << s.refusalsSent << " refusals sent), " << s.peersRefused << " peers refused (CURVE key not allowed), "
               << s.internalErrors << " internal errors in the front"
-              << (s.internalErrors ? " (last: " + s.lastInternalError + ")" : std::string()) << "\n";
+              << (s.internalErrors ? " (last: " + s.lastInternalError + ")" : std::string())
+              << "; the step loop waited on the front " << s.loopWaits << " times, longest " << s.loopWaitLongestMs
+              << " ms, " << s.loopWaitTotalMs << " ms in all\n";
     if (cardiac && code != kExitUnsound) cardiac->finish(o.outDir, std::cout);
     if (code == kExitUnsound) {
         spdlog::error("stopped: {}", why);

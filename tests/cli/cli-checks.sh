@@ -1,0 +1,12 @@
+# Sourced by the command-line checks (tests/cli/*.sh): a named check, and a tool's run with a
+# deadline. `bounded SECONDS LOG COMMAND...` runs COMMAND through bop-deadline (ctest sets
+# BOP_DEADLINE), its output into LOG: past SECONDS, bop-deadline prints the process tree and the
+# last lines, kills every process of it, and the run's exit code is 124. A signal sent to the
+# bounded run is passed on to COMMAND.
+fail=0
+check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+bounded() {
+  local seconds=$1 log=$2
+  shift 2
+  "${BOP_DEADLINE:?the ctest entry sets BOP_DEADLINE to bop-deadline}" --log "$log" "$seconds" -- "$@"
+}
