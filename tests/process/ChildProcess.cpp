@@ -215,6 +215,13 @@ int ChildProcess::stop(int signal, Milliseconds deadline) {
     return code();
 }
 
+void ChildProcess::signal(int signal) {
+    if (!running()) return;
+    known_ = processTree(pid_);
+    kill(-pid_, signal);
+    std::printf("bop-test [%.1f s]: signal %d sent to pid %d\n", testClockS(), signal, pid_);
+}
+
 std::string ChildProcess::output() {
     drain(0);
     return out_;

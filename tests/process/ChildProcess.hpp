@@ -49,6 +49,10 @@ public:
     // of its tree (mpirun's ranks too: their ports are free after); the exit code (128 + signal if
     // killed). mpirun exits with 1 after a SIGINT or SIGTERM however its ranks ended.
     int stop(int signal, Milliseconds deadline = std::chrono::seconds(30));
+    // Sends `signal` to its process group and goes on: for a test that kills a client and
+    // watches what others make of it, not how soon the kernel lets the client go (the destructor
+    // waits for that, up to 10 s, without failing the test).
+    void signal(int signal);
     // Everything the process printed (stdout and stderr) so far.
     std::string output();
     int pid() const { return pid_; }
