@@ -8,15 +8,38 @@
 #include "ForceField.hpp"
 #include "Model.hpp"
 #include "Particles.hpp"
+#include "Records.hpp"
 
 #include <cstddef>
 #include <vector>
 
 namespace bop::core {
 
+// What a refresh did (Exchange::refresh...): the ghosts moved along their plan (Kept); a new
+// halo, so a new neighbour list (Rebuilt); new cut planes too, so a new region and its map
+// windows (Moved).
+enum class Refreshed { Kept, Rebuilt, Moved };
+
 class Exchange {
 public:
     virtual ~Exchange() = default;
+
+    // ---- the policy of a step: when particles migrate, cut planes move and halos are built ----
+    // (Exchange.cpp, the one place that decides; the calls below are its pieces). Collective.
+    // A rebuild moves the cut planes when the busiest process holds more than this over the mean.
+    static constexpr double kRebalanceAbove = 1.1;
+    // At the start: cut planes for similar counts, and the halo.
+    Refreshed start(Particles& p, Halo& halo, double range);
+    // After a drift (`listHolds`: this process's neighbour list still holds): where every
+    // process's holds, the ghosts' positions along the plan; otherwise every particle to its
+    // owner, then new cut planes or a new halo.
+    Refreshed afterDrift(Particles& p, Halo& halo, double range, bool listHolds);
+    // After particles were born, died or moved on some process: new cut planes or a new halo.
+    Refreshed afterChange(Particles& p, Halo& halo, double range);
+    // Before construction's check: every particle to its owner and the ghosts out to `range`
+    // (the birth front). Whether they may have moved (never for one process, which wraps them
+    // into the box at every drift).
+    bool widen(Particles& p, Halo& halo, double range);
 
     virtual int rank() const { return 0; }
     virtual int size() const { return 1; }
@@ -25,10 +48,17 @@ public:
     // Rank 0's commands on every process.
     virtual void broadcast(std::vector<Command>&) {}
     virtual bool allTrue(bool mine) { return mine; }
-    // Every process's values concatenated in rank order (the same on every process): sums over
-    // them in that order are the same everywhere and at every rank count of whole numbers.
-    virtual std::vector<double> allGather(const std::vector<double>& mine) { return mine; }
-    virtual std::vector<double> allGatherV(const std::vector<double>& mine) { return mine; }
+    // Every process's records concatenated in rank order (the same on every process): sums over
+    // them in that order are the same everywhere, and at every rank count for whole numbers.
+    // allGather: as many records on every process; allGatherV: any number.
+    template <class R>
+    std::vector<R> allGather(const std::vector<R>& mine) {
+        return recordsOf<R>(allGatherBytes(recordBytes(mine)));
+    }
+    template <class R>
+    std::vector<R> allGatherV(const std::vector<R>& mine) {
+        return recordsOf<R>(allGatherVBytes(recordBytes(mine)));
+    }
 
     // ---- the region of this process ----
     // This process's part of the whole box (the whole box here).
@@ -57,6 +87,9 @@ public:
 
 protected:
     virtual bool ownsPosition(const Eigen::Vector3d&) const { return true; }
+    // The records' bytes, concatenated in rank order (the same size on every process, or any).
+    virtual std::vector<std::byte> allGatherBytes(const std::vector<std::byte>& mine) { return mine; }
+    virtual std::vector<std::byte> allGatherVBytes(const std::vector<std::byte>& mine) { return mine; }
 };
 
 }  // namespace bop::core

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -80,7 +79,7 @@ Simulation::Simulation(std::shared_ptr<const Model> model, const Particles& all,
         p_.vel[k] = all.vel[i];
         p_.omega[k] = all.omega[i];
     }
-    rebalance();
+    placeRegion(ex_->start(p_, halo_, range_));
     forces(true);
     stats_.kinetic = kineticEnergy(sub_, p_);
 }
@@ -148,12 +147,12 @@ void Simulation::refreshForces() {
     forces(true);
 }
 
-void Simulation::rebalance() {
-    if (ex_->rebalance(p_)) {
+void Simulation::placeRegion(Refreshed r) {
+    if (r == Refreshed::Kept) return;
+    if (r == Refreshed::Moved) {
         sub_.box = ex_->region(model_->box);
         placeMaps();
     }
-    ex_->buildHalo(p_, range_, halo_);
     field_.requestRebuild();
 }
 
@@ -187,18 +186,9 @@ void Simulation::step() {
     times_.integrate += since(t0);
     const bool holds = field_.listHolds(sub_, p_);
     t0 = Clock::now();
-    if (!ex_->allTrue(holds)) {
-        ex_->migrate(p_);
-        if (ex_->imbalance(p_.size()) > 1.1) {
-            rebalance();
-        } else {
-            ex_->buildHalo(p_, range_, halo_);
-            field_.requestRebuild();
-        }
-        ++rebuilds_;
-    } else {
-        ex_->updateHalo(p_, halo_);
-    }
+    const Refreshed r = ex_->afterDrift(p_, halo_, range_, holds);
+    if (r != Refreshed::Kept) ++rebuilds_;
+    placeRegion(r);
     exchangeSeconds_ += since(t0);
     ++stats_.step;
     stats_.time += model_->integration.dt;
@@ -217,39 +207,43 @@ bool Simulation::soundEverywhere() const {
 
 void Simulation::throwUnsound() const {
     // What each process found, so that every one throws the same words: the first finding.
-    const Unsoundness mine = findUnsound(*model_, p_, stats_.forces.probeReaction);
-    const std::vector<double> all =
-        ex_->allGather({double(mine.what), double(mine.id & 0xffffffffu), double(mine.id >> 32), double(mine.species)});
-    for (std::size_t r = 0; r < all.size(); r += 4) {
-        if (all[r] == 0) continue;
-        const Unsoundness u{Unsoundness::What(int(all[r])), std::uint64_t(all[r + 1]) | std::uint64_t(all[r + 2]) << 32,
-                            int(all[r + 3])};
-        throw UnsoundState(stats_.step, u.text() + (ex_->size() > 1 ? " (rank " + std::to_string(r / 4) + ")" : ""));
-    }
+    const std::vector<Unsoundness> all =
+        ex_->allGather(std::vector{findUnsound(*model_, p_, stats_.forces.probeReaction)});
+    for (std::size_t r = 0; r < all.size(); ++r)
+        if (all[r].what != Unsoundness::None)
+            throw UnsoundState(stats_.step,
+                               all[r].text() + (ex_->size() > 1 ? " (rank " + std::to_string(r) + ")" : ""));
     throw UnsoundState(stats_.step, "on a process that could not say where");
 }
+
+namespace {
+
+// A process's share of the run's totals (Totals), summed in rank order.
+struct ProcessSums {
+    double particles, kinetic, pairEnergy, probeEnergy, virial, virialVolume;
+    Eigen::Vector3d probeReaction;
+    double bloodMv2, bloodCount, wallVirial;
+};
+
+}  // namespace
 
 Totals Simulation::totals() const {
     const ForceStats& f = stats_.forces;
     const BloodSums blood = bloodSums(sub_, p_);
-    const std::vector<double> mine{
-        double(p_.size()),   stats_.kinetic,      f.pairEnergy,        f.probeEnergy, f.virial,    f.virialVolume,
-        f.probeReaction.x(), f.probeReaction.y(), f.probeReaction.z(), blood.mv2,     blood.count, f.wallVirial};
-    const std::vector<double> all = ex_->allGather(mine);
-    std::vector<double> sum(mine.size(), 0.0);
-    for (std::size_t r = 0; r < all.size() / mine.size(); ++r)  // rank order: the same sum everywhere
-        for (std::size_t k = 0; k < mine.size(); ++k) sum[k] += all[r * mine.size() + k];
+    const ProcessSums mine{double(p_.size()), stats_.kinetic,  f.pairEnergy, f.probeEnergy, f.virial,
+                           f.virialVolume,    f.probeReaction, blood.mv2,    blood.count,   f.wallVirial};
+    const ProcessSums sum = sumInOrder(ex_->allGather(std::vector{mine}));
     Totals t;
-    t.particles = sum[0];
-    t.kinetic = sum[1];
-    t.pairEnergy = sum[2];
-    t.probeEnergy = sum[3];
-    t.virial = sum[4];
-    t.virialVolume = sum[5];
-    t.probeReaction = Eigen::Vector3d(sum[6], sum[7], sum[8]);
-    t.bloodMv2 = sum[9];
-    t.bloodCount = sum[10];
-    t.wallVirial = sum[11];
+    t.particles = sum.particles;
+    t.kinetic = sum.kinetic;
+    t.pairEnergy = sum.pairEnergy;
+    t.probeEnergy = sum.probeEnergy;
+    t.virial = sum.virial;
+    t.virialVolume = sum.virialVolume;
+    t.probeReaction = sum.probeReaction;
+    t.bloodMv2 = sum.bloodMv2;
+    t.bloodCount = sum.bloodCount;
+    t.wallVirial = sum.wallVirial;
     t.keyframe = stats_.keyframe;
     t.bloodVolume = stats_.bloodVolume;
     t.cavityVolume = stats_.cavityVolume;
@@ -257,25 +251,13 @@ Totals Simulation::totals() const {
 }
 
 Particles Simulation::gather(const Particles& p) const {
-    std::vector<double> mine;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        packParticle(p, i, mine);
-        mine.insert(mine.end(), {p.force[i].x(), p.force[i].y(), p.force[i].z(), p.torque[i].x(), p.torque[i].y(),
-                                 p.torque[i].z()});
-    }
-    const std::vector<double> all = ex_->allGatherV(mine);
-    constexpr std::size_t n = kParticleWithForcesRecord;
-    std::vector<std::size_t> order(all.size() / n);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(),
-              [&](std::size_t a, std::size_t b) { return idOf(all[a * n + 14]) < idOf(all[b * n + 14]); });
+    std::vector<ParticleWithForces> mine;
+    mine.reserve(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) mine.push_back(ParticleWithForces::of(p, i));
+    std::vector<ParticleWithForces> all = ex_->allGatherV(mine);
+    std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.particle.id < b.particle.id; });
     Particles out;
-    for (std::size_t k : order) {
-        const double* v = &all[k * n];
-        unpackParticle(v, out);
-        out.force.back() = Eigen::Vector3d(v[15], v[16], v[17]);
-        out.torque.back() = Eigen::Vector3d(v[18], v[19], v[20]);
-    }
+    for (const auto& r : all) r.appendTo(out);
     return out;
 }
 

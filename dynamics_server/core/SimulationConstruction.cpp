@@ -3,7 +3,6 @@
 // what they found, and every one makes the same choice (caps, conflicts), as one process makes it
 // over all the particles; the owner of each position adds the particle.
 #include "ConstructionSteps.hpp"
-#include "ParticleRecords.hpp"
 #include "Simulation.hpp"
 
 #include <algorithm>
@@ -13,36 +12,31 @@
 namespace bop::core {
 namespace {
 
-// Particles of every species over all processes (whole numbers: exact in any order).
+// Particles of every species over all processes.
 std::vector<std::size_t> speciesCounts(Exchange& ex, const Particles& p, int speciesCount) {
-    std::vector<double> mine(std::size_t(speciesCount) + 1, 0.0);
+    std::vector<std::uint64_t> mine(std::size_t(speciesCount) + 1, 0);
     for (auto s : p.species) mine[s] += 1;
-    const std::vector<double> all = ex.allGather(mine);
+    const std::vector<std::uint64_t> all = ex.allGather(mine);
     std::vector<std::size_t> count(mine.size(), 0);
     for (std::size_t k = 0; k < all.size(); ++k) count[k % mine.size()] += std::size_t(all[k]);
     return count;
 }
 
 std::vector<DeathMark> gatherMarks(Exchange& ex, const std::vector<DeathMark>& marks) {
-    if (ex.size() == 1) return marks;
-    std::vector<double> out;
-    for (const auto& m : marks) out.insert(out.end(), {idBits(m.key), idBits(m.id), double(m.species)});
-    const std::vector<double> in = ex.allGatherV(out);
-    std::vector<DeathMark> all;
-    for (std::size_t k = 0; k + 3 <= in.size(); k += 3) all.push_back({idOf(in[k]), idOf(in[k + 1]), int(in[k + 2])});
-    return all;
+    return ex.size() == 1 ? marks : ex.allGatherV(marks);
 }
 
 std::vector<BirthCandidate> gatherCandidates(Exchange& ex, std::vector<BirthCandidate> c) {
-    if (ex.size() == 1) return c;
-    std::vector<double> out;
-    for (const auto& b : c) out.insert(out.end(), {b.pos.x(), b.pos.y(), b.pos.z(), idBits(b.key), idBits(b.voxel)});
-    const std::vector<double> in = ex.allGatherV(out);
-    std::vector<BirthCandidate> all;
-    for (std::size_t k = 0; k + 5 <= in.size(); k += 5)
-        all.push_back({Eigen::Vector3d(in[k], in[k + 1], in[k + 2]), idOf(in[k + 3]), idOf(in[k + 4])});
-    return all;
+    return ex.size() == 1 ? c : ex.allGatherV(c);
 }
+
+// A process's best default seed, if it has one (Simulation::defaultSeed).
+struct SeedOffer {
+    std::int32_t found = 0;
+    long long depthKey = 0;
+    std::uint64_t hash = 0;
+    Eigen::Vector3d pos = Eigen::Vector3d::Zero();
+};
 
 void removeIds(Particles& p, const std::vector<std::uint64_t>& sortedIds) {
     if (sortedIds.empty()) return;  // not even a new revision: the neighbour list holds
@@ -58,15 +52,12 @@ Eigen::Vector3d Simulation::defaultSeed(int species) const {
     if (!sub_.map) throw std::invalid_argument("seeding needs a gradient map");
     const auto best = core::defaultSeed(construction_.params(), sub_, species,
                                         [&](const Eigen::Vector3d& x) { return ex_->owns(x); });
-    const std::vector<double> all =
-        ex_->allGather(best ? std::vector<double>{1.0, double(best->key.first), idBits(best->key.second), best->pos.x(),
-                                                  best->pos.y(), best->pos.z()}
-                            : std::vector<double>(6, 0.0));
+    const std::vector<SeedOffer> all =
+        ex_->allGather(std::vector{best ? SeedOffer{1, best->key.first, best->key.second, best->pos} : SeedOffer{}});
     std::optional<SeedChoice> choice;
-    for (std::size_t k = 0; k < all.size(); k += 6) {
-        if (all[k] == 0) continue;
-        const SeedChoice c{{(long long)(all[k + 1]), idOf(all[k + 2])},
-                           Eigen::Vector3d(all[k + 3], all[k + 4], all[k + 5])};
+    for (const SeedOffer& o : all) {
+        if (!o.found) continue;
+        const SeedChoice c{{o.depthKey, o.hash}, o.pos};
         if (!choice || c.key < choice->key) choice = c;
     }
     if (!choice) throw std::invalid_argument("species " + std::to_string(species) + " has no voxels in the map");
@@ -99,11 +90,7 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
     if (construction_.checkDue(step)) {
         const ConstructionParams& params = construction_.params();
         // Every particle within the birth front of this region, at today's positions, in the box.
-        if (!ex_->wrapsEveryDrift()) {
-            ex_->migrate(p_);
-            moved = true;
-        }
-        if (ex_->hasGhosts()) ex_->buildHalo(p_, std::max(range_, params.frontR0 * kR0), halo_);
+        moved = ex_->widen(p_, halo_, std::max(range_, params.frontR0 * kR0));
         Particles seen = p_;
         for (std::size_t g = 0; g < halo_.size(); ++g) seen.add(halo_.pos[g], halo_.species[g], halo_.id[g]);
         const std::size_t owned = p_.size();
@@ -149,13 +136,7 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
     // planes as a growing bag needs them, a new list and forces for the newborn, as one process
     // makes them.
     if (ex_->allTrue(!changed) && !moved) return;
-    if (ex_->hasGhosts()) {
-        if (ex_->imbalance(p_.size()) > 1.1)
-            rebalance();
-        else
-            ex_->buildHalo(p_, range_, halo_);
-    }
-    field_.requestRebuild();
+    placeRegion(ex_->afterChange(p_, halo_, range_));
     forcesStale_ = true;
 }
 

@@ -52,16 +52,14 @@ void Simulation::placeMaps() {
     const bool whole = ex_->size() == 1;
     const Eigen::Vector3d lo = whole ? Eigen::Vector3d::Constant(-inf) : sub_.box.lo;
     const Eigen::Vector3d hi = whole ? Eigen::Vector3d::Constant(inf) : sub_.box.hi;
-    std::vector<double> mine;
-    for (const auto& f : frames_) {
-        const MapVolume v = countMapVolume(*f, lo, hi);
-        mine.insert(mine.end(), {v.bagVoxels, v.volumeVoxels});
-    }
-    const std::vector<double> counts = ex_->allGather(mine);
+    std::vector<MapVolume> mine;
+    for (const auto& f : frames_) mine.push_back(countMapVolume(*f, lo, hi));
+    const std::vector<MapVolume> counts = ex_->allGather(mine);
     frameVolumes_.assign(frames_.size(), {});
     for (std::size_t k = 0; k < counts.size(); ++k) {  // rank order: the same sums everywhere
-        MapVolume& v = frameVolumes_[(k % mine.size()) / 2];
-        (k % 2 ? v.volumeVoxels : v.bagVoxels) += counts[k];
+        MapVolume& v = frameVolumes_[k % mine.size()];
+        v.bagVoxels += counts[k].bagVoxels;
+        v.volumeVoxels += counts[k].volumeVoxels;
     }
 }
 

@@ -41,70 +41,77 @@ CartComm::~CartComm() {
     if (dup_ != MPI_COMM_NULL) MPI_Comm_free(&dup_);
 }
 
-void CartComm::sendRecv(const std::vector<double>& out, int to, std::vector<double>& in, int from, int tag) const {
-    if (out.size() > std::size_t(std::numeric_limits<int>::max()))
-        throw std::runtime_error("MPI_Sendrecv: " + std::to_string(out.size()) +
-                                 " values exceed one message's int count");
-    unsigned long long nOut = out.size(), nIn = 0;
+namespace {
+
+int intCount(std::size_t bytes, const char* what) {
+    if (bytes > std::size_t(std::numeric_limits<int>::max()))
+        throw std::runtime_error(std::string(what) + ": " + std::to_string(bytes) +
+                                 " bytes exceed one message's int count");
+    return int(bytes);
+}
+
+// Offsets of each rank's part, from the parts' sizes in bytes (rank order).
+std::vector<int> offsetsOf(const std::vector<int>& counts, const char* what) {
+    std::vector<int> offsets(counts.size(), 0);
+    long long total = 0;
+    for (std::size_t r = 0; r < counts.size(); ++r) {
+        offsets[r] = int(total);
+        total += counts[r];
+        intCount(std::size_t(total), what);
+    }
+    return offsets;
+}
+
+}  // namespace
+
+std::size_t CartComm::exchangeCounts(std::size_t out, int to, int from, int tag) const {
+    unsigned long long nOut = out, nIn = 0;
     check(MPI_Sendrecv(&nOut, 1, MPI_UNSIGNED_LONG_LONG, to, tag, &nIn, 1, MPI_UNSIGNED_LONG_LONG, from, tag, cart_,
                        MPI_STATUS_IGNORE),
           "MPI_Sendrecv (count)");
-    in.resize(from == MPI_PROC_NULL ? 0 : std::size_t(nIn));
-    check(MPI_Sendrecv(out.data(), int(out.size()), MPI_DOUBLE, to, tag + 1, in.data(), int(in.size()), MPI_DOUBLE,
-                       from, tag + 1, cart_, MPI_STATUS_IGNORE),
+    return from == MPI_PROC_NULL ? 0 : std::size_t(nIn);
+}
+
+void CartComm::sendRecvBytes(const void* out, std::size_t outBytes, int to, void* in, std::size_t inBytes, int from,
+                             int tag) const {
+    check(MPI_Sendrecv(out, intCount(outBytes, "MPI_Sendrecv"), MPI_BYTE, to, tag, in,
+                       intCount(inBytes, "MPI_Sendrecv"), MPI_BYTE, from, tag, cart_, MPI_STATUS_IGNORE),
           "MPI_Sendrecv");
 }
 
-std::vector<double> CartComm::allGather(const std::vector<double>& mine) const {
-    std::vector<double> all(mine.size() * std::size_t(size_));
-    check(MPI_Allgather(mine.data(), int(mine.size()), MPI_DOUBLE, all.data(), int(mine.size()), MPI_DOUBLE, cart_),
-          "MPI_Allgather");
+std::vector<std::byte> CartComm::allGatherBytes(const std::vector<std::byte>& mine) const {
+    const int n = intCount(mine.size(), "MPI_Allgather");
+    std::vector<std::byte> all(mine.size() * std::size_t(size_));
+    intCount(all.size(), "MPI_Allgather");
+    check(MPI_Allgather(mine.data(), n, MPI_BYTE, all.data(), n, MPI_BYTE, cart_), "MPI_Allgather");
     return all;
 }
 
-std::vector<double> CartComm::allGatherV(const std::vector<double>& mine) const {
-    if (mine.size() > std::size_t(std::numeric_limits<int>::max()))
-        throw std::runtime_error("MPI_Allgatherv: " + std::to_string(mine.size()) +
-                                 " values exceed one message's int count");
-    int count = int(mine.size());
-    const std::size_t ranks = std::size_t(size_);
-    std::vector<int> counts(ranks, 0), offsets(ranks, 0);
-    check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, cart_), "MPI_Allgather (counts)");
-    long long total = 0;
-    for (int c : counts) total += c;
-    if (total > std::numeric_limits<int>::max())
-        throw std::runtime_error("MPI_Allgatherv: " + std::to_string(total) + " values exceed one message's int count");
-    for (int r = 1; r < size_; ++r) offsets[std::size_t(r)] = offsets[std::size_t(r) - 1] + counts[std::size_t(r) - 1];
-    std::vector<double> all(std::size_t(offsets.back() + counts.back()));
-    check(MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, cart_),
-          "MPI_Allgatherv");
+std::vector<std::byte> CartComm::gatherVBytes(const std::vector<std::byte>& mine, bool everyRank) const {
+    const char* what = everyRank ? "MPI_Allgatherv" : "MPI_Gatherv";
+    int count = intCount(mine.size(), what);
+    std::vector<int> counts(std::size_t(size_), 0);
+    if (everyRank)
+        check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, cart_), "MPI_Allgather (counts)");
+    else
+        check(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, cart_), "MPI_Gather (counts)");
+    const bool here = everyRank || rank_ == 0;
+    const std::vector<int> offsets = here ? offsetsOf(counts, what) : std::vector<int>(counts.size(), 0);
+    std::vector<std::byte> all(here ? std::size_t(offsets.back()) + std::size_t(counts.back()) : 0);
+    if (everyRank)
+        check(MPI_Allgatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, cart_),
+              what);
+    else
+        check(MPI_Gatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, 0, cart_),
+              what);
     return all;
 }
 
-std::vector<float> CartComm::gatherV(const std::vector<float>& mine) const {
-    if (mine.size() > std::size_t(std::numeric_limits<int>::max()))
-        throw std::runtime_error("MPI_Gatherv: " + std::to_string(mine.size()) +
-                                 " values exceed one message's int count");
-    int count = int(mine.size());
-    const std::size_t ranks = std::size_t(size_);
-    std::vector<int> counts(ranks, 0), offsets(ranks, 0);
-    check(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, cart_), "MPI_Gather (counts)");
-    long long total = 0;
-    for (int c : counts) total += c;
-    if (rank_ == 0 && total > std::numeric_limits<int>::max())
-        throw std::runtime_error("MPI_Gatherv: " + std::to_string(total) + " values exceed one message's int count");
-    for (int r = 1; r < size_; ++r) offsets[std::size_t(r)] = offsets[std::size_t(r) - 1] + counts[std::size_t(r) - 1];
-    std::vector<float> all(rank_ == 0 ? std::size_t(total) : 0);
-    check(MPI_Gatherv(mine.data(), count, MPI_FLOAT, all.data(), counts.data(), offsets.data(), MPI_FLOAT, 0, cart_),
-          "MPI_Gatherv");
-    return all;
-}
-
-void CartComm::broadcast(std::vector<double>& data) const {
+void CartComm::broadcastBytes(std::vector<std::byte>& data) const {
     unsigned long long n = data.size();
     check(MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, cart_), "MPI_Bcast (count)");
     data.resize(std::size_t(n));
-    if (n > 0) check(MPI_Bcast(data.data(), int(n), MPI_DOUBLE, 0, cart_), "MPI_Bcast");
+    if (n > 0) check(MPI_Bcast(data.data(), intCount(data.size(), "MPI_Bcast"), MPI_BYTE, 0, cart_), "MPI_Bcast");
 }
 
 bool CartComm::allTrue(bool mine) const {

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -108,12 +107,11 @@ long long DecomposedRun::stepNumber() const {
 }
 
 DecomposedRun::Decision DecomposedRun::agree(const Decision& mine) {
-    std::vector<double> v{double(mine.stop), mine.step ? 1.0 : 0.0, mine.publish ? 1.0 : 0.0,
-                          mine.feedback ? 1.0 : 0.0};
+    std::vector<Decision> v{mine};
     impl_->comm.broadcast(v);
-    if (v.size() != 4)
-        throw std::runtime_error("run loop: rank 0's decision came with " + std::to_string(v.size()) + " values");
-    return {int(v[0]), v[1] != 0, v[2] != 0, v[3] != 0};
+    if (v.size() != 1)
+        throw std::runtime_error("run loop: rank 0's decision came as " + std::to_string(v.size()) + " records");
+    return v[0];
 }
 
 namespace {
@@ -149,31 +147,30 @@ void DecomposedRun::gatherFrame(FrameArrays& f) const {
         f.ids.assign(p.id.begin(), p.id.end());
         return;
     }
-    // One float array per rank: 6 floats of position and normal, then species and the id's two
-    // halves as floats holding exact 16-bit pieces (floats hold integers below 2^24 exactly).
-    constexpr std::size_t kFields = 11;
-    std::vector<float> mine;
-    mine.reserve(p.size() * kFields);
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        const std::uint64_t id = p.id[i];
-        const std::array<float, 3> x = framePosition(box, p.pos[i]);
-        mine.insert(mine.end(), {x[0], x[1], x[2], float(p.normal[i].x()), float(p.normal[i].y()),
-                                 float(p.normal[i].z()), float(p.species[i]), float(id & 0xffff),
-                                 float((id >> 16) & 0xffff), float((id >> 32) & 0xffff), float(id >> 48)});
-    }
-    const std::vector<float> all = impl_->comm.gatherV(mine);
-    const std::size_t n = all.size() / kFields;
+    // One record per particle, in rank order on rank 0.
+    struct FrameRecord {
+        std::array<float, 3> pos, normal;
+        std::uint64_t id;
+        std::uint8_t species;
+    };
+    std::vector<FrameRecord> mine;
+    mine.reserve(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i)
+        mine.push_back({framePosition(box, p.pos[i]),
+                        {float(p.normal[i].x()), float(p.normal[i].y()), float(p.normal[i].z())},
+                        p.id[i],
+                        p.species[i]});
+    const std::vector<FrameRecord> all = impl_->comm.gatherV(mine);
+    const std::size_t n = all.size();
     f.positions.resize(3 * n);
     f.normals.resize(3 * n);
     f.species.resize(n);
     f.ids.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
-        const float* v = &all[k * kFields];
-        std::copy_n(v, 3, &f.positions[3 * k]);
-        std::copy_n(v + 3, 3, &f.normals[3 * k]);
-        f.species[k] = std::uint8_t(v[6]);
-        f.ids[k] =
-            std::uint64_t(v[7]) | std::uint64_t(v[8]) << 16 | std::uint64_t(v[9]) << 32 | std::uint64_t(v[10]) << 48;
+        std::copy_n(all[k].pos.data(), 3, &f.positions[3 * k]);
+        std::copy_n(all[k].normal.data(), 3, &f.normals[3 * k]);
+        f.species[k] = all[k].species;
+        f.ids[k] = all[k].id;
     }
 }
 
@@ -194,23 +191,15 @@ RunCounters DecomposedRun::counters() const {
     struct Share {
         double haloBytes, migrations, rebuilds, particles, exchangeSeconds, mapBytes;
     };
-    constexpr double Share::*kFields[] = {&Share::haloBytes, &Share::migrations,      &Share::rebuilds,
-                                          &Share::particles, &Share::exchangeSeconds, &Share::mapBytes};
-    constexpr std::size_t kCount = std::size(kFields);
     const Share mine{double(s.haloBytesPerStep()),
                      double(s.migrations()) + i.carriedMigrations,
                      double(s.rebuilds()) + i.carriedRebuilds,
                      double(s.particles().size()),
                      s.exchangeSeconds() + i.carriedExchange,
                      double(s.mapBytes())};
-    std::vector<double> record;
-    for (const auto f : kFields) record.push_back(mine.*f);
-    const std::vector<double> all = impl_->comm.allGather(record);
     RunCounters c;
     double most = 0, sum = 0;
-    for (std::size_t r = 0; r + kCount <= all.size(); r += kCount) {
-        Share rank{};
-        for (std::size_t k = 0; k < kCount; ++k) rank.*kFields[k] = all[r + k];
+    for (const Share& rank : impl_->comm.allGather(std::vector{mine})) {
         c.exchangeSecondsMax = std::max(c.exchangeSecondsMax, rank.exchangeSeconds);
         c.mapBytesMax = std::max(c.mapBytesMax, rank.mapBytes);
         c.haloBytesPerStep += rank.haloBytes;

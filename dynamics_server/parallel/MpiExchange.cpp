@@ -3,7 +3,6 @@
 #include "MpiExchange.hpp"
 
 #include "Commands.hpp"
-#include "MpiMessages.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -22,7 +21,7 @@ void MpiExchange::broadcast(std::vector<core::Command>& commands) {
 }
 
 double MpiExchange::imbalance(std::size_t mine) {
-    return Decomposition::imbalance(comm_.allGather({double(mine)}));
+    return Decomposition::imbalance(comm_.allGather(std::vector<double>{double(mine)}));
 }
 
 void MpiExchange::migrate(core::Particles& p) {
@@ -67,7 +66,7 @@ void MpiExchange::wrapAndMigrate(core::Particles& p) {
     for (auto& x : p.pos) x = box_.wrap(x);  // outside the periodic box: its image inside
     for (int a = 0; a < 3; ++a) {
         if (comm_.dims()[std::size_t(a)] == 1) continue;
-        std::vector<double> toLower, toUpper, fromUpper, fromLower;
+        std::vector<core::ParticleRecord> toLower, toUpper, fromUpper, fromLower;
         std::vector<char> leaves(p.size(), 0);
         for (std::size_t i = 0; i < p.size(); ++i) {
             const int c = dec_.owner(p.pos[i])[std::size_t(a)], mine = comm_.coords()[std::size_t(a)];
@@ -78,15 +77,15 @@ void MpiExchange::wrapAndMigrate(core::Particles& p) {
             const int down = ((mine - c) % n + n) % n, up = ((c - mine) % n + n) % n;
             const bool lower = box_.periodic[std::size_t(a)] ? down <= up : c < mine;
             if ((lower ? comm_.lower(a) : comm_.upper(a)) == MPI_PROC_NULL) continue;  // past an open face: stays
-            core::packParticle(p, i, lower ? toLower : toUpper);
+            (lower ? toLower : toUpper).push_back(core::ParticleRecord::of(p, i));
             leaves[i] = 1;
             ++migrations_;
         }
         comm_.sendRecv(toLower, comm_.lower(a), fromUpper, comm_.upper(a), tag(MigrationTag::ToLower, a));
         comm_.sendRecv(toUpper, comm_.upper(a), fromLower, comm_.lower(a), tag(MigrationTag::ToUpper, a));
         p.removeIf(leaves);
-        core::unpackParticles(fromUpper, p);
-        core::unpackParticles(fromLower, p);
+        for (const auto& r : fromUpper) r.appendTo(p);
+        for (const auto& r : fromLower) r.appendTo(p);
     }
 }
 

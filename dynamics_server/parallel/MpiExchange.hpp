@@ -17,6 +17,7 @@
 // Every message is one of the typed records of MpiMessages.hpp, with its plan's tag.
 #include "Comm.hpp"
 #include "Decomposition.hpp"
+#include "MpiMessages.hpp"
 #include "core/Exchange.hpp"
 
 #include <vector>
@@ -32,8 +33,6 @@ public:
     int size() const override { return comm_.size(); }
     void broadcast(std::vector<core::Command>& commands) override;
     bool allTrue(bool mine) override { return comm_.allTrue(mine); }
-    std::vector<double> allGather(const std::vector<double>& mine) override { return comm_.allGather(mine); }
-    std::vector<double> allGatherV(const std::vector<double>& mine) override { return comm_.allGatherV(mine); }
 
     core::Box region(const core::Box&) const override { return dec_.subdomain(comm_.coords()); }
     double imbalance(std::size_t mine) override;
@@ -55,6 +54,12 @@ public:
 
 protected:
     bool ownsPosition(const Eigen::Vector3d& x) const override { return dec_.owner(x) == comm_.coords(); }
+    std::vector<std::byte> allGatherBytes(const std::vector<std::byte>& mine) override {
+        return comm_.allGatherBytes(mine);
+    }
+    std::vector<std::byte> allGatherVBytes(const std::vector<std::byte>& mine) override {
+        return comm_.gatherVBytes(mine, true);
+    }
 
 private:
     struct Stage {
@@ -69,8 +74,8 @@ private:
     core::Box box_;  // the whole box
     Decomposition dec_;
     std::vector<Stage> stages_;
-    std::size_t particlesAtBuild_ = 0;    // the sources' numbering of the plan
-    std::vector<double> out_[2], in_[2];  // message buffers, kept to avoid fresh pages every step
+    std::size_t particlesAtBuild_ = 0;          // the sources' numbering of the plan
+    std::vector<GhostRefresh> out_[2], in_[2];  // message buffers, kept to avoid fresh pages every step
     std::size_t haloBytes_ = 0, migrations_ = 0, rebalances_ = 0;
     double initialImbalance_ = -1;  // the first imbalance() asked (start-up, uniform cuts)
 };

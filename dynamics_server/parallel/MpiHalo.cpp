@@ -1,7 +1,6 @@
 // The halo plan of a decomposed run (MpiExchange.hpp): copies of the neighbours' particles within
 // a range of this subdomain, built in staged passes and refreshed along the same send lists.
 #include "MpiExchange.hpp"
-#include "MpiMessages.hpp"
 
 #include <limits>
 #include <stdexcept>
@@ -32,39 +31,37 @@ void MpiExchange::buildHalo(const core::Particles& p, double range, core::Halo& 
             if (x >= mine.hi[a] - range) st.toUpper.push_back(s);
         }
         const auto pack = [&](const std::vector<std::uint32_t>& list, const Eigen::Vector3d& shift) {
-            std::vector<double> out;
-            out.reserve(list.size() * GhostRecord::kFields);
+            std::vector<GhostRecord> out;
+            out.reserve(list.size());
             for (std::uint32_t s : list) {
                 const bool own = s < p.size();
                 const std::size_t g = s - p.size();
-                GhostRecord{sourcePos(s) + shift, own ? p.normal[s] : halo.normal[g],
-                            own ? p.species[s] : halo.species[g], own ? p.id[s] : halo.id[g]}
-                    .appendTo(out);
+                out.push_back({sourcePos(s) + shift, own ? p.normal[s] : halo.normal[g], own ? p.id[s] : halo.id[g],
+                               own ? p.species[s] : halo.species[g]});
             }
             return out;
         };
-        const auto append = [&](const std::vector<double>& in) {
-            for (std::size_t k = 0; k + GhostRecord::kFields <= in.size(); k += GhostRecord::kFields) {
-                const GhostRecord g = GhostRecord::at(&in[k]);
+        const auto append = [&](const std::vector<GhostRecord>& in) {
+            for (const GhostRecord& g : in) {
                 halo.pos.push_back(g.pos);
                 halo.normal.push_back(g.normal);
                 halo.species.push_back(std::uint8_t(g.species));
                 halo.id.push_back(g.id);
             }
         };
-        std::vector<double> fromUpper, fromLower;
-        const std::vector<double> outLower = pack(st.toLower, st.lowerShift),
-                                  outUpper = pack(st.toUpper, st.upperShift);
+        std::vector<GhostRecord> fromUpper, fromLower;
+        const std::vector<GhostRecord> outLower = pack(st.toLower, st.lowerShift),
+                                       outUpper = pack(st.toUpper, st.upperShift);
         comm_.sendRecv(outLower, comm_.lower(a), fromUpper, comm_.upper(a), tag(HaloBuildTag::ToLower, a));
         comm_.sendRecv(outUpper, comm_.upper(a), fromLower, comm_.lower(a), tag(HaloBuildTag::ToUpper, a));
         haloBytes_ += ((comm_.lower(a) == MPI_PROC_NULL ? 0 : outLower.size()) +
                        (comm_.upper(a) == MPI_PROC_NULL ? 0 : outUpper.size())) *
-                      sizeof(double);
+                      sizeof(GhostRecord);
         st.fromUpperAt = halo.size();
-        st.fromUpperCount = fromUpper.size() / GhostRecord::kFields;
+        st.fromUpperCount = fromUpper.size();
         append(fromUpper);
         st.fromLowerAt = halo.size();
-        st.fromLowerCount = fromLower.size() / GhostRecord::kFields;
+        st.fromLowerCount = fromLower.size();
         append(fromLower);
         if (comm_.lower(a) == MPI_PROC_NULL) st.toLower.clear();  // nothing was sent there
         if (comm_.upper(a) == MPI_PROC_NULL) st.toUpper.clear();
@@ -76,25 +73,22 @@ void MpiExchange::updateHalo(const core::Particles& p, core::Halo& halo) {
     if (!stages_.empty() && p.size() != particlesAtBuild_)
         throw std::logic_error("halo refresh: the particles changed since the plan was made");
     haloBytes_ = 0;
-    constexpr std::size_t kFields = GhostRefresh::kFields;
     for (const Stage& st : stages_) {
         const auto pack = [&](const std::vector<std::uint32_t>& list, const Eigen::Vector3d& shift,
-                              std::vector<double>& out) {
-            out.resize(list.size() * kFields);
-            double* o = out.data();
+                              std::vector<GhostRefresh>& out) {
+            out.resize(list.size());
+            GhostRefresh* o = out.data();
             for (std::uint32_t s : list) {
                 const bool own = s < p.size();
-                GhostRefresh::write(o, (own ? p.pos[s] : halo.pos[s - p.size()]) + shift,
-                                    own ? p.normal[s] : halo.normal[s - p.size()]);
-                o += kFields;
+                *o++ = {(own ? p.pos[s] : halo.pos[s - p.size()]) + shift,
+                        own ? p.normal[s] : halo.normal[s - p.size()]};
             }
         };
-        const auto store = [&](const std::vector<double>& in, std::size_t at, std::size_t count) {
-            if (in.size() != count * kFields)
-                throw std::runtime_error("halo refresh: a neighbour sent another ghost count");
+        const auto store = [&](const std::vector<GhostRefresh>& in, std::size_t at, std::size_t count) {
+            if (in.size() != count) throw std::runtime_error("halo refresh: a neighbour sent another ghost count");
             for (std::size_t k = 0; k < count; ++k) {
-                halo.pos[at + k] = Eigen::Vector3d(in[kFields * k], in[kFields * k + 1], in[kFields * k + 2]);
-                halo.normal[at + k] = Eigen::Vector3d(in[kFields * k + 3], in[kFields * k + 4], in[kFields * k + 5]);
+                halo.pos[at + k] = in[k].pos;
+                halo.normal[at + k] = in[k].normal;
             }
         };
         pack(st.toLower, st.lowerShift, out_[0]);
@@ -103,7 +97,7 @@ void MpiExchange::updateHalo(const core::Particles& p, core::Halo& halo) {
                        tag(HaloRefreshTag::ToLower, st.axis));
         comm_.sendRecv(out_[1], comm_.upper(st.axis), in_[1], comm_.lower(st.axis),
                        tag(HaloRefreshTag::ToUpper, st.axis));
-        haloBytes_ += (out_[0].size() + out_[1].size()) * sizeof(double);
+        haloBytes_ += (out_[0].size() + out_[1].size()) * sizeof(GhostRefresh);
         store(in_[0], st.fromUpperAt, st.fromUpperCount);
         store(in_[1], st.fromLowerAt, st.fromLowerCount);
     }

@@ -110,7 +110,7 @@ TEST_CASE("no particle is lost or duplicated over 1,000 steps of subdomain cross
     const Particles got = run.gather();
     std::vector<std::uint64_t> before(all.id), after(got.id);
     std::sort(before.begin(), before.end());
-    const std::vector<double> moved = comm.allGather({double(run.migrations())});
+    const std::vector<double> moved = comm.allGather(std::vector<double>{double(run.migrations())});
     double migrations = 0;
     for (double v : moved) migrations += v;
     INFO(comm.size() << " ranks; particles here at the end " << run.particles().size() << "; " << migrations

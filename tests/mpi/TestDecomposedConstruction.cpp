@@ -76,7 +76,7 @@ TEST_CASE("each rank holds only its window of the gradient map", "[mpi][construc
     TorusBuild b = torus(0);
     const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
     DecomposedSimulation run(comm, b.scene.model, core::Particles{}, optionsFor(b.scene));
-    const std::vector<double> bytes = comm.allGather({double(run.mapBytes())});
+    const std::vector<double> bytes = comm.allGather(std::vector<double>{double(run.mapBytes())});
     const double whole = double(bop::gradientMapBytes(*b.scene.model->map));
     double sum = 0, largest = 0;
     for (double x : bytes) sum += x, largest = std::max(largest, x);
