@@ -39,6 +39,24 @@ double ForceField::listRange() const {
     return oriented_ ? std::max(lj, kernel_.weight().cutoff() + skin_) : lj;
 }
 
+double ForceField::listRange(const Model& model) {
+    const PairKernel kernel(model);
+    const double skin = model.integration.skinR0 * kR0, lj = kernel.lj().cutoff() + skin;
+    return kernel.anyOriented() ? std::max(lj, kernel.weight().cutoff() + skin) : lj;
+}
+
+void ForceField::setParams(const Model& model) {
+    const std::vector<char> wideBefore = isWide_;
+    const double ljCutBefore = kernel_.lj().cutoff(), wideCutBefore = kernel_.weight().cutoff();
+    const bool orientedBefore = oriented_;
+    kernel_ = PairKernel(model);
+    oriented_ = kernel_.anyOriented();
+    for (int s = 1; s <= model.speciesCount(); ++s) isWide_[std::size_t(s)] = oriented_ && kernel_.orientedSpecies(s);
+    if (oriented_ != orientedBefore || isWide_ != wideBefore || kernel_.lj().cutoff() != ljCutBefore ||
+        kernel_.weight().cutoff() != wideCutBefore)
+        requestRebuild();
+}
+
 void ForceField::compute(const Model& model, const ProbeState& probe, Particles& p, ForceStats& stats,
                          PhaseTimes* times, bool energies, const Halo* halo) {
     static const std::vector<Eigen::Vector3d> kNoHalo;

@@ -60,6 +60,11 @@ public:
     void compute(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats,
                  PhaseTimes* times = nullptr, bool energies = true, const Halo* halo = nullptr);
 
+    // Weights and potentials' parameters of another model of the same scene (a command between
+    // steps): the kernel's tables again, the neighbour list kept unless the pairs it must hold
+    // change (the oriented pairs' members, a cutoff).
+    void setParams(const Model& model);
+
     // Whether the neighbour list still serves these particles (none added or removed, none moved
     // more than half the skin). A decomposed run asks every rank and rebuilds on all if one says
     // no: requestRebuild() makes the next compute() build the list (with the new halo).
@@ -89,6 +94,7 @@ public:
     // The largest cutoff + skin (length units): the halo's depth. The LJ pairs are listed to the
     // LJ cutoff + skin, the oriented ones (surface particles with weights) to theirs.
     double listRange() const;
+    static double listRange(const Model& model);  // the same of any model, without a force field
 
 private:
     void pairForces(Particles& particles, const Halo* halo, ForceStats& stats, bool energies, PhaseTimes* times);

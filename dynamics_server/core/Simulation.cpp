@@ -33,7 +33,7 @@ void setWeight(Model& m, const Command& c) {  // std::invalid_argument if out of
 
 double haloReach(const Model& model, const SimulationOptions& o) {
     const double front = o.construction ? o.construction->params().frontR0 : ConstructionParams{}.frontR0;
-    return std::max(ForceField(model).listRange(), model.map || o.map ? front * kR0 : 0.0);
+    return std::max(ForceField::listRange(model), model.map || o.map ? front * kR0 : 0.0);
 }
 
 Simulation::Simulation(std::shared_ptr<const Model> model, Particles particles, Construction construction,
@@ -97,7 +97,7 @@ void Simulation::setModel(std::shared_ptr<const Model> m) {
     sub_.map = map;
     sub_.frames = frames;
     drag_ = DragFactors(sub_);
-    field_ = ForceField(sub_);
+    field_.setParams(sub_);
     forcesStale_ = true;
 }
 
@@ -106,7 +106,7 @@ void Simulation::submit(const Command& command) {
     if (command.kind == Command::Kind::Weight) {  // refused here, before any process sees it
         Model trial = sub_;
         setWeight(trial, command);
-        if (ForceField(trial).listRange() != range_)
+        if (ForceField::listRange(trial) != range_)
             throw std::invalid_argument(
                 "weight command: it would change the interaction range (oriented terms on or "
                 "off); give the scene a nonzero weight of that kind to start with");
@@ -127,7 +127,7 @@ void Simulation::apply(const Command& c) {
     }
     if (c.kind == Command::Kind::Weight) {
         setWeight(sub_, c);
-        field_ = ForceField(sub_);  // its pair kernel keeps the weights; the new one builds its list afresh
+        field_.setParams(sub_);
         forcesStale_ = true;
         return;
     }
