@@ -1,6 +1,7 @@
 #include "DecomposedRun.hpp"
 
-#include "DecomposedSimulation.hpp"
+#include "Comm.hpp"
+#include "MpiExchange.hpp"
 
 #include <algorithm>
 #include <array>
@@ -14,21 +15,26 @@ struct DecomposedRun::Impl {
     CartComm comm;
     std::shared_ptr<const core::Model> model;
     DecomposedOptions options;  // the start's (its map source serves a reseat too)
-    std::unique_ptr<DecomposedSimulation> simPtr;
+    // This rank's share: its exchange and the step over it (made again by a reseat).
+    std::unique_ptr<MpiExchange> ex;
+    std::unique_ptr<core::Simulation> sim;
     long long energyEvery = 1;
     // This rank's counters of the simulations a reseat let go (the run's totals go on).
     double carriedMigrations = 0, carriedRebuilds = 0, carriedExchange = 0, carriedRebalances = 0;
     std::optional<core::SoundSnapshot> sound;  // this rank's particles of the last sound state
     Impl(std::shared_ptr<const core::Model> m, const core::Particles& all, DecomposedOptions o)
-        : comm(MPI_COMM_WORLD, m->box),
-          model(std::move(m)),
-          options(o),
-          simPtr(std::make_unique<DecomposedSimulation>(comm, model, all, std::move(o))) {
+        : comm(MPI_COMM_WORLD, m->box), model(std::move(m)), options(o) {
+        start(all, std::move(o));
         keepIfSound();
     }
+    void start(const core::Particles& all, DecomposedOptions o) {  // collective
+        sim.reset();                                               // the old run's memory goes first
+        ex = std::make_unique<MpiExchange>(comm, model->box, core::haloReach(*model, o));
+        sim = std::make_unique<core::Simulation>(model, all, std::move(o), *ex);
+    }
     void keepIfSound() {  // collective
-        if (simPtr->soundEverywhere())
-            sound = core::SoundSnapshot{simPtr->particles(), simPtr->construction(), simPtr->stepCount()};
+        if (sim->soundEverywhere())
+            sound = core::SoundSnapshot{sim->particles(), sim->construction(), sim->stepCount()};
         else
             sound.reset();  // not an older state of another start
     }
@@ -40,70 +46,69 @@ DecomposedRun::DecomposedRun(std::shared_ptr<const core::Model> model, const cor
 DecomposedRun::~DecomposedRun() = default;
 
 void DecomposedRun::step() {
-    impl_->simPtr->step();  // sound, or it threw
-    const long long n = impl_->simPtr->stepCount();
+    impl_->sim->step();  // sound, or it threw
+    const long long n = impl_->sim->stepCount();
     if (n % core::kSoundSnapshotEvery == 0)
-        impl_->sound = core::SoundSnapshot{impl_->simPtr->particles(), impl_->simPtr->construction(), n};
+        impl_->sound = core::SoundSnapshot{impl_->sim->particles(), impl_->sim->construction(), n};
 }
 
 std::optional<core::SoundSnapshot> DecomposedRun::lastSound() const {
     const auto& s = impl_->sound;
     if (!impl_->comm.allTrue(s.has_value())) return std::nullopt;
-    return core::SoundSnapshot{impl_->simPtr->gather(s->particles), s->construction, s->step};
+    return core::SoundSnapshot{impl_->sim->gather(s->particles), s->construction, s->step};
 }
 void DecomposedRun::refreshForces() {
-    impl_->simPtr->refreshForces();
+    impl_->sim->refreshForces();
 }
 void DecomposedRun::energiesNextStep() {
-    impl_->simPtr->energiesNextStep();
+    impl_->sim->energiesNextStep();
 }
 bool DecomposedRun::energiesCurrent() const {
-    return impl_->simPtr->energiesCurrent();
+    return impl_->sim->energiesCurrent();
 }
 void DecomposedRun::setEnergyEvery(long long n) {
     impl_->energyEvery = n;
-    impl_->simPtr->setEnergyEvery(n);
+    impl_->sim->setEnergyEvery(n);
 }
 const core::Construction& DecomposedRun::construction() const {
-    return impl_->simPtr->construction();
+    return impl_->sim->construction();
 }
 
 void DecomposedRun::reseat(const core::Particles& all, const core::Construction& construction, long long step) {
     Impl& i = *impl_;
-    const core::ProbeState probe = i.simPtr->probe();
+    const core::ProbeState probe = i.sim->probe();
     DecomposedOptions o = i.options;
     o.construction = construction;
     o.firstStep = step;
-    i.carriedMigrations += double(i.simPtr->migrations());
-    i.carriedRebuilds += double(i.simPtr->rebuilds());
-    i.carriedExchange += i.simPtr->exchangeSeconds();
-    i.carriedRebalances += double(i.simPtr->rebalances());
-    i.simPtr.reset();  // the old run's memory goes first
-    i.simPtr = std::make_unique<DecomposedSimulation>(i.comm, i.model, all, std::move(o));
-    i.simPtr->probe() = probe;
-    i.simPtr->setEnergyEvery(i.energyEvery);
+    i.carriedMigrations += double(i.ex->migrations());
+    i.carriedRebuilds += double(i.sim->rebuilds());
+    i.carriedExchange += i.sim->exchangeSeconds();
+    i.carriedRebalances += double(i.ex->rebalances());
+    i.start(all, std::move(o));
+    i.sim->probe() = probe;
+    i.sim->setEnergyEvery(i.energyEvery);
     i.keepIfSound();
 }
 void DecomposedRun::setProbe(const core::ProbeState& probe) {
-    impl_->simPtr->probe() = probe;
+    impl_->sim->probe() = probe;
 }
 Totals DecomposedRun::totals() const {
-    return impl_->simPtr->totals();
+    return impl_->sim->totals();
 }
 const std::vector<core::MapVolume>& DecomposedRun::frameVolumes() const {
-    return impl_->simPtr->frameVolumes();
+    return impl_->sim->frameVolumes();
 }
 core::Particles DecomposedRun::gather() const {
-    return impl_->simPtr->gather();
+    return impl_->sim->gather();
 }
 void DecomposedRun::submit(const Command& command) {
-    impl_->simPtr->submit(command);
+    impl_->sim->submit(command);
 }
 bool DecomposedRun::commandsQueued() const {
-    return impl_->simPtr->commandsQueued();
+    return impl_->sim->commandsQueued();
 }
 long long DecomposedRun::stepNumber() const {
-    return impl_->simPtr->stepCount();
+    return impl_->sim->stepCount();
 }
 
 DecomposedRun::Decision DecomposedRun::agree(const Decision& mine) {
@@ -130,7 +135,7 @@ std::array<float, 3> framePosition(const core::Box& box, const Eigen::Vector3d& 
 }  // namespace
 
 void DecomposedRun::gatherFrame(FrameArrays& f) const {
-    const core::Particles& p = impl_->simPtr->particles();
+    const core::Particles& p = impl_->sim->particles();
     const core::Box& box = impl_->model->box;
     if (size() == 1) {  // straight into the frame's arrays
         const std::size_t n = p.size();
@@ -183,16 +188,23 @@ int DecomposedRun::size() const {
 Coords DecomposedRun::dims() const {
     return impl_->comm.dims();
 }
+const core::Simulation& DecomposedRun::simulation() const {
+    return *impl_->sim;
+}
+const MpiExchange& DecomposedRun::exchange() const {
+    return *impl_->ex;
+}
 
 RunCounters DecomposedRun::counters() const {
-    const auto& s = *impl_->simPtr;
+    const auto& s = *impl_->sim;
+    const MpiExchange& x = *impl_->ex;
     const Impl& i = *impl_;
     // This rank's share, one record per rank in rank order.
     struct Share {
         double haloBytes, migrations, rebuilds, particles, exchangeSeconds, mapBytes;
     };
-    const Share mine{double(s.haloBytesPerStep()),
-                     double(s.migrations()) + i.carriedMigrations,
+    const Share mine{double(x.haloBytesPerStep()),
+                     double(x.migrations()) + i.carriedMigrations,
                      double(s.rebuilds()) + i.carriedRebuilds,
                      double(s.particles().size()),
                      s.exchangeSeconds() + i.carriedExchange,
@@ -209,8 +221,8 @@ RunCounters DecomposedRun::counters() const {
         sum += rank.particles;
     }
     c.imbalance = sum > 0 ? most * double(size()) / sum : 1.0;
-    c.initialImbalance = s.initialImbalance();
-    c.rebalances = double(s.rebalances()) + i.carriedRebalances;
+    c.initialImbalance = x.initialImbalance();
+    c.rebalances = double(x.rebalances()) + i.carriedRebalances;
     c.births = double(s.construction().totals().births);
     c.deaths = double(s.construction().totals().deaths);
     return c;

@@ -15,6 +15,7 @@
 
 namespace bop::parallel {
 
+class MpiExchange;            // MpiExchange.hpp (with <mpi.h>)
 using Totals = core::Totals;  // over all ranks, identical on every rank
 
 // A state frame's arrays, gathered to rank 0 in rank order (each rank's particles in its own
@@ -45,6 +46,9 @@ public:
     // core::UnsoundState (core/SoundState.hpp) on every rank when the step ends in an unsound
     // state: lastSound() then holds the state to save.
     void step();
+    void run(long long steps) {
+        for (long long s = 0; s < steps; ++s) step();
+    }
     void refreshForces();
     void setEnergyEvery(long long n);
     void energiesNextStep();                       // core::Simulation's: the next step computes energies too
@@ -80,6 +84,10 @@ public:
     int rank() const;
     int size() const;
     Coords dims() const;
+    // This rank's share: the step over its subdomain (its particles, halo, model window) and its
+    // exchange (decomposition, migrations, halo bytes), for tests and reports.
+    const core::Simulation& simulation() const;
+    const MpiExchange& exchange() const;
 
 private:
     struct Impl;

@@ -3,7 +3,8 @@
 // unique; each rank holds only its window of the gradient map.
 #include "TestUtil.hpp"
 #include "app/scene/SimulationSetup.hpp"
-#include "parallel/DecomposedSimulation.hpp"
+#include "parallel/DecomposedRun.hpp"
+#include "parallel/MpiExchange.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -13,7 +14,7 @@
 using namespace bop;
 using parallel::CartComm;
 using parallel::Command;
-using parallel::DecomposedSimulation;
+using parallel::DecomposedRun;
 
 namespace {
 
@@ -48,7 +49,7 @@ TEST_CASE("the torus built across ranks has the single process's particles and i
     REQUIRE(b.serial->construction().totals().births > 300);  // the test builds something
 
     const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
-    DecomposedSimulation run(comm, b.scene.model, core::Particles{}, optionsFor(b.scene));
+    DecomposedRun run(b.scene.model, core::Particles{}, optionsFor(b.scene));
     run.run(steps);
     const core::Particles got = run.gather();
 
@@ -75,8 +76,8 @@ TEST_CASE("the torus built across ranks has the single process's particles and i
 TEST_CASE("each rank holds only its window of the gradient map", "[mpi][construction]") {
     TorusBuild b = torus(0);
     const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
-    DecomposedSimulation run(comm, b.scene.model, core::Particles{}, optionsFor(b.scene));
-    const std::vector<double> bytes = comm.allGather(std::vector<double>{double(run.mapBytes())});
+    DecomposedRun run(b.scene.model, core::Particles{}, optionsFor(b.scene));
+    const std::vector<double> bytes = comm.allGather(std::vector<double>{double(run.simulation().mapBytes())});
     const double whole = double(bop::gradientMapBytes(*b.scene.model->map));
     double sum = 0, largest = 0;
     for (double x : bytes) sum += x, largest = std::max(largest, x);
@@ -87,9 +88,9 @@ TEST_CASE("each rank holds only its window of the gradient map", "[mpi][construc
     // Windows overlap only by their margins: together they hold at most a few times the map.
     CHECK(sum < 4.0 * whole);
     // Every rank's window answers like the whole map where its particles can be.
-    const GradientMap& crop = *run.subModel().map;
+    const GradientMap& crop = *run.simulation().model().map;
     const GradientMap& map = *b.scene.model->map;
-    const core::Box& sub = run.subModel().box;
+    const core::Box& sub = run.simulation().model().box;
     const double h = core::kR0 / map.r0Voxels;
     std::size_t checked = 0;
     for (std::size_t v = 0; v < crop.occ.size(); ++v) {
@@ -111,7 +112,7 @@ TEST_CASE("seed and birth commands sent to rank 0 build the same bag as the time
     const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
     parallel::DecomposedOptions o;
     o.construction = core::Construction(b.scene.construction, {}, b.scene.model->speciesCount());
-    DecomposedSimulation run(comm, b.scene.model, core::Particles{}, std::move(o));
+    DecomposedRun run(b.scene.model, core::Particles{}, std::move(o));
     const core::Construction timeline(b.scene.construction, b.scene.timeline, b.scene.model->speciesCount());
     if (comm.rank() == 0)
         for (int s : {1, 2}) {
@@ -176,7 +177,7 @@ TEST_CASE("deaths across ranks take the single process's victims and keep ids un
     const CartComm comm(MPI_COMM_WORLD, m->box);
     parallel::DecomposedOptions o;
     o.construction = core::Construction(params, timeline, 2);
-    DecomposedSimulation run(comm, m, all, std::move(o));
+    DecomposedRun run(m, all, std::move(o));
     run.run(steps);
     const core::Particles got = run.gather();
     CHECK(run.construction().totals().deaths == serial.construction().totals().deaths);
@@ -199,7 +200,7 @@ TEST_CASE("a run that reads its map windows from the cache file builds the same 
     cache.assign(path.begin(), path.end());
     app::DecomposedStart start = app::startDecomposed(scene, cache, "", comm.rank() == 0, [&] { comm.allTrue(true); });
     CHECK(!scene.model->map);  // no rank holds the whole map
-    DecomposedSimulation run(comm, scene.model, start.particles, std::move(start.options));
+    DecomposedRun run(scene.model, start.particles, std::move(start.options));
     run.run(steps);
     const core::Particles got = run.gather();
     const std::set<std::uint64_t> ids(got.id.begin(), got.id.end());

@@ -3,7 +3,8 @@
 // every step, the single process's blood volume and pressure sums, and its particles.
 #include "TestUtil.hpp"
 #include "app/scene/SimulationSetup.hpp"
-#include "parallel/DecomposedSimulation.hpp"
+#include "parallel/DecomposedRun.hpp"
+#include "parallel/MpiExchange.hpp"
 #include "parallel/Session.hpp"
 #include "shape/KeyframeTestScene.hpp"
 
@@ -14,7 +15,7 @@
 
 using namespace bop;
 using parallel::CartComm;
-using parallel::DecomposedSimulation;
+using parallel::DecomposedRun;
 
 TEST_CASE("keyframes switch at the stated times at any rank count, as in one process", "[mpi][keyframes]") {
     test::TempDir dir("mpi-keyframes");  // frames of 0.5 time units (25 steps); the bag grows while its map cycles
@@ -24,7 +25,7 @@ TEST_CASE("keyframes switch at the stated times at any rank count, as in one pro
     const CartComm comm(MPI_COMM_WORLD, s.model->box);
     parallel::DecomposedOptions o;
     o.construction = core::Construction(s.construction, s.timeline, s.model->speciesCount());
-    DecomposedSimulation run(comm, s.model, core::Particles{}, o);
+    DecomposedRun run(s.model, core::Particles{}, o);
     const double dt = s.model->integration.dt;
     int switches = 0;
     for (long long step = 1; step <= 125; ++step) {
@@ -80,7 +81,7 @@ TEST_CASE("bop-server's start under mpirun reads every keyframe's window from th
     app::Scene serialScene = app::loadScene(dir + "/keyframes.toml");
     auto serial = app::startSimulation(serialScene, "", "");
     const CartComm comm(MPI_COMM_WORLD, s.model->box);
-    DecomposedSimulation run(comm, s.model, start.particles, std::move(start.options));
+    DecomposedRun run(s.model, start.particles, std::move(start.options));
     for (long long step = 1; step <= 60; ++step) {
         serial->step();
         run.step();
