@@ -10,6 +10,7 @@
 #include "Particles.hpp"
 #include "Records.hpp"
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -59,6 +60,18 @@ public:
     std::vector<R> allGatherV(const std::vector<R>& mine) {
         return recordsOf<R>(allGatherVBytes(recordBytes(mine)));
     }
+    // Every process's records in rank order on rank 0 only (empty elsewhere).
+    template <class R>
+    std::vector<R> gatherV(const std::vector<R>& mine) {
+        return recordsOf<R>(gatherVBytes(recordBytes(mine)));
+    }
+    // Rank 0's records on every process.
+    template <class R>
+    void broadcastRecords(std::vector<R>& records) {
+        std::vector<std::byte> b = recordBytes(records);
+        broadcastBytes(b);
+        records = recordsOf<R>(b);
+    }
 
     // ---- the region of this process ----
     // This process's part of the whole box (the whole box here).
@@ -85,11 +98,24 @@ public:
     virtual void updateHalo(const Particles&, Halo&) {}
     virtual bool hasGhosts() const { return false; }
 
+    // ---- what the exchange did (this process's share; nothing for one process) ----
+    struct Counts {
+        std::size_t haloBytesPerStep = 0;  // bytes this process sent for the halo in the last exchange
+        std::size_t migrations = 0;        // particles this process sent away
+        std::size_t rebalances = 0;        // times the cut planes moved
+        double initialImbalance = 1;       // with uniform cuts, before the first balancing
+    };
+    virtual Counts counts() const { return {}; }
+    // Processes along each axis of the box.
+    virtual std::array<int, 3> grid() const { return {1, 1, 1}; }
+
 protected:
     virtual bool ownsPosition(const Eigen::Vector3d&) const { return true; }
     // The records' bytes, concatenated in rank order (the same size on every process, or any).
     virtual std::vector<std::byte> allGatherBytes(const std::vector<std::byte>& mine) { return mine; }
     virtual std::vector<std::byte> allGatherVBytes(const std::vector<std::byte>& mine) { return mine; }
+    virtual std::vector<std::byte> gatherVBytes(const std::vector<std::byte>& mine) { return mine; }
+    virtual void broadcastBytes(std::vector<std::byte>&) {}
 };
 
 }  // namespace bop::core

@@ -45,12 +45,10 @@ public:
     void updateHalo(const core::Particles& p, core::Halo& halo) override;
     bool hasGhosts() const override { return comm_.size() > 1; }
 
+    Counts counts() const override { return {haloBytes_, migrations_, rebalances_, initialImbalance_}; }
+    std::array<int, 3> grid() const override { return comm_.dims(); }
     const Decomposition& decomposition() const { return dec_; }
     const CartComm& comm() const { return comm_; }
-    std::size_t haloBytesPerStep() const { return haloBytes_; }  // sent by this rank, last halo exchange
-    std::size_t migrations() const { return migrations_; }       // particles this rank sent away
-    std::size_t rebalances() const { return rebalances_; }
-    double initialImbalance() const { return initialImbalance_; }  // with uniform cuts, before balancing
 
 protected:
     bool ownsPosition(const Eigen::Vector3d& x) const override { return dec_.owner(x) == comm_.coords(); }
@@ -60,6 +58,10 @@ protected:
     std::vector<std::byte> allGatherVBytes(const std::vector<std::byte>& mine) override {
         return comm_.gatherVBytes(mine, true);
     }
+    std::vector<std::byte> gatherVBytes(const std::vector<std::byte>& mine) override {
+        return comm_.gatherVBytes(mine, false);
+    }
+    void broadcastBytes(std::vector<std::byte>& b) override { comm_.broadcastBytes(b); }
 
 private:
     struct Stage {

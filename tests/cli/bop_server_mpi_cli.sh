@@ -18,8 +18,8 @@ bounded 120 "$work/np2.txt" "$mpiexec" -np 2 --oversubscribe "$exe" "$scene" --n
 check "2 ranks exit 0" "[ $? -eq 0 ]"
 check "2 ranks say how the box was split" "grep -q 'decomposed over 2 ranks' '$work/np2.txt'"
 # Energies after 200 steps agree to the printed digits (pair sums differ only in order).
-e1=$(awk '/E_pair/ && /^births/ {sub(/.*E_pair /, ""); sub(/,.*/, ""); print}' "$work/np1.txt")
-e2=$(awk '/^E_kin/ {sub(/.*E_pair /, ""); sub(/,.*/, ""); print}' "$work/np2.txt")
+energy() { awk '/E_pair/ && /^births/ {sub(/.*E_pair /, ""); sub(/,.*/, ""); print}' "$1"; }
+e1=$(energy "$work/np1.txt") e2=$(energy "$work/np2.txt")
 check "E_pair at 2 ranks ($e2) equals 1 rank ($e1)" "[ -n '$e1' ] && [ '$e1' = '$e2' ]"
 n1=$(head -1 "$work/np1/final.xyz") n2=$(head -1 "$work/np2/final.xyz")
 check "final.xyz holds every particle once ($n2 of $n1)" "[ '$n1' = '$n2' ] && [ \$(tail -n +3 '$work/np2/final.xyz' | awk '{print \$(NF-1)}' | sort -u | wc -l) -eq $n1 ]"

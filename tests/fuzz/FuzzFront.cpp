@@ -18,8 +18,8 @@
 #include "app/runs/ServedRun.hpp"
 #include "app/scene/SceneConfig.hpp"
 #include "app/scene/SimulationSetup.hpp"
+#include "core/Run.hpp"
 #include "core/Threads.hpp"
-#include "parallel/DecomposedRun.hpp"
 #include "parallel/Session.hpp"
 #include "server/ServerFront.hpp"
 
@@ -87,7 +87,7 @@ struct World {
     std::string dir;
     std::unique_ptr<parallel::MpiSession> mpi;
     app::Scene scene;
-    std::unique_ptr<parallel::DecomposedRun> run;
+    std::unique_ptr<core::Run> run;
     core::Particles built;
     std::unique_ptr<core::Construction> construction;
     long long builtStep = 0;
@@ -106,9 +106,8 @@ void setUp(int* argc, char*** argv) {
     const std::string path = w->dir + "/ball.toml";
     std::ofstream(path) << kScene;
     w->scene = app::loadScene(path);
-    app::DecomposedStart start =
-        app::startDecomposed(w->scene, w->dir + "/ball.bopgm", "", true, parallel::MpiSession::barrier);
-    w->run = std::make_unique<parallel::DecomposedRun>(w->scene.model, start.particles, std::move(start.options));
+    app::RunStart start = app::startRun(w->scene, w->dir + "/ball.bopgm", "", true, parallel::MpiSession::barrier);
+    w->run = std::make_unique<core::Run>(w->scene.model, start.particles, std::move(start.options));
     w->run->setProbe(w->scene.probe);
     w->run->setEnergyEvery(1);
     for (long long s = 0; s < kBuildSteps; ++s) w->run->step();
@@ -180,7 +179,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 for (int p = 0; p <= (op / 4) % 8; ++p) pass();
         }
     }
-    const parallel::Totals t = w.run->totals();
+    const core::Totals t = w.run->totals();
     if (!(std::isfinite(t.kinetic) && std::isfinite(t.pairEnergy) && t.probeReaction.allFinite()))
         fail("the run's totals are not finite");
     if (w.front->stats().internalErrors != errorsBefore)

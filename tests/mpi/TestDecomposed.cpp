@@ -1,8 +1,9 @@
 // The decomposed run against the single process, at whatever rank count mpiexec gave: forces of
 // a frozen configuration, ids through many subdomain crossings, bit-identical repeats, and an
 // undamped LJ cluster's trajectory and energy.
+#include "RankRun.hpp"
 #include "core/Simulation.hpp"
-#include "parallel/DecomposedRun.hpp"
+#include "parallel/Commands.hpp"
 #include "parallel/MpiExchange.hpp"
 
 #include <catch2/catch.hpp>
@@ -13,7 +14,7 @@ using namespace bop;
 using namespace bop::core;
 using parallel::CartComm;
 using parallel::Command;
-using parallel::DecomposedRun;
+using testing::RankRun;
 
 namespace {
 
@@ -87,7 +88,7 @@ TEST_CASE("forces on every particle equal the single process's for a frozen conf
         ForceStats ref;
         single.compute(*m, ProbeState{}, all, ref);
         CartComm comm(MPI_COMM_WORLD, m->box);
-        DecomposedRun run(m, all);
+        RankRun run(m, all);
         const double worst = forceDifference(all, run.gather());
         const auto t = run.totals();
         INFO("periodic " << periodic << ", " << comm.size() << " ranks, grid " << comm.dims()[0] << "x"
@@ -106,12 +107,12 @@ TEST_CASE("no particle is lost or duplicated over 1,000 steps of subdomain cross
     for (std::size_t i = 0; i < all.size(); ++i)  // a wind that carries everything across the faces
         all.vel[i] = Eigen::Vector3d(0.8, 0.5 - 0.3 * double(i % 2), 0.4 * double(i % 3) - 0.4);
     CartComm comm(MPI_COMM_WORLD, m->box);
-    DecomposedRun run(m, all);
+    RankRun run(m, all);
     run.run(1000);
     const Particles got = run.gather();
     std::vector<std::uint64_t> before(all.id), after(got.id);
     std::sort(before.begin(), before.end());
-    const std::vector<double> moved = comm.allGather(std::vector<double>{double(run.exchange().migrations())});
+    const std::vector<double> moved = comm.allGather(std::vector<double>{double(run.exchange().counts().migrations)});
     double migrations = 0;
     for (double v : moved) migrations += v;
     INFO(comm.size() << " ranks; particles here at the end " << run.simulation().particles().size() << "; "
@@ -126,7 +127,7 @@ TEST_CASE("two runs at the same rank count are bit-identical", "[mpi]") {
     auto m = mixedModel(true, Eigen::Vector3d(12, 10, 9), 0.5);
     const Particles all = scatter(*m, 300, 11, 0.3);
     CartComm comm(MPI_COMM_WORLD, m->box);
-    DecomposedRun a(m, all), b(m, all);
+    RankRun a(m, all), b(m, all);
     a.run(300);
     b.run(300);
     const Particles pa = a.gather(), pb = b.gather();
@@ -153,7 +154,7 @@ TEST_CASE("an undamped LJ cluster follows the single-process trajectory for 200 
     single.run(200);
     single.refreshForces();
     CartComm comm(MPI_COMM_WORLD, m->box);
-    DecomposedRun run(m, all);
+    RankRun run(m, all);
     run.run(200);
     const Particles got = run.gather();
     REQUIRE(got.size() == all.size());
@@ -178,7 +179,7 @@ TEST_CASE("a lopsided configuration is balanced and keeps the single-process for
     ForceStats ref;
     single.compute(*m, ProbeState{}, all, ref);
     CartComm comm(MPI_COMM_WORLD, m->box);
-    DecomposedRun run(m, all);
+    RankRun run(m, all);
     const double before = run.counters().initialImbalance, after = run.counters().imbalance;
     const Particles got = run.gather();
     REQUIRE(got.size() == all.size());
@@ -204,7 +205,7 @@ TEST_CASE("the probe's forces and reaction equal the single process's", "[mpi][p
     ForceStats ref;
     single.compute(*m, probe, all, ref);
     CartComm comm(MPI_COMM_WORLD, m->box);
-    DecomposedRun run(m, all);
+    RankRun run(m, all);
     run.setProbe(probe);
     run.refreshForces();
     const Particles got = run.gather();
@@ -232,7 +233,7 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
     auto reweighted = std::make_shared<Model>(*damped);
     reweighted->lj(2, 3) = 0.9;
     CartComm comm(MPI_COMM_WORLD, m->box);
-    DecomposedRun run(m, all);
+    RankRun run(m, all);
     for (int s = 0; s < 80; ++s) {
         ProbeState moved = probe;
         moved.position = centre + Eigen::Vector3d(0.1 * (s - 30), 0, 0);
@@ -316,7 +317,7 @@ TEST_CASE("a particle a hair below a periodic face is wrapped onto the face, not
     ForceStats ref;
     single.compute(*m, ProbeState{}, all, ref);
     CartComm comm(MPI_COMM_WORLD, m->box);
-    DecomposedRun run(m, all);
+    RankRun run(m, all);
     const Particles got = run.gather();
     const double worst = forceDifference(all, got);
     INFO(comm.size() << " ranks: particle 0 at x = " << got.pos[0].x() << ", force difference " << worst);

@@ -1,9 +1,10 @@
 // Construction across ranks: the torus bag built by births and deaths at whatever rank count
 // mpiexec gave makes the same particles, with the same ids, as a single process; ids stay
 // unique; each rank holds only its window of the gradient map.
+#include "RankRun.hpp"
 #include "TestUtil.hpp"
 #include "app/scene/SimulationSetup.hpp"
-#include "parallel/DecomposedRun.hpp"
+#include "parallel/Commands.hpp"
 #include "parallel/MpiExchange.hpp"
 
 #include <catch2/catch.hpp>
@@ -14,7 +15,7 @@
 using namespace bop;
 using parallel::CartComm;
 using parallel::Command;
-using parallel::DecomposedRun;
+using testing::RankRun;
 
 namespace {
 
@@ -34,8 +35,8 @@ TorusBuild torus(long long steps) {
     return b;
 }
 
-parallel::DecomposedOptions optionsFor(const app::Scene& scene) {
-    parallel::DecomposedOptions o;
+core::SimulationOptions optionsFor(const app::Scene& scene) {
+    core::SimulationOptions o;
     o.construction = core::Construction(scene.construction, scene.timeline, scene.model->speciesCount());
     return o;
 }
@@ -49,7 +50,7 @@ TEST_CASE("the torus built across ranks has the single process's particles and i
     REQUIRE(b.serial->construction().totals().births > 300);  // the test builds something
 
     const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
-    DecomposedRun run(b.scene.model, core::Particles{}, optionsFor(b.scene));
+    RankRun run(b.scene.model, core::Particles{}, optionsFor(b.scene));
     run.run(steps);
     const core::Particles got = run.gather();
 
@@ -76,7 +77,7 @@ TEST_CASE("the torus built across ranks has the single process's particles and i
 TEST_CASE("each rank holds only its window of the gradient map", "[mpi][construction]") {
     TorusBuild b = torus(0);
     const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
-    DecomposedRun run(b.scene.model, core::Particles{}, optionsFor(b.scene));
+    RankRun run(b.scene.model, core::Particles{}, optionsFor(b.scene));
     const std::vector<double> bytes = comm.allGather(std::vector<double>{double(run.simulation().mapBytes())});
     const double whole = double(bop::gradientMapBytes(*b.scene.model->map));
     double sum = 0, largest = 0;
@@ -110,9 +111,9 @@ TEST_CASE("seed and birth commands sent to rank 0 build the same bag as the time
     const long long steps = 120;
     TorusBuild b = torus(steps);
     const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
-    parallel::DecomposedOptions o;
+    core::SimulationOptions o;
     o.construction = core::Construction(b.scene.construction, {}, b.scene.model->speciesCount());
-    DecomposedRun run(b.scene.model, core::Particles{}, std::move(o));
+    RankRun run(b.scene.model, core::Particles{}, std::move(o));
     const core::Construction timeline(b.scene.construction, b.scene.timeline, b.scene.model->speciesCount());
     if (comm.rank() == 0)
         for (int s : {1, 2}) {
@@ -175,9 +176,9 @@ TEST_CASE("deaths across ranks take the single process's victims and keep ids un
     REQUIRE(serial.construction().totals().deaths > 100);
 
     const CartComm comm(MPI_COMM_WORLD, m->box);
-    parallel::DecomposedOptions o;
+    core::SimulationOptions o;
     o.construction = core::Construction(params, timeline, 2);
-    DecomposedRun run(m, all, std::move(o));
+    RankRun run(m, all, std::move(o));
     run.run(steps);
     const core::Particles got = run.gather();
     CHECK(run.construction().totals().deaths == serial.construction().totals().deaths);
@@ -198,9 +199,9 @@ TEST_CASE("a run that reads its map windows from the cache file builds the same 
     std::vector<double> path(cache.begin(), cache.end());
     comm.broadcast(path);  // one file for all ranks (TempDir names differ per process)
     cache.assign(path.begin(), path.end());
-    app::DecomposedStart start = app::startDecomposed(scene, cache, "", comm.rank() == 0, [&] { comm.allTrue(true); });
+    app::RunStart start = app::startRun(scene, cache, "", comm.rank() == 0, [&] { comm.allTrue(true); });
     CHECK(!scene.model->map);  // no rank holds the whole map
-    DecomposedRun run(scene.model, start.particles, std::move(start.options));
+    RankRun run(scene.model, start.particles, std::move(start.options));
     run.run(steps);
     const core::Particles got = run.gather();
     const std::set<std::uint64_t> ids(got.id.begin(), got.id.end());

@@ -1,9 +1,9 @@
 // Keyframed maps across ranks: a bag built while its map cycles (a ball growing and shrinking
 // every few steps) has, at whatever rank count mpiexec gave, the map frame of the schedule at
 // every step, the single process's blood volume and pressure sums, and its particles.
+#include "RankRun.hpp"
 #include "TestUtil.hpp"
 #include "app/scene/SimulationSetup.hpp"
-#include "parallel/DecomposedRun.hpp"
 #include "parallel/MpiExchange.hpp"
 #include "parallel/Session.hpp"
 #include "shape/KeyframeTestScene.hpp"
@@ -15,7 +15,7 @@
 
 using namespace bop;
 using parallel::CartComm;
-using parallel::DecomposedRun;
+using testing::RankRun;
 
 TEST_CASE("keyframes switch at the stated times at any rank count, as in one process", "[mpi][keyframes]") {
     test::TempDir dir("mpi-keyframes");  // frames of 0.5 time units (25 steps); the bag grows while its map cycles
@@ -23,15 +23,15 @@ TEST_CASE("keyframes switch at the stated times at any rank count, as in one pro
     app::Scene s = app::loadScene(scene);
     auto serial = app::startSimulation(s, "", "");
     const CartComm comm(MPI_COMM_WORLD, s.model->box);
-    parallel::DecomposedOptions o;
+    core::SimulationOptions o;
     o.construction = core::Construction(s.construction, s.timeline, s.model->speciesCount());
-    DecomposedRun run(s.model, core::Particles{}, o);
+    RankRun run(s.model, core::Particles{}, o);
     const double dt = s.model->integration.dt;
     int switches = 0;
     for (long long step = 1; step <= 125; ++step) {
         serial->step();
         run.step();
-        const parallel::Totals t = run.totals();
+        const core::Totals t = run.totals();
         const core::KeyframeAt want = s.model->keyframes.at(double(step) * dt);
         INFO("step " << step);
         REQUIRE(t.keyframe.a == want.a);
@@ -43,7 +43,7 @@ TEST_CASE("keyframes switch at the stated times at any rank count, as in one pro
         CHECK(t.particles == double(serial->particles().size()));
     }
     CHECK(switches == 5);
-    const parallel::Totals t = run.totals();
+    const core::Totals t = run.totals();
     CHECK(t.bloodCount == Approx(serial->stats().blood.count));
     CHECK(t.bloodMv2 == Approx(serial->stats().blood.mv2).epsilon(1e-6));
     CHECK(t.virialVolume == Approx(serial->stats().forces.virialVolume).epsilon(1e-6).margin(1e-9));
@@ -75,17 +75,17 @@ TEST_CASE("bop-server's start under mpirun reads every keyframe's window from th
     }
     parallel::MpiSession::barrier();
     app::Scene s = app::loadScene(dir + "/keyframes.toml");
-    app::DecomposedStart start = app::startDecomposed(s, dir + "/map.bopgm", "", root, parallel::MpiSession::barrier);
+    app::RunStart start = app::startRun(s, dir + "/map.bopgm", "", root, parallel::MpiSession::barrier);
     REQUIRE(start.options.map);
     CHECK(start.options.map->frames == 2);
     app::Scene serialScene = app::loadScene(dir + "/keyframes.toml");
     auto serial = app::startSimulation(serialScene, "", "");
     const CartComm comm(MPI_COMM_WORLD, s.model->box);
-    DecomposedRun run(s.model, start.particles, std::move(start.options));
+    RankRun run(s.model, start.particles, std::move(start.options));
     for (long long step = 1; step <= 60; ++step) {
         serial->step();
         run.step();
-        const parallel::Totals t = run.totals();
+        const core::Totals t = run.totals();
         INFO("step " << step);
         CHECK(t.keyframe.a == int((step / 25) % 2));
         CHECK(t.cavityVolume == Approx(serial->stats().cavityVolume).epsilon(1e-12));

@@ -1,6 +1,7 @@
 // A served run's loop when rank 0's handling of its clients fails (an internal invariant broken,
 // thrown inside the pass): every rank stops at the same pass, with the reason on rank 0, and the
 // run's state is whole (what bop-server then writes as its checkpoint, exit code 4).
+#include "RankRun.hpp"
 #include "TestUtil.hpp"
 #include "app/runs/ServedLoop.hpp"
 #include "app/runs/ServedRun.hpp"
@@ -18,9 +19,9 @@ using namespace bop;
 TEST_CASE("an error inside rank 0's pass stops the served loop on every rank at that pass, its state whole",
           "[mpi][served]") {
     app::Scene scene = app::loadScene(test::sourceDir() + "/config/scenes/bulk-box.toml");
-    app::DecomposedStart start =
-        app::startDecomposed(scene, "", "", parallel::MpiSession::worldRank() == 0, parallel::MpiSession::barrier);
-    parallel::DecomposedRun run(scene.model, start.particles, std::move(start.options));
+    app::RunStart start =
+        app::startRun(scene, "", "", parallel::MpiSession::worldRank() == 0, parallel::MpiSession::barrier);
+    testing::RankRun run(scene.model, start.particles, std::move(start.options));
     const std::size_t count = run.gather().size();
     REQUIRE(count > 1000);
     run.setProbe(scene.probe);

@@ -22,6 +22,17 @@ std::vector<double> cavityMl(const std::vector<core::MapVolume>& frames, const G
 
 }  // namespace
 
+void CardiacRun::record(core::Run& run, const core::Model& model) {
+    const core::Totals t = run.totals();
+    const long long n = run.stepNumber();
+    if (wantsParticles(n)) {
+        const core::Particles all = run.gather();
+        if (run.rank() == 0) particles(model, all);
+    }
+    step({n, double(n) * model.integration.dt, t.keyframe, t.bloodMv2, t.virialVolume, t.wallVirial, t.bloodCount,
+          t.bloodVolume, t.cavityVolume});
+}
+
 CardiacRun::CardiacRun(const Scene& scene, const GradientMap& map, const std::vector<core::MapVolume>& frames)
     : settings_(scene.pressure.value_or(PressureSettings{})),
       dims_(map.wholeDims()),

@@ -1,10 +1,11 @@
 #pragma once
 // A run's side of the ventricle measurements ([pressure] in the scene): feeds every step's
 // reductions and, every volume_every_steps, the particles to a CardiacSeries, and writes its
-// files at the end. Used by the single-process and the decomposed batch runs alike.
+// files at the end. Used by the batch and served runs alike.
 #include "app/cardiac/CardiacSeries.hpp"
 #include "core/Model.hpp"
 #include "core/Particles.hpp"
+#include "core/Run.hpp"
 
 #include <iosfwd>
 #include <string>
@@ -18,6 +19,9 @@ public:
 
     bool wantsParticles(long long step) const { return step % settings_.volumeEverySteps == 0; }
     void step(const CardiacStep& s) { series_.add(s); }
+    // The measurements after a step of `run` (collective: the reductions every step, the
+    // particles gathered every volume_every_steps; the series is kept on rank 0).
+    void record(core::Run& run, const core::Model& model);
     // Every particle of the run (the outer bag's surface species is used).
     void particles(const core::Model& model, const core::Particles& all);
     // pressure.csv, pressure-cycle.csv and pressure.png in outDir; a summary on `log`. A run too

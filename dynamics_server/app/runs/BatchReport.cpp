@@ -1,32 +1,30 @@
 #include "app/runs/BatchReport.hpp"
 
+#include <algorithm>
 #include <iomanip>
 
 namespace bop::app {
 
-std::pair<std::size_t, std::size_t> countKinds(const core::Model& model, const core::Particles& p) {
-    std::size_t surface = 0, volume = 0;
-    for (auto s : p.species) (model.isSurface(s) ? surface : volume)++;
-    return {surface, volume};
+void BatchReport::progress(long long done, long long total, std::chrono::steady_clock::time_point start) {
+    const core::Totals t = run_.totals();
+    const core::RunCounters c = run_.counters();
+    if (run_.rank() != 0) return;
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    os_ << std::fixed << std::setprecision(0) << "step " << run_.stepNumber() << " (" << std::setprecision(1)
+        << 100.0 * double(done) / double(total) << "%)  particles " << std::setprecision(0) << t.surface
+        << " surface + " << t.particles - t.surface << " volume  E_kin " << std::setprecision(4) << t.kinetic
+        << "  E_pair " << t.pairEnergy << "  " << std::setprecision(1) << double(done) / std::max(seconds, 1e-9)
+        << " steps/s" << std::endl;
+    if (c.births > 0 || c.deaths > 0)
+        os_ << "  construction so far: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths\n";
 }
 
-void BatchReport::progress(const core::Simulation& sim, long long done, long long total,
-                           std::chrono::steady_clock::time_point start) {
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const auto [surface, volume] = countKinds(model_, sim.particles());
-    const auto& st = sim.stats();
-    os_ << std::fixed << std::setprecision(1) << "step " << st.step << " (" << 100.0 * double(done) / double(total)
-        << "%)  particles " << surface << " surface + " << volume << " volume  E_kin " << std::setprecision(4)
-        << st.kinetic << "  E_pair " << st.forces.pairEnergy << "  " << std::setprecision(1)
-        << double(done) / std::max(t, 1e-9) << " steps/s" << std::endl;
-}
-
-void BatchReport::summary(const core::Simulation& sim, long long steps, double seconds) {
-    const auto [surface, volume] = countKinds(model_, sim.particles());
+void BatchReport::phases(long long steps) {
+    const core::Simulation& sim = run_.simulation();
     const core::StepTimes& t = sim.times();
     const double total = std::max(t.total(), 1e-12);
     const double perStep = steps > 0 ? 1e3 / double(steps) : 0.0;
-    os_ << "\nphase          ms/step   share\n" << std::fixed;
+    os_ << "\nphase          ms/step   share" << (run_.size() > 1 ? "   (rank 0)" : "") << "\n" << std::fixed;
     auto row = [&](const char* name, double s) {
         os_ << std::left << std::setw(14) << name << std::right << std::setw(8) << std::setprecision(3) << s * perStep
             << std::setw(7) << std::setprecision(1) << 100.0 * s / total << "%\n";
@@ -53,14 +51,27 @@ void BatchReport::summary(const core::Simulation& sim, long long steps, double s
             << field.pruneSkin() / core::kR0 << " r0: pruned " << field.pruned().prunes() << " times, "
             << field.pruned().pairCount() << " LJ and " << field.pruned().widePairCount()
             << " oriented pairs at the last\n";
+}
+
+void BatchReport::summary(long long steps, double seconds) {
+    const core::Totals t = run_.totals();
+    const core::RunCounters c = run_.counters();
+    if (run_.rank() != 0) return;
+    phases(steps);
+    const double surface = t.surface, volume = t.particles - t.surface;
     const double rate = double(steps) / std::max(seconds, 1e-12);
     os_ << "\n            Surface  Volume   Total   steps/s   particle-steps/s\n"
-        << "this run  " << std::setw(9) << surface << std::setw(8) << volume << std::setw(8) << surface + volume
-        << std::setw(10) << std::setprecision(1) << rate << std::setw(19) << std::setprecision(0)
-        << rate * double(surface + volume) << "\n";
-    const auto& c = sim.construction().totals();
-    os_ << "births " << c.births << ", deaths " << c.deaths << "; E_kin " << std::setprecision(5) << sim.stats().kinetic
-        << ", E_pair " << sim.stats().forces.pairEnergy << ", virial " << sim.stats().forces.virial << "\n";
+        << "this run  " << std::setprecision(0) << std::setw(9) << surface << std::setw(8) << volume << std::setw(8)
+        << t.particles << std::setw(10) << std::setprecision(1) << rate << std::setw(19) << std::setprecision(0)
+        << rate * t.particles << "\n";
+    if (run_.size() > 1)
+        os_ << run_.size() << " ranks: halo " << std::setprecision(0) << c.haloBytesPerStep
+            << " bytes per step, particles per rank max/mean " << std::setprecision(3) << c.imbalance << ", "
+            << std::setprecision(0) << c.rebuilds << " rebuilds, " << c.rebalances << " balancings, " << c.migrations
+            << " migrations; exchanges took " << std::setprecision(1)
+            << 100.0 * c.exchangeSecondsMax / std::max(seconds, 1e-12) << "% of the run on the busiest rank\n";
+    os_ << "births " << std::setprecision(0) << c.births << ", deaths " << c.deaths << "; E_kin "
+        << std::setprecision(5) << t.kinetic << ", E_pair " << t.pairEnergy << ", virial " << t.virial << "\n";
 }
 
 }  // namespace bop::app

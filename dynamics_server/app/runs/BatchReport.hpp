@@ -1,7 +1,9 @@
 #pragma once
-// What a batch run prints: progress lines with rates, per-phase timings, and a summary in the
-// form of the paper's Table 1 (surface, volume and total particles, steps per second).
-#include "core/Simulation.hpp"
+// What a batch run prints, at one process and at N ranks alike: progress lines with rates,
+// per-phase timings, and a summary in the form of the paper's Table 1 (surface, volume and total
+// particles, steps per second), with the ranks' halo, balance and exchange figures when there
+// are several. Collective calls (the totals are reductions); rank 0 prints.
+#include "core/Run.hpp"
 
 #include <chrono>
 #include <ostream>
@@ -10,17 +12,16 @@ namespace bop::app {
 
 class BatchReport {
 public:
-    BatchReport(std::ostream& os, const core::Model& model) : os_(os), model_(model) {}
-    void progress(const core::Simulation& sim, long long done, long long total,
-                  std::chrono::steady_clock::time_point start);
-    void summary(const core::Simulation& sim, long long steps, double seconds);
+    BatchReport(std::ostream& os, const core::Run& run) : os_(os), run_(run) {}
+    // `done` of `total` steps since `start`. Collective.
+    void progress(long long done, long long total, std::chrono::steady_clock::time_point start);
+    // After `steps` steps in `seconds`. Collective.
+    void summary(long long steps, double seconds);
 
 private:
+    void phases(long long steps);  // this process's phase times and pair lists
     std::ostream& os_;
-    const core::Model& model_;
+    const core::Run& run_;
 };
-
-// Surface and volume particle counts.
-std::pair<std::size_t, std::size_t> countKinds(const core::Model& model, const core::Particles& p);
 
 }  // namespace bop::app

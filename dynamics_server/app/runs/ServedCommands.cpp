@@ -19,42 +19,41 @@ protocol::CommandReply answer(const protocol::Command& c, protocol::ReplyStatus 
 
 }  // namespace
 
-protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::DecomposedRun& run,
-                             const protocol::SceneInfo& scene) {
+protocol::CommandReply apply(const protocol::Command& c, Desk& desk, core::Run& run, const protocol::SceneInfo& scene) {
     using protocol::ReplyStatus;
     const long long next = run.stepNumber();
     const int speciesCount = int(scene.species.size());
     if (const auto why = protocol::refuseCommand(c, scene)) return answer(c, ReplyStatus::Rejected, next, *why);
-    parallel::Command rc;
+    core::Command rc;
     try {
         if (const auto* seed = std::get_if<protocol::SeedParticle>(&c.body)) {
-            rc.kind = parallel::Command::Kind::Seed;
+            rc.kind = core::Command::Kind::Seed;
             rc.species = seed->species;
             rc.position = seed->position;
         } else if (const auto* birth = std::get_if<protocol::SetBirth>(&c.body)) {
-            rc.kind = parallel::Command::Kind::Birth;
+            rc.kind = core::Command::Kind::Birth;
             rc.species = birth->species;
             rc.on = birth->enabled;
         } else if (const auto* p = std::get_if<protocol::SetParameter>(&c.body)) {
             const std::string& n = p->name;
             if (n == "lj" || n == "co_normal" || n == "co_planar") {
-                rc.kind = parallel::Command::Kind::Weight;
-                rc.table = n == "lj"          ? parallel::Command::Table::Lj
-                           : n == "co_normal" ? parallel::Command::Table::CoNormal
-                                              : parallel::Command::Table::CoPlanar;
+                rc.kind = core::Command::Kind::Weight;
+                rc.table = n == "lj"          ? core::Command::Table::Lj
+                           : n == "co_normal" ? core::Command::Table::CoNormal
+                                              : core::Command::Table::CoPlanar;
                 rc.species = p->speciesA;
                 rc.other = p->speciesB;
                 rc.value = p->value;
             } else if (n == "k0" || n == "k1") {  // within their ranges: the decoder checked
                 (n == "k0" ? desk.probe.params.k0 : desk.probe.params.k1) = p->value;
-                rc.kind = parallel::Command::Kind::Probe;
+                rc.kind = core::Command::Kind::Probe;
                 rc.probe = desk.probe;
             } else if (n == "drag_v" || n == "drag_w") {
                 if (p->speciesA < 1 || p->speciesA > speciesCount)
                     return answer(c, ReplyStatus::Rejected, next, "no species " + std::to_string(p->speciesA));
                 auto& d = desk.drags[std::size_t(p->speciesA)];
                 (n == "drag_v" ? d.first : d.second) = p->value;
-                rc.kind = parallel::Command::Kind::Drag;
+                rc.kind = core::Command::Kind::Drag;
                 rc.species = p->speciesA;
                 rc.dragV = d.first;
                 rc.dragW = d.second;
@@ -72,7 +71,7 @@ protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::D
         } else {
             return answer(c, ReplyStatus::Unsupported, next, "not supported by this server yet");
         }
-        if (rc.kind == parallel::Command::Kind::Seed || rc.kind == parallel::Command::Kind::Birth)
+        if (rc.kind == core::Command::Kind::Seed || rc.kind == core::Command::Kind::Birth)
             if (rc.species < 1 || rc.species > speciesCount)
                 return answer(c, ReplyStatus::Rejected, next, "no species " + std::to_string(rc.species));
         run.submit(rc);

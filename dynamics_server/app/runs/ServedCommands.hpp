@@ -5,7 +5,7 @@
 #include "codec/DecodeResult.hpp"
 #include "codec/Messages.hpp"
 #include "core/ForceField.hpp"
-#include "parallel/DecomposedRun.hpp"
+#include "core/Run.hpp"
 #include "server/ServerFront.hpp"
 
 #include <chrono>
@@ -29,8 +29,7 @@ struct Desk {
 
 // One client command (not Record): run commands submitted, or the desk changed. Checked again
 // against the scene's ranges (server/InboundRanges.hpp): replayed commands come from a file.
-protocol::CommandReply apply(const protocol::Command& c, Desk& desk, parallel::DecomposedRun& run,
-                             const protocol::SceneInfo& scene);
+protocol::CommandReply apply(const protocol::Command& c, Desk& desk, core::Run& run, const protocol::SceneInfo& scene);
 
 // Record start/stop. A client names at most a plain file name ending in .mcap: the recording
 // goes into the server's output folder `outDir`, never elsewhere, and never replaces a file.

@@ -1,7 +1,6 @@
 #include "app/runs/ServedLoop.hpp"
 
 #include "app/files/Checkpoint.hpp"
-#include "app/runs/DecomposedBatch.hpp"
 #include "core/BloodPressure.hpp"
 #include "server/InboundRanges.hpp"
 
@@ -18,8 +17,8 @@ std::int64_t nowNs() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
 }
 
-protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t, const Desk& desk, long long step,
-                             double dt, double volume, double stepRate, bool paperEq15) {
+protocol::StateFrame frameOf(core::FrameArrays a, const core::Totals& t, const Desk& desk, long long step, double dt,
+                             double volume, double stepRate, bool paperEq15) {
     protocol::StateFrame f;
     const std::size_t n = a.species.size();
     f.step = std::uint64_t(step);
@@ -46,9 +45,8 @@ protocol::StateFrame frameOf(parallel::FrameArrays a, const parallel::Totals& t,
 
 }  // namespace
 
-ServedLoop::ServedLoop(const Scene& scene, parallel::DecomposedRun& run, protocol::ServerFront* front,
-                       const ServeOptions& o, std::function<bool()> stopRequested, CardiacRun* cardiac,
-                       std::chrono::microseconds idle)
+ServedLoop::ServedLoop(const Scene& scene, core::Run& run, protocol::ServerFront* front, const ServeOptions& o,
+                       std::function<bool()> stopRequested, CardiacRun* cardiac, std::chrono::microseconds idle)
     : scene_(scene),
       model_(*scene.model),
       run_(run),
@@ -76,7 +74,7 @@ void ServedLoop::takeProbe(const protocol::Probe& p) {
     desk_.clientProbe = true;
     desk_.lastClientProbe = Clock::now();
     front_->probeApplied(p, std::uint64_t(run_.stepNumber()));
-    parallel::Command c;
+    core::Command c;
     c.probe = desk_.probe;
     run_.submit(c);
 }
@@ -150,7 +148,7 @@ bool ServedLoop::pass() {
         if (ctl.publish) run_.energiesNextStep();  // the frame carries them; other steps skip them
         run_.step();                               // core::UnsoundState leaves here, on every rank
         ++done_, ++rateSteps_;
-        if (cardiac_) recordCardiac(*cardiac_, run_, model_);
+        if (cardiac_) cardiac_->record(run_, model_);
         if (o_.checkpointEvery > 0 && run_.stepNumber() % o_.checkpointEvery == 0) {
             const core::Particles all = run_.gather();  // collective
             if (front_) try {
@@ -164,15 +162,15 @@ bool ServedLoop::pass() {
     }
     if (!ctl.feedback && !ctl.publish) return true;
     if (ctl.publish && !run_.energiesCurrent()) run_.refreshForces();  // paused: the same forces, with energies
-    const parallel::Totals t = run_.totals();                          // collective
+    const core::Totals t = run_.totals();                              // collective
     if (front_ && ctl.feedback)
         front_->offerFeedback({desk_.probeSeq, std::uint64_t(run_.stepNumber()), t.probeReaction, nowNs()});
     if (ctl.publish) publish(t);
     return true;
 }
 
-void ServedLoop::publish(const parallel::Totals& t) {
-    parallel::FrameArrays arrays;
+void ServedLoop::publish(const core::Totals& t) {
+    core::FrameArrays arrays;
     if (front_) {  // the memory of a frame the front has sent
         protocol::StateFrame spare = front_->takeSpareFrame();
         arrays = {std::move(spare.positions), std::move(spare.normals), std::move(spare.species), std::move(spare.ids)};

@@ -21,7 +21,7 @@ class ServedLoop {
 public:
     // front: rank 0's (null on the other ranks); stopRequested: rank 0's signal flag, read each pass;
     // idle: how long a pass without a step (paused) sleeps.
-    ServedLoop(const Scene& scene, parallel::DecomposedRun& run, protocol::ServerFront* front, const ServeOptions& o,
+    ServedLoop(const Scene& scene, core::Run& run, protocol::ServerFront* front, const ServeOptions& o,
                std::function<bool()> stopRequested, CardiacRun* cardiac = nullptr,
                std::chrono::microseconds idle = std::chrono::milliseconds(1));
 
@@ -35,15 +35,15 @@ public:
 
 private:
     enum Stop : int { Go = 0, Stopped = 1, Failed = 2 };  // Decision::stop
-    using Decision = parallel::DecomposedRun::Decision;
+    using Decision = core::Run::Decision;
     Decision decide();        // rank 0
     Decision replayInputs();  // rank 0, replaying
     void takeProbe(const protocol::Probe& p);
-    void publish(const parallel::Totals& t);  // collective gather; rank 0 offers the frame
+    void publish(const core::Totals& t);  // collective gather; rank 0 offers the frame
 
     const Scene& scene_;
     const core::Model& model_;
-    parallel::DecomposedRun& run_;
+    core::Run& run_;
     protocol::ServerFront* front_;
     const ServeOptions& o_;
     std::function<bool()> stopRequested_;

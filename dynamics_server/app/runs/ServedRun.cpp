@@ -2,11 +2,10 @@
 
 #include "app/files/Checkpoint.hpp"
 #include "app/files/ExtendedXyz.hpp"
-#include "app/runs/DecomposedBatch.hpp"
 #include "app/runs/ServedLoop.hpp"
 #include "bop/common/GradientMapFile.hpp"
 #include "core/BloodPressure.hpp"
-#include "parallel/DecomposedRun.hpp"
+#include "core/Run.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -67,13 +66,13 @@ protocol::SceneInfo sceneInfoOf(const Scene& scene, const GradientMap* map) {
     return s;
 }
 
-int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& o) {
+int runServed(const Scene& scene, RunStart start, const ServeOptions& o, core::ExchangeMaker exchanges) {
     const core::Model& model = *scene.model;
     const GradientMap* header = start.options.map ? &start.options.map->header : nullptr;
     protocol::SceneInfo info = sceneInfoOf(scene, header);
     std::optional<CardiacRun> cardiac;  // [pressure]: the curve of a ventricle watched live, written at the end
     const std::optional<GradientMap> mapHeader = header ? std::optional(*header) : std::nullopt;
-    parallel::DecomposedRun run(scene.model, start.particles, std::move(start.options));
+    core::Run run(scene.model, start.particles, std::move(start.options), std::move(exchanges));
     if (scene.pressure && mapHeader) cardiac.emplace(scene, *mapHeader, run.frameVolumes());
     const bool root = run.rank() == 0;
     run.setProbe(scene.probe);

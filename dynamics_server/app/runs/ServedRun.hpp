@@ -1,8 +1,9 @@
 #pragma once
-// bop-server with its network front (docs/protocol.md): the decomposed run at any rank count,
-// rank 0 serving viewers and haptic clients; the loop itself is ServedLoop.hpp.
+// bop-server with its network front (docs/protocol.md): the run (core/Run.hpp) at any rank
+// count, rank 0 serving viewers and haptic clients; the loop itself is ServedLoop.hpp.
 #include "app/runs/ExitCodes.hpp"
 #include "app/scene/SimulationSetup.hpp"
+#include "core/Run.hpp"
 #include "recording/SessionReader.hpp"
 #include "server/ServerFront.hpp"
 
@@ -24,10 +25,11 @@ struct ServeOptions {
     long long checkpointEvery = 0;  // steps between checkpoints; one is always written when the run stops
 };
 
-// Collective: every rank calls it. Returns the exit code. However it stops, it writes
+// Collective: every process calls it, with the exchanges of its kind (core::oneProcess(),
+// parallel::rankExchanges()). Returns the exit code. However it stops, it writes
 // <out>/checkpoint.xyz: the state at the end, or after kExitUnsound the last sound state (and
 // no final.xyz).
-int runServed(const Scene& scene, DecomposedStart start, const ServeOptions& options);
+int runServed(const Scene& scene, RunStart start, const ServeOptions& options, core::ExchangeMaker exchanges);
 
 // The handshake's description of a scene (species with colours, box, map grid when `map`, a
 // header or whole map, is given, r0, dt).

@@ -54,14 +54,16 @@ core::Particles initialParticles(const Scene& scene, const std::string& restart,
     return scene.bulk ? bulkLattice(scene) : core::Particles{};
 }
 
-DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const std::string& restart, bool root,
-                                const std::function<void()>& waitForAll, const shape::ProgressFn& progress) {
-    DecomposedStart s;
+RunStart startRun(Scene& scene, const std::string& cache, const std::string& restart, bool root,
+                  const std::function<void()>& waitForAll, const shape::ProgressFn& progress) {
+    RunStart s;
     if (scene.shape) {
         if (cache.empty()) throw Error("--cache", "a run on several ranks reads the gradient map from its cache file");
         const std::uint64_t key = bop::hashText(scene.shape->canonical);
         if (root && !shape::GradientMapFileView::open(cache, key))
             shape::loadOrBuildShape(*scene.shape, cache, true, progress);  // builds and writes; the map is let go
+        else if (root && progress)
+            progress("the gradient map is in the cache " + cache + " (each process reads its window)");
         waitForAll();
         auto view = shape::GradientMapFileView::open(cache, key);
         if (!view)
@@ -71,7 +73,7 @@ DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const st
         placeInMap(scene, shared->header(0));
         // Every frame when the scene cycles them (keyframes), else the first.
         const int frames = scene.model->keyframes.animated() ? shared->frames() : 1;
-        s.options.map = parallel::MapSource{
+        s.options.map = core::MapSource{
             shared->header(0), [shared](int f, const bop::VoxelWindow& w) { return shared->crop(f, w); }, frames};
     }
     core::Construction construction({}, {}, scene.model->speciesCount());

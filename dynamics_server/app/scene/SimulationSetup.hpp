@@ -4,7 +4,6 @@
 // built by its construction timeline) and the probe.
 #include "app/scene/SceneConfig.hpp"
 #include "core/Simulation.hpp"
-#include "parallel/DecomposedOptions.hpp"
 #include "shape/ShapeBuilder.hpp"
 
 #include <iosfwd>
@@ -13,22 +12,23 @@
 
 namespace bop::app {
 
-// cache: gradient-map cache file ("" = always build); restart: extended XYZ file ("" = none);
-// progress: messages while the map is built.
-std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart,
-                                                  const shape::ProgressFn& progress = {});
-
-// The same start for a decomposed run (every rank calls it), without holding the whole map:
-// rank 0 checks the cache and builds it if missing or stale while the others wait
-// (waitForAll), then every rank reads only the map windows it needs from the cache file, which
-// must therefore lie on a filesystem every rank sees.
-struct DecomposedStart {
+// A run's start (core/Run.hpp), for every mode and process count: every process calls it. Rank 0
+// checks the cache and builds the map into it if missing or stale while the others wait
+// (waitForAll); the run then reads only the map windows each process needs from the cache file,
+// which must therefore lie on a filesystem every process sees. restart: extended XYZ file ("" =
+// none); progress: messages while the map is built.
+struct RunStart {
     core::Particles particles;
     long long firstStep = 0;
-    parallel::DecomposedOptions options;
+    core::SimulationOptions options;
 };
-DecomposedStart startDecomposed(Scene& scene, const std::string& cache, const std::string& restart, bool root,
-                                const std::function<void()>& waitForAll, const shape::ProgressFn& progress = {});
+RunStart startRun(Scene& scene, const std::string& cache, const std::string& restart, bool root,
+                  const std::function<void()>& waitForAll, const shape::ProgressFn& progress = {});
+
+// One process's Simulation holding the whole map in the model, for tests (bop-server starts
+// with startRun): cache "" = always build.
+std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart,
+                                                  const shape::ProgressFn& progress = {});
 
 // The particles to start from (a restart file's, a bulk lattice, or none) and the construction:
 // the scene's timeline, with a checkpoint's birth switches and seed count when the restart file

@@ -2,18 +2,17 @@
 // loads the scene's gradient map, places or reads the particles, runs K steps with the
 // construction timeline, prints progress, per-phase timings and a Table-1 style summary, and
 // writes extended XYZ snapshots. Under mpirun with more than one rank the run is decomposed
-// over the ranks (DecomposedBatch.cpp, parallel/).
+// over the ranks (core/Run.hpp over parallel/RankExchanges.hpp).
 #include "app/files/ExtendedXyz.hpp"
-#include "app/runs/BatchReport.hpp"
-#include "app/runs/DecomposedBatch.hpp"
+#include "app/runs/Batch.hpp"
 #include "app/runs/ServedRun.hpp"
-#include "app/runs/SingleBatch.hpp"
 #include "app/scene/SceneConfig.hpp"
 #include "app/scene/SimulationSetup.hpp"
 #include "bop/common/Error.hpp"
 #include "bop/common/GradientMapCrop.hpp"
 #include "bop/common/ToolMain.hpp"
 #include "core/Threads.hpp"
+#include "parallel/RankExchanges.hpp"
 #include "parallel/Session.hpp"
 #include "security/CurveKeys.hpp"
 
@@ -130,23 +129,20 @@ int run(int argc, char** argv) {
         spdlog::warn("paper mode: LJ truncated at {} r0; bulk material collapses with this cutoff (docs/dynamics.md)",
                      model.ljParams.rCutR0);
     const auto progress = [](const std::string& m) { spdlog::info("{}", m); };
+    // One start for every mode and rank count; one process exchanges nothing, ranks over MPI.
+    app::RunStart start = app::startRun(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
+                                        parallel::MpiSession::barrier, progress);
+    core::ExchangeMaker exchanges = ranks > 1 ? parallel::rankExchanges() : core::oneProcess();
     if (!noListen) {
         front.recordMeta = {
             {"scene", fs::absolute(scenePath).string()}, {"ranks", std::to_string(ranks)}, {"restart", restart}};
         if (scene.shape) front.mapFile = cache;  // haptic clients download it (MapRequest)
-        app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
-                                                          parallel::MpiSession::barrier, progress);
         app::ServeOptions serve{front, stepsGiven ? steps : 0, waitForClient, outDir, std::nullopt, checkpointEvery};
         if (!replayInputs.empty()) serve.replay = protocol::readSession(replayInputs);
-        return app::runServed(scene, std::move(start), serve);
+        return app::runServed(scene, std::move(start), serve, std::move(exchanges));
     }
     const app::BatchOptions batch{steps, snapshotEvery, reportEvery, checkpointEvery, outDir, cache};
-    if (ranks > 1) {
-        app::DecomposedStart start = app::startDecomposed(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
-                                                          parallel::MpiSession::barrier, progress);
-        return app::runDecomposedBatch(scene, std::move(start), batch);
-    }
-    return app::runSingleBatch(scene, restart, batch, progress);
+    return app::runBatch(scene, std::move(start), batch, std::move(exchanges));
 }
 
 }  // namespace

@@ -1,119 +1,124 @@
-#include "DecomposedRun.hpp"
-
-#include "Comm.hpp"
-#include "MpiExchange.hpp"
+#include "Run.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-namespace bop::parallel {
+namespace bop::core {
 
-struct DecomposedRun::Impl {
-    CartComm comm;
-    std::shared_ptr<const core::Model> model;
-    DecomposedOptions options;  // the start's (its map source serves a reseat too)
-    // This rank's share: its exchange and the step over it (made again by a reseat).
-    std::unique_ptr<MpiExchange> ex;
-    std::unique_ptr<core::Simulation> sim;
+ExchangeMaker oneProcess() {
+    return [](const Box&, double) { return std::make_unique<Exchange>(); };
+}
+
+struct Run::Impl {
+    std::shared_ptr<const Model> model;
+    SimulationOptions options;  // the start's (its map source serves a reseat too)
+    ExchangeMaker exchanges;    // outlives the exchanges it made
+    // This process's share: its exchange and the step over it (made again by a reseat).
+    std::unique_ptr<Exchange> ex;
+    std::unique_ptr<Simulation> sim;
     long long energyEvery = 1;
     // This rank's counters of the simulations a reseat let go (the run's totals go on).
     double carriedMigrations = 0, carriedRebuilds = 0, carriedExchange = 0, carriedRebalances = 0;
-    std::optional<core::SoundSnapshot> sound;  // this rank's particles of the last sound state
-    Impl(std::shared_ptr<const core::Model> m, const core::Particles& all, DecomposedOptions o)
-        : comm(MPI_COMM_WORLD, m->box), model(std::move(m)), options(o) {
+    std::optional<SoundSnapshot> sound;  // this process's particles of the last sound state
+    Impl(std::shared_ptr<const Model> m, const Particles& all, SimulationOptions o, ExchangeMaker x)
+        : model(std::move(m)), options(o), exchanges(std::move(x)) {
         start(all, std::move(o));
         keepIfSound();
     }
-    void start(const core::Particles& all, DecomposedOptions o) {  // collective
-        sim.reset();                                               // the old run's memory goes first
-        ex = std::make_unique<MpiExchange>(comm, model->box, core::haloReach(*model, o));
-        sim = std::make_unique<core::Simulation>(model, all, std::move(o), *ex);
+    void start(const Particles& all, SimulationOptions o) {  // collective
+        sim.reset();                                         // the old run's memory goes first
+        ex.reset();
+        ex = exchanges(model->box, haloReach(*model, o));
+        sim = std::make_unique<Simulation>(model, all, std::move(o), *ex);
     }
     void keepIfSound() {  // collective
         if (sim->soundEverywhere())
-            sound = core::SoundSnapshot{sim->particles(), sim->construction(), sim->stepCount()};
+            sound = SoundSnapshot{sim->particles(), sim->construction(), sim->stepCount()};
         else
             sound.reset();  // not an older state of another start
     }
 };
 
-DecomposedRun::DecomposedRun(std::shared_ptr<const core::Model> model, const core::Particles& all,
-                             DecomposedOptions options)
-    : impl_(std::make_unique<Impl>(std::move(model), all, std::move(options))) {}
-DecomposedRun::~DecomposedRun() = default;
+Run::Run(std::shared_ptr<const Model> model, const Particles& all, SimulationOptions options, ExchangeMaker exchanges)
+    : impl_(std::make_unique<Impl>(std::move(model), all, std::move(options), std::move(exchanges))) {}
+Run::~Run() = default;
 
-void DecomposedRun::step() {
+void Run::step() {
     impl_->sim->step();  // sound, or it threw
     const long long n = impl_->sim->stepCount();
-    if (n % core::kSoundSnapshotEvery == 0)
-        impl_->sound = core::SoundSnapshot{impl_->sim->particles(), impl_->sim->construction(), n};
+    if (n % kSoundSnapshotEvery == 0)
+        impl_->sound = SoundSnapshot{impl_->sim->particles(), impl_->sim->construction(), n};
 }
 
-std::optional<core::SoundSnapshot> DecomposedRun::lastSound() const {
+std::optional<SoundSnapshot> Run::lastSound() const {
     const auto& s = impl_->sound;
-    if (!impl_->comm.allTrue(s.has_value())) return std::nullopt;
-    return core::SoundSnapshot{impl_->sim->gather(s->particles), s->construction, s->step};
+    if (!impl_->ex->allTrue(s.has_value())) return std::nullopt;
+    return SoundSnapshot{impl_->sim->gather(s->particles), s->construction, s->step};
 }
-void DecomposedRun::refreshForces() {
+void Run::refreshForces() {
     impl_->sim->refreshForces();
 }
-void DecomposedRun::energiesNextStep() {
+void Run::resetTimes() {
+    impl_->sim->resetTimes();
+}
+void Run::energiesNextStep() {
     impl_->sim->energiesNextStep();
 }
-bool DecomposedRun::energiesCurrent() const {
+bool Run::energiesCurrent() const {
     return impl_->sim->energiesCurrent();
 }
-void DecomposedRun::setEnergyEvery(long long n) {
+void Run::setEnergyEvery(long long n) {
     impl_->energyEvery = n;
     impl_->sim->setEnergyEvery(n);
 }
-const core::Construction& DecomposedRun::construction() const {
+const Construction& Run::construction() const {
     return impl_->sim->construction();
 }
 
-void DecomposedRun::reseat(const core::Particles& all, const core::Construction& construction, long long step) {
+void Run::reseat(const Particles& all, const Construction& construction, long long step) {
     Impl& i = *impl_;
-    const core::ProbeState probe = i.sim->probe();
-    DecomposedOptions o = i.options;
+    const ProbeState probe = i.sim->probe();
+    const StepTimes times = i.sim->times();
+    SimulationOptions o = i.options;
     o.construction = construction;
     o.firstStep = step;
-    i.carriedMigrations += double(i.ex->migrations());
+    i.carriedMigrations += double(i.ex->counts().migrations);
     i.carriedRebuilds += double(i.sim->rebuilds());
     i.carriedExchange += i.sim->exchangeSeconds();
-    i.carriedRebalances += double(i.ex->rebalances());
+    i.carriedRebalances += double(i.ex->counts().rebalances);
     i.start(all, std::move(o));
     i.sim->probe() = probe;
+    i.sim->setTimes(times);
     i.sim->setEnergyEvery(i.energyEvery);
     i.keepIfSound();
 }
-void DecomposedRun::setProbe(const core::ProbeState& probe) {
+void Run::setProbe(const ProbeState& probe) {
     impl_->sim->probe() = probe;
 }
-Totals DecomposedRun::totals() const {
+Totals Run::totals() const {
     return impl_->sim->totals();
 }
-const std::vector<core::MapVolume>& DecomposedRun::frameVolumes() const {
+const std::vector<MapVolume>& Run::frameVolumes() const {
     return impl_->sim->frameVolumes();
 }
-core::Particles DecomposedRun::gather() const {
+Particles Run::gather() const {
     return impl_->sim->gather();
 }
-void DecomposedRun::submit(const Command& command) {
+void Run::submit(const Command& command) {
     impl_->sim->submit(command);
 }
-bool DecomposedRun::commandsQueued() const {
+bool Run::commandsQueued() const {
     return impl_->sim->commandsQueued();
 }
-long long DecomposedRun::stepNumber() const {
+long long Run::stepNumber() const {
     return impl_->sim->stepCount();
 }
 
-DecomposedRun::Decision DecomposedRun::agree(const Decision& mine) {
+Run::Decision Run::agree(const Decision& mine) {
     std::vector<Decision> v{mine};
-    impl_->comm.broadcast(v);
+    impl_->ex->broadcastRecords(v);
     if (v.size() != 1)
         throw std::runtime_error("run loop: rank 0's decision came as " + std::to_string(v.size()) + " records");
     return v[0];
@@ -123,7 +128,7 @@ namespace {
 
 // A position as a frame carries it: in the periodic box, [lo, hi) in float too (between list
 // rebuilds the run keeps particles that crossed a periodic face on the far side).
-std::array<float, 3> framePosition(const core::Box& box, const Eigen::Vector3d& x) {
+std::array<float, 3> framePosition(const Box& box, const Eigen::Vector3d& x) {
     const Eigen::Vector3d w = box.wrap(x);
     std::array<float, 3> f{float(w.x()), float(w.y()), float(w.z())};
     for (std::size_t a = 0; a < 3; ++a)
@@ -134,9 +139,9 @@ std::array<float, 3> framePosition(const core::Box& box, const Eigen::Vector3d& 
 
 }  // namespace
 
-void DecomposedRun::gatherFrame(FrameArrays& f) const {
-    const core::Particles& p = impl_->sim->particles();
-    const core::Box& box = impl_->model->box;
+void Run::gatherFrame(FrameArrays& f) const {
+    const Particles& p = impl_->sim->particles();
+    const Box& box = impl_->model->box;
     if (size() == 1) {  // straight into the frame's arrays
         const std::size_t n = p.size();
         f.positions.resize(3 * n);
@@ -165,7 +170,7 @@ void DecomposedRun::gatherFrame(FrameArrays& f) const {
                         {float(p.normal[i].x()), float(p.normal[i].y()), float(p.normal[i].z())},
                         p.id[i],
                         p.species[i]});
-    const std::vector<FrameRecord> all = impl_->comm.gatherV(mine);
+    const std::vector<FrameRecord> all = impl_->ex->gatherV(mine);
     const std::size_t n = all.size();
     f.positions.resize(3 * n);
     f.normals.resize(3 * n);
@@ -179,39 +184,39 @@ void DecomposedRun::gatherFrame(FrameArrays& f) const {
     }
 }
 
-int DecomposedRun::rank() const {
-    return impl_->comm.rank();
+int Run::rank() const {
+    return impl_->ex->rank();
 }
-int DecomposedRun::size() const {
-    return impl_->comm.size();
+int Run::size() const {
+    return impl_->ex->size();
 }
-Coords DecomposedRun::dims() const {
-    return impl_->comm.dims();
+std::array<int, 3> Run::grid() const {
+    return impl_->ex->grid();
 }
-const core::Simulation& DecomposedRun::simulation() const {
+const Simulation& Run::simulation() const {
     return *impl_->sim;
 }
-const MpiExchange& DecomposedRun::exchange() const {
+const Exchange& Run::exchange() const {
     return *impl_->ex;
 }
 
-RunCounters DecomposedRun::counters() const {
+RunCounters Run::counters() const {
     const auto& s = *impl_->sim;
-    const MpiExchange& x = *impl_->ex;
+    const Exchange::Counts x = impl_->ex->counts();
     const Impl& i = *impl_;
     // This rank's share, one record per rank in rank order.
     struct Share {
         double haloBytes, migrations, rebuilds, particles, exchangeSeconds, mapBytes;
     };
-    const Share mine{double(x.haloBytesPerStep()),
-                     double(x.migrations()) + i.carriedMigrations,
+    const Share mine{double(x.haloBytesPerStep),
+                     double(x.migrations) + i.carriedMigrations,
                      double(s.rebuilds()) + i.carriedRebuilds,
                      double(s.particles().size()),
                      s.exchangeSeconds() + i.carriedExchange,
                      double(s.mapBytes())};
     RunCounters c;
     double most = 0, sum = 0;
-    for (const Share& rank : impl_->comm.allGather(std::vector{mine})) {
+    for (const Share& rank : impl_->ex->allGather(std::vector{mine})) {
         c.exchangeSecondsMax = std::max(c.exchangeSecondsMax, rank.exchangeSeconds);
         c.mapBytesMax = std::max(c.mapBytesMax, rank.mapBytes);
         c.haloBytesPerStep += rank.haloBytes;
@@ -221,11 +226,11 @@ RunCounters DecomposedRun::counters() const {
         sum += rank.particles;
     }
     c.imbalance = sum > 0 ? most * double(size()) / sum : 1.0;
-    c.initialImbalance = x.initialImbalance();
-    c.rebalances = double(x.rebalances()) + i.carriedRebalances;
+    c.initialImbalance = x.initialImbalance;
+    c.rebalances = double(x.rebalances) + i.carriedRebalances;
     c.births = double(s.construction().totals().births);
     c.deaths = double(s.construction().totals().deaths);
     return c;
 }
 
-}  // namespace bop::parallel
+}  // namespace bop::core
