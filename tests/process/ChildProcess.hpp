@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -73,6 +74,7 @@ private:
     std::string name_, out_, endpoint_;
     std::chrono::steady_clock::time_point started_;
     std::vector<ProcessInfo> known_;  // its tree when last looked at: ranks outlive mpirun for a moment
+    std::optional<std::chrono::steady_clock::time_point> exitSeen_;  // when it was first seen to have exited
     std::FILE* echo_ = nullptr;
 };
 

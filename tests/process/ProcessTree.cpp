@@ -1,6 +1,7 @@
 #include "process/ProcessTree.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -9,7 +10,10 @@
 #include <map>
 #include <sstream>
 
+#include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace bop::test {
@@ -34,8 +38,11 @@ double uptimeS() {
 struct Stat {
     char state = '?';
     long ppid = 0, pgid = 0;
+    unsigned long flags = 0;  // the kernel's PF_* flags
     unsigned long long utime = 0, stime = 0, start = 0;
+    int exitCode = 0;  // as waitpid gives it, once it exited (readable by root)
 };
+constexpr unsigned long kPfExiting = 0x4;  // PF_EXITING: it called exit; the kernel is taking it down
 
 bool readStat(const fs::path& file, Stat& s) {
     const std::string text = readFirstLine(file);
@@ -47,9 +54,11 @@ bool readStat(const fs::path& file, Stat& s) {
     s.state = f[0][0];
     s.ppid = std::stol(f[1]);
     s.pgid = std::stol(f[2]);
+    s.flags = std::stoul(f[6]);
     s.utime = std::stoull(f[11]);
     s.stime = std::stoull(f[12]);
     s.start = std::stoull(f[19]);
+    if (f.size() > 49) s.exitCode = std::stoi(f[49]);  // proc(5): exit_code, the 52nd field
     return true;
 }
 
@@ -107,17 +116,74 @@ void fillDetails(ProcessInfo& p) {
     p.command = commandLine(dir);
 }
 
-std::string stacksOf(pid_t pid) {
-    static const bool haveGdb = std::system("command -v gdb >/dev/null 2>&1") == 0;
-    if (!haveGdb) return "";
-    const std::string cmd = "timeout -s KILL 20 gdb -p " + std::to_string(pid) +
-                            " -batch -ex 'thread apply all bt 12' 2>/dev/null | grep -E '^(Thread|#)'";
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return "";
+using Clock = std::chrono::steady_clock;
+
+// `argv`'s standard output, read until it ends or until `until`, whichever comes first. A helper
+// is never waited for past that: the kernel can hold a new process in uninterruptible sleep
+// while it maps its program (a page-reclaim thread holding the file's mapping lock), and a
+// report that waited for it would hang the test it reports on. Past `until` the helper is
+// killed and left to the kernel; what it printed is returned with a line saying so.
+std::string outputWithin(std::vector<std::string> argv, Clock::time_point until) {
+    int fds[2];
+    if (pipe2(fds, O_CLOEXEC) != 0) return "";
+    const pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]), close(fds[1]);
+        return "";
+    }
+    if (pid == 0) {
+        setpgid(0, 0);
+        dup2(fds[1], 1);
+        const int null = open("/dev/null", O_WRONLY);
+        if (null >= 0) dup2(null, 2);
+        std::vector<char*> args;
+        for (auto& a : argv) args.push_back(a.data());
+        args.push_back(nullptr);
+        execvp(args[0], args.data());
+        _exit(127);
+    }
+    close(fds[1]);
     std::string out;
-    char buf[4096];
-    while (const std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-    pclose(p);
+    bool ended = false;
+    for (char buf[4096]; Clock::now() < until;) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - Clock::now()).count();
+        pollfd p{fds[0], POLLIN, 0};
+        if (poll(&p, 1, int(std::max<long long>(1, left))) <= 0) continue;
+        const ssize_t n = read(fds[0], buf, sizeof buf);
+        if (n <= 0) {
+            ended = true;
+            break;
+        }
+        out.append(buf, std::size_t(n));
+    }
+    close(fds[0]);
+    if (!ended) {
+        kill(-pid, SIGKILL);
+        out += "(" + argv[0] + " gave no answer in time; left to the kernel)\n";
+    }
+    waitpid(pid, nullptr, WNOHANG);  // reaped now if it is gone; otherwise left as a zombie, harmlessly
+    return out;
+}
+
+bool onPath(const std::string& program) {
+    const char* path = std::getenv("PATH");
+    std::istringstream dirs(path ? path : "");
+    for (std::string dir; std::getline(dirs, dir, ':');)
+        if (!dir.empty() && access((dir + "/" + program).c_str(), X_OK) == 0) return true;
+    return false;
+}
+
+// Each thread's first frames (gdb), by `until`.
+std::string stacksOf(pid_t pid, Clock::time_point until) {
+    static const bool haveGdb = onPath("gdb");
+    if (!haveGdb) return "";
+    const std::string all =
+        outputWithin({"gdb", "-p", std::to_string(pid), "-batch", "-ex", "thread apply all bt 12"}, until);
+    std::istringstream lines(all);
+    std::string out;
+    for (std::string line; std::getline(lines, line);)
+        if (line.rfind("Thread", 0) == 0 || line.rfind("#", 0) == 0 || line.rfind("(gdb gave", 0) == 0)
+            out += line + "\n";
     return out;
 }
 
@@ -160,6 +226,8 @@ std::vector<ProcessInfo> processTree(pid_t root) {
 
 std::string describeTree(pid_t root, bool stacks) {
     const std::vector<ProcessInfo> tree = processTree(root);
+    // gdb gets 10 s a process and 30 s for the whole tree: the report must come, stacks or not.
+    const auto budget = Clock::now() + std::chrono::seconds(30);
     if (tree.empty()) return "  (pid " + std::to_string(root) + " is gone)\n";
     std::map<pid_t, int> depth;
     std::ostringstream out;
@@ -173,8 +241,8 @@ std::string describeTree(pid_t root, bool stacks) {
         out << head << p.threads << "\n  " << std::string(std::size_t(2 * depth[p.pid]), ' ') << "  " << p.command
             << '\n';
         for (const std::string& kernel : kernelStacksOfBlockedThreads(p.pid)) out << kernel;
-        if (stacks && p.state != 'Z' && p.state != 'D') {  // gdb would wait on those
-            std::istringstream lines(stacksOf(p.pid));
+        if (stacks && p.state != 'Z' && p.state != 'D' && Clock::now() < budget) {  // gdb would wait on those
+            std::istringstream lines(stacksOf(p.pid, std::min(budget, Clock::now() + std::chrono::seconds(10))));
             for (std::string line; std::getline(lines, line);) out << "      " << line << '\n';
         }
     }
@@ -205,9 +273,19 @@ int alive(const std::vector<ProcessInfo>& processes) {
     int n = 0;
     for (const auto& p : processes) {
         Stat s;
-        if (readStat("/proc/" + std::to_string(p.pid) + "/stat", s) && s.start == p.start && s.state != 'Z') ++n;
+        if (readStat("/proc/" + std::to_string(p.pid) + "/stat", s) && s.start == p.start && s.state != 'Z' &&
+            !(s.flags & kPfExiting))
+            ++n;
     }
     return n;
+}
+
+std::optional<int> exitedStatus(pid_t pid) {
+    Stat s;
+    // A zombie leader whose other threads still run (its main thread ended alone) has not exited.
+    if (!readStat("/proc/" + std::to_string(pid) + "/stat", s) || !(s.flags & kPfExiting) || s.state == 'Z')
+        return std::nullopt;
+    return s.exitCode;
 }
 
 }  // namespace bop::test

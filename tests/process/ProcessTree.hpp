@@ -2,6 +2,7 @@
 // The processes a test started, as /proc shows them: a child, its descendants (mpirun's ranks
 // sit in process groups of their own, so a group alone misses them) and its group's members.
 // For the report a test prints when a child misses its deadline, and for killing all of them.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,7 +34,13 @@ std::vector<ProcessInfo> killTree(pid_t root);
 // Its resident memory (VmRSS), MB; 0 once it is gone.
 double residentMb(pid_t pid);
 
-// How many of `processes` still run (zombies do not count; a reused pid is another process).
+// How many of `processes` still run (zombies and processes that called exit do not count; a
+// reused pid is another process).
 int alive(const std::vector<ProcessInfo>& processes);
+
+// Once `pid` called exit and until it is reaped: its status, as waitpid will give it. The kernel
+// can hold an exiting process for minutes (tearing down its memory while a page-reclaim thread
+// holds the lock of a file it mapped: docs/faults.md); what it did is done by then.
+std::optional<int> exitedStatus(pid_t pid);
 
 }  // namespace bop::test
