@@ -282,9 +282,15 @@ int alive(const std::vector<ProcessInfo>& processes) {
 
 std::optional<int> exitedStatus(pid_t pid) {
     Stat s;
-    // A zombie leader whose other threads still run (its main thread ended alone) has not exited.
-    if (!readStat("/proc/" + std::to_string(pid) + "/stat", s) || !(s.flags & kPfExiting) || s.state == 'Z')
-        return std::nullopt;
+    if (!readStat("/proc/" + std::to_string(pid) + "/stat", s) || !(s.flags & kPfExiting)) return std::nullopt;
+    // Every thread on its way out: a leader whose main thread ended alone while others still run
+    // has not exited.
+    std::error_code ec;
+    for (const auto& t : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
+        Stat thread;
+        if (readStat(t.path() / "stat", thread) && thread.state != 'Z' && !(thread.flags & kPfExiting))
+            return std::nullopt;
+    }
     return s.exitCode;
 }
 
