@@ -19,7 +19,7 @@ struct Run::Impl {
     std::unique_ptr<Exchange> ex;
     std::unique_ptr<Simulation> sim;
     long long energyEvery = 1;
-    // This rank's counters of the simulations a reseat let go (the run's totals go on).
+    // This process's counters of the simulations a reseat let go (the run's totals go on).
     double carriedMigrations = 0, carriedRebuilds = 0, carriedExchange = 0, carriedRebalances = 0;
     std::optional<SoundSnapshot> sound;  // this process's particles of the last sound state
     Impl(std::shared_ptr<const Model> m, const Particles& all, SimulationOptions o, ExchangeMaker x)
@@ -99,6 +99,14 @@ void Run::setProbe(const ProbeState& probe) {
 }
 Totals Run::totals() const {
     return impl_->sim->totals();
+}
+double Run::surfaceParticles() const {  // for reports: not in totals(), which a served run asks every pass
+    const Simulation& s = *impl_->sim;
+    double mine = 0;
+    for (const auto species : s.particles().species) mine += s.model().isSurface(species) ? 1 : 0;
+    double sum = 0;
+    for (const double n : impl_->ex->allGather(std::vector{mine})) sum += n;
+    return sum;
 }
 const std::vector<MapVolume>& Run::frameVolumes() const {
     return impl_->sim->frameVolumes();

@@ -73,6 +73,7 @@ public:
     Decision agree(const Decision& mine);
     long long stepNumber() const;  // steps so far, counted from the scene's first step
     Totals totals() const;
+    double surfaceParticles() const;                     // over every process (the rest are volume particles)
     const std::vector<MapVolume>& frameVolumes() const;  // of every keyframe's whole map
     RunCounters counters() const;
     Particles gather() const;  // every particle sorted by id, on every process

@@ -222,7 +222,7 @@ namespace {
 struct ProcessSums {
     double particles, kinetic, pairEnergy, probeEnergy, virial, virialVolume;
     Eigen::Vector3d probeReaction;
-    double bloodMv2, bloodCount, wallVirial, surface;
+    double bloodMv2, bloodCount, wallVirial;
 };
 
 }  // namespace
@@ -230,14 +230,11 @@ struct ProcessSums {
 Totals Simulation::totals() const {
     const ForceStats& f = stats_.forces;
     const BloodSums blood = bloodSums(sub_, p_);
-    double surface = 0;
-    for (const auto s : p_.species) surface += sub_.isSurface(s) ? 1 : 0;
-    const ProcessSums mine{double(p_.size()), stats_.kinetic, f.pairEnergy, f.probeEnergy, f.virial, f.virialVolume,
-                           f.probeReaction,   blood.mv2,      blood.count,  f.wallVirial,  surface};
+    const ProcessSums mine{double(p_.size()), stats_.kinetic,  f.pairEnergy, f.probeEnergy, f.virial,
+                           f.virialVolume,    f.probeReaction, blood.mv2,    blood.count,   f.wallVirial};
     const ProcessSums sum = sumInOrder(ex_->allGather(std::vector{mine}));
     Totals t;
     t.particles = sum.particles;
-    t.surface = sum.surface;
     t.kinetic = sum.kinetic;
     t.pairEnergy = sum.pairEnergy;
     t.probeEnergy = sum.probeEnergy;

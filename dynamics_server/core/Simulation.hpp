@@ -45,7 +45,6 @@ struct StepTimes {
 // Sums over every process, the same on each (totals()).
 struct Totals {
     double particles = 0, kinetic = 0, pairEnergy = 0, probeEnergy = 0, virial = 0, virialVolume = 0;
-    double surface = 0;                                   // surface particles (the rest are volume particles)
     double bloodMv2 = 0, bloodCount = 0, wallVirial = 0;  // BloodPressure.hpp, ForceStats::wallVirial
     KeyframeAt keyframe;                                  // the map frame(s) of the last forces
     double bloodVolume = 0, cavityVolume = 0;             // volume voxels and bag voxels in force, length^3

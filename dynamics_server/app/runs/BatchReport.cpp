@@ -7,14 +7,15 @@ namespace bop::app {
 
 void BatchReport::progress(long long done, long long total, std::chrono::steady_clock::time_point start) {
     const core::Totals t = run_.totals();
+    const double surface = run_.surfaceParticles();
     const core::RunCounters c = run_.counters();
     if (run_.rank() != 0) return;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     os_ << std::fixed << std::setprecision(0) << "step " << run_.stepNumber() << " (" << std::setprecision(1)
-        << 100.0 * double(done) / double(total) << "%)  particles " << std::setprecision(0) << t.surface
-        << " surface + " << t.particles - t.surface << " volume  E_kin " << std::setprecision(4) << t.kinetic
-        << "  E_pair " << t.pairEnergy << "  " << std::setprecision(1) << double(done) / std::max(seconds, 1e-9)
-        << " steps/s" << std::endl;
+        << 100.0 * double(done) / double(total) << "%)  particles " << std::setprecision(0) << surface << " surface + "
+        << t.particles - surface << " volume  E_kin " << std::setprecision(4) << t.kinetic << "  E_pair "
+        << t.pairEnergy << "  " << std::setprecision(1) << double(done) / std::max(seconds, 1e-9) << " steps/s"
+        << std::endl;
     if (c.births > 0 || c.deaths > 0)
         os_ << "  construction so far: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths\n";
 }
@@ -55,10 +56,10 @@ void BatchReport::phases(long long steps) {
 
 void BatchReport::summary(long long steps, double seconds) {
     const core::Totals t = run_.totals();
+    const double surface = run_.surfaceParticles(), volume = t.particles - surface;
     const core::RunCounters c = run_.counters();
     if (run_.rank() != 0) return;
     phases(steps);
-    const double surface = t.surface, volume = t.particles - t.surface;
     const double rate = double(steps) / std::max(seconds, 1e-12);
     os_ << "\n            Surface  Volume   Total   steps/s   particle-steps/s\n"
         << "this run  " << std::setprecision(0) << std::setw(9) << surface << std::setw(8) << volume << std::setw(8)
