@@ -1,6 +1,7 @@
 #include "OrientedPairLoop.hpp"
 
 #include "HotLoop.hpp"
+#include "OrientedTerms.hpp"
 #include "PairBlocks.hpp"
 
 namespace bop::core {
@@ -31,8 +32,8 @@ template <bool Energy, bool One>
     // The single species' weights, copied: the force stores may alias the tables.
     const double cnF1 = tab.cnF[single], cpF1 = tab.cpF[single], cnT1 = tab.cnT[single], cpT1 = tab.cpT[single];
     const double cnE1 = tab.cnE[single], cpE1 = tab.cpE[single];
-    const double cut2 = w.cutoff2(), rOn = w.taperOn(), invWidth = w.invTaperWidth();
-    const double inv2s2 = w.invTwoSigma2(), invS2 = w.invSigma2();
+    const double cut2 = w.cutoff2();
+    const PsiConstants psiK = w.constants();
     const bool curvature = kernel.curvature();
     const double* e = in.e[0].data();
     const double* nrm = o.normal[0].data();
@@ -62,8 +63,8 @@ template <bool Energy, bool One>
             const V4 rx = gather3(e, jq, 0) - gather3(e, iq, 0), ry = gather3(e, jq, 1) - gather3(e, iq, 1),
                      rz = gather3(e, jq, 2) - gather3(e, iq, 2);
             const V4 r2 = rx * rx + ry * ry + rz * rz;
-            V4 cnFab = splat(cnF1), cnFba = cnFab, cpFab = splat(cpF1), cpFba = cpFab, cnTab = splat(cnT1);
-            V4 cnTba = cnTab, cpTab = splat(cpT1), cpTba = cpTab, cnE = splat(cnE1), cpE = splat(cpE1);
+            OrientedWeights<V4> k{splat(cnF1), splat(cnF1), splat(cnT1), splat(cnT1), splat(cnE1),
+                                  splat(cpF1), splat(cpF1), splat(cpT1), splat(cpT1), splat(cpE1)};
             V4Mask near = lanes(q, n) & (r2 < cut2);
             if constexpr (!One) {
                 std::size_t ab[4], ba[4];
@@ -71,55 +72,34 @@ template <bool Energy, bool One>
                     ab[l] = sp[iq[l]] * side + sp[jq[l]];
                     ba[l] = sp[jq[l]] * side + sp[iq[l]];
                 }
-                cnFab = table4(tab.cnF, ab), cnFba = table4(tab.cnF, ba), cpFab = table4(tab.cpF, ab);
-                cpFba = table4(tab.cpF, ba), cnTab = table4(tab.cnT, ab), cnTba = table4(tab.cnT, ba);
-                cpTab = table4(tab.cpT, ab), cpTba = table4(tab.cpT, ba), cnE = table4(tab.cnE, ab);
-                cpE = table4(tab.cpE, ab);
+                k = {table4(tab.cnF, ab), table4(tab.cnF, ba), table4(tab.cnT, ab), table4(tab.cnT, ba),
+                     table4(tab.cnE, ab), table4(tab.cpF, ab), table4(tab.cpF, ba), table4(tab.cpT, ab),
+                     table4(tab.cpT, ba), table4(tab.cpE, ab)};
                 near &= V4Mask{tab.on[ab[0]], tab.on[ab[1]], tab.on[ab[2]], tab.on[ab[3]]} != 0;
             }
             const V4 rlen = vsqrt(r2);
-            const V4 invR = select(rlen > 0.0, 1.0 / rlen, zero);
-            // psi = exp(-r^2 / 2 sigma^2) S(r) and its derivative, S the cubic taper.
-            const V4 g = simdExp(-r2 * inv2s2);
-            const V4 t = atLeast((rlen - rOn) * invWidth, 0.0);
-            const V4 taper = 1.0 + t * t * (2.0 * t - 3.0);
-            const V4 psi = g * taper;
-            const V4 dpsi = (-rlen * invS2 * g) * taper + g * (6.0 * t * (t - 1.0) * invWidth);
-            const V4 nix = gather3(nrm, iq, 0), niy = gather3(nrm, iq, 1), niz = gather3(nrm, iq, 2);
-            const V4 njx = gather3(nrm, jq, 0), njy = gather3(nrm, jq, 1), njz = gather3(nrm, jq, 2);
-            // Co-normal |n_i - n_j|^2 psi: force on j along r, torque n_i x n_j.
-            const V4 dx = nix - njx, dy = niy - njy, dz = niz - njz;
-            const V4 d2 = dx * dx + dy * dy + dz * dz;
-            const V4 cn = -d2 * dpsi * invR;
-            const V4 p2 = 2.0 * psi;
-            const V4 cnTx = p2 * (niy * njz - niz * njy), cnTy = p2 * (niz * njx - nix * njz),
-                     cnTz = p2 * (nix * njy - niy * njx);
-            // Co-planar ((n_i.r)^2 + (n_j.r)^2) c psi, c the mean curvature weight of the two.
-            V4 c = splat(1.0);
+            const Xyz<V4> r{rx, ry, rz};
+            const Xyz<V4> ni{gather3(nrm, iq, 0), gather3(nrm, iq, 1), gather3(nrm, iq, 2)};
+            const Xyz<V4> nj{gather3(nrm, jq, 0), gather3(nrm, jq, 1), gather3(nrm, jq, 2)};
+            V4 c = splat(1.0);  // the co-planar curvature weight: the mean of the two
             if (curvature)
                 for (int l = 0; l < 4; ++l) c[l] = 0.5 * (double(cw[iq[l]]) + double(cw[jq[l]]));
-            const V4 cpsi = c * psi, cdpsi = c * dpsi;
-            const V4 A = nix * rx + niy * ry + niz * rz, B = njx * rx + njy * ry + njz * rz;
-            const V4 ab2 = A * A + B * B;
-            const V4 cpN = -2.0 * cpsi, cpR = -ab2 * cdpsi * invR;
-            const V4 cpx = cpN * (A * nix + B * njx) + cpR * rx, cpy = cpN * (A * niy + B * njy) + cpR * ry,
-                     cpz = cpN * (A * niz + B * njz) + cpR * rz;
-            // Torques of the co-planar term: 2 A c psi r x n_i on i, 2 B c psi r x n_j on j.
-            const V4 ai = 2.0 * A * cpsi, bj = 2.0 * B * cpsi;
-            store4(b.fj[0] + q, select(near, cnFba * cn * rx + cpFba * cpx, zero));
-            store4(b.fj[1] + q, select(near, cnFba * cn * ry + cpFba * cpy, zero));
-            store4(b.fj[2] + q, select(near, cnFba * cn * rz + cpFba * cpz, zero));
-            store4(b.fi[0] + q, select(near, -(cnFab * cn * rx + cpFab * cpx), zero));
-            store4(b.fi[1] + q, select(near, -(cnFab * cn * ry + cpFab * cpy), zero));
-            store4(b.fi[2] + q, select(near, -(cnFab * cn * rz + cpFab * cpz), zero));
-            store4(b.ti[0] + q, select(near, cnTab * cnTx + cpTab * ai * (ry * niz - rz * niy), zero));
-            store4(b.ti[1] + q, select(near, cnTab * cnTy + cpTab * ai * (rz * nix - rx * niz), zero));
-            store4(b.ti[2] + q, select(near, cnTab * cnTz + cpTab * ai * (rx * niy - ry * nix), zero));
-            store4(b.tj[0] + q, select(near, -cnTba * cnTx + cpTba * bj * (ry * njz - rz * njy), zero));
-            store4(b.tj[1] + q, select(near, -cnTba * cnTy + cpTba * bj * (rz * njx - rx * njz), zero));
-            store4(b.tj[2] + q, select(near, -cnTba * cnTz + cpTba * bj * (rx * njy - ry * njx), zero));
-            virial += select(near, cnE * cn * r2 + cpE * (rx * cpx + ry * cpy + rz * cpz), zero);
-            if constexpr (Energy) energy += select(near, cnE * d2 * psi + cpE * ab2 * cpsi, zero);
+            const OrientedForces<V4> p = orientedPair<Energy>(r, r2, inverseOrZero(rlen), ni, nj,
+                                                              orientedPsi(r2, rlen, psiK), c, k);
+            store4(b.fj[0] + q, select(near, p.fj.x, zero));
+            store4(b.fj[1] + q, select(near, p.fj.y, zero));
+            store4(b.fj[2] + q, select(near, p.fj.z, zero));
+            store4(b.fi[0] + q, select(near, p.fi.x, zero));
+            store4(b.fi[1] + q, select(near, p.fi.y, zero));
+            store4(b.fi[2] + q, select(near, p.fi.z, zero));
+            store4(b.ti[0] + q, select(near, p.ti.x, zero));
+            store4(b.ti[1] + q, select(near, p.ti.y, zero));
+            store4(b.ti[2] + q, select(near, p.ti.z, zero));
+            store4(b.tj[0] + q, select(near, p.tj.x, zero));
+            store4(b.tj[1] + q, select(near, p.tj.y, zero));
+            store4(b.tj[2] + q, select(near, p.tj.z, zero));
+            virial += select(near, p.virial, zero);
+            if constexpr (Energy) energy += select(near, p.energy, zero);
             count -= near;  // a true lane is -1
         }
         // Into the particles, in list order; a row's own force and torque summed first.

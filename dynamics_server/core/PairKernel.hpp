@@ -3,7 +3,8 @@
 // for two surface particles; weights alpha_ab to i and alpha_ba to j (paper eqs. 6-8) combined
 // with each species' alpha_f^OP and alpha_tau^OP (eqs. 2-3) into one table per potential.
 // apply() is the reference, pair by pair with energies (the O(N^2) check); the step's loops
-// (LjPairLoop, OrientedPairLoop) read the same tables.
+// (LjPairLoop, OrientedPairLoop) read the same tables and evaluate the same physics
+// (LjForm::forceOverR, OrientedTerms.hpp).
 #include "Model.hpp"
 #include "Potentials.hpp"
 
@@ -121,16 +122,18 @@ public:
         double psi, dpsi;
         if (!weight_.eval(rlen, psi, dpsi)) return;
         ++s.orientedInRange;
-        OrientedPair cn, cp;
-        coNormal(r, rlen, ni, nj, psi, dpsi, cn);
+        const OrientedWeights<double> k{cnF_[ab], cnF_[ba], cnT_[ab], cnT_[ba], cnE_[ab],
+                                        cpF_[ab], cpF_[ba], cpT_[ab], cpT_[ba], cpE_[ab]};
         const double c = useCurvature_ ? 0.5 * (double(wi) + double(wj)) : 1.0;
-        coPlanar(r, rlen, ni, nj, c * psi, c * dpsi, cp);
-        f[j] += cnF_[ba] * cn.fj + cpF_[ba] * cp.fj;
-        f[i] -= cnF_[ab] * cn.fj + cpF_[ab] * cp.fj;
-        t[i] += cnT_[ab] * cn.taui + cpT_[ab] * cp.taui;
-        t[j] += cnT_[ba] * cn.tauj + cpT_[ba] * cp.tauj;
-        s.energy += cnE_[ab] * cn.energy + cpE_[ab] * cp.energy;
-        s.virial += cnE_[ab] * r.dot(cn.fj) + cpE_[ab] * r.dot(cp.fj);
+        const OrientedForces<double> o = orientedPair<true>(Xyz<double>{r.x(), r.y(), r.z()}, r2, inverseOrZero(rlen),
+                                                            Xyz<double>{ni.x(), ni.y(), ni.z()},
+                                                            Xyz<double>{nj.x(), nj.y(), nj.z()}, {psi, dpsi}, c, k);
+        f[j] += Eigen::Vector3d(o.fj.x, o.fj.y, o.fj.z);
+        f[i] += Eigen::Vector3d(o.fi.x, o.fi.y, o.fi.z);
+        t[i] += Eigen::Vector3d(o.ti.x, o.ti.y, o.ti.z);
+        t[j] += Eigen::Vector3d(o.tj.x, o.tj.y, o.tj.z);
+        s.energy += o.energy;
+        s.virial += o.virial;
     }
 
 private:

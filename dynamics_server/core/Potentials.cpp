@@ -100,26 +100,38 @@ OrientedWeight::OrientedWeight(const OrientedParams& p) : params_(p) {
     inv2s2_ = 0.5 * invS2_;
 }
 
+namespace {
+
+Xyz<double> xyz(const Eigen::Vector3d& v) {
+    return {v.x(), v.y(), v.z()};
+}
+Eigen::Vector3d vec(const Xyz<double>& v) {
+    return {v.x, v.y, v.z};
+}
+
+// One term of orientedPair with weight 1 (and the other 0), as an OrientedPair.
+void oneTerm(bool normal, const Eigen::Vector3d& r, double rlen, const Eigen::Vector3d& ni, const Eigen::Vector3d& nj,
+             double psi, double dpsi, OrientedPair& out) {
+    const double cn = normal ? 1.0 : 0.0, cp = 1.0 - cn;
+    const OrientedWeights<double> k{cn, cn, cn, cn, cn, cp, cp, cp, cp, cp};
+    const OrientedForces<double> o =
+        orientedPair<true>(xyz(r), rlen * rlen, inverseOrZero(rlen), xyz(ni), xyz(nj), Psi<double>{psi, dpsi}, 1.0, k);
+    out.fj = vec(o.fj);
+    out.taui = vec(o.ti);
+    out.tauj = vec(o.tj);
+    out.energy = o.energy;
+}
+
+}  // namespace
+
 void coNormal(const Eigen::Vector3d& r, double rlen, const Eigen::Vector3d& ni, const Eigen::Vector3d& nj, double psi,
               double dpsi, OrientedPair& out) {
-    const double d2 = (ni - nj).squaredNorm();
-    const double invR = rlen > 0.0 ? 1.0 / rlen : 0.0;  // dpsi -> 0 as r -> 0 for the Gaussian
-    out.energy = d2 * psi;
-    out.fj = (-d2 * dpsi * invR) * r;
-    out.taui = (2.0 * psi) * ni.cross(nj);
-    out.tauj = -out.taui;
+    oneTerm(true, r, rlen, ni, nj, psi, dpsi, out);
 }
 
 void coPlanar(const Eigen::Vector3d& r, double rlen, const Eigen::Vector3d& ni, const Eigen::Vector3d& nj, double psi,
               double dpsi, OrientedPair& out) {
-    const double a = ni.dot(r);
-    const double b = nj.dot(r);
-    const double ab2 = a * a + b * b;
-    const double invR = rlen > 0.0 ? 1.0 / rlen : 0.0;
-    out.energy = ab2 * psi;
-    out.fj = (-2.0 * psi) * (a * ni + b * nj) - (ab2 * dpsi * invR) * r;
-    out.taui = (2.0 * a * psi) * r.cross(ni);
-    out.tauj = (2.0 * b * psi) * r.cross(nj);
+    oneTerm(false, r, rlen, ni, nj, psi, dpsi, out);
 }
 
 ProbeForm::ProbeForm(const LjForm& lj, ProbeParams p) : lj_(lj), params_(p) {

@@ -15,6 +15,7 @@
 // - ProbeForm: the haptic probe, k1 f(r/k0) and k1 k0 phi(r/k0) (paper eq. 9, docs/physics.md §2.4).
 //
 // S is the cubic taper S = 1 - 3t^2 + 2t^3, t = (r - r_on)/(r_c - r_on), on [r_on, r_c].
+#include "OrientedTerms.hpp"
 #include "bop/common/Units.hpp"
 
 #include <Eigen/Core>
@@ -146,20 +147,13 @@ public:
             dpsi = 0.0;
             return false;
         }
-        const double g = std::exp(-r * r * inv2s2_);
-        const double dg = -r * invS2_ * g;
-        if (r <= rOn_) {
-            psi = g;
-            dpsi = dg;
-        } else {
-            const double t = (r - rOn_) * invWidth_;
-            const double s = 1.0 + t * t * (2.0 * t - 3.0);
-            const double ds = 6.0 * t * (t - 1.0) * invWidth_;
-            psi = g * s;
-            dpsi = dg * s + g * ds;
-        }
+        const Psi<double> w = orientedPsi(r * r, r, constants());
+        psi = w.psi;
+        dpsi = w.dpsi;
         return true;
     }
+    // The constants of orientedPsi (OrientedTerms.hpp), the step's loop's too.
+    PsiConstants constants() const { return {rOn_, invWidth_, inv2s2_, invS2_}; }
 
 private:
     OrientedParams params_;

@@ -1,0 +1,123 @@
+#pragma once
+// The oriented pair physics, written once (docs/physics.md §1.2): the weight psi(r) =
+// exp(-r^2 / 2 sigma^2) S(r) with its derivative, and the weighted co-normal and co-planar
+// forces, torques, virial and energy of a pair. Templates over the number type T: double for the
+// reference (OrientedWeight::eval, coNormal, coPlanar, PairKernel::apply) and V4, four pairs in
+// lanes, for the step's loop (OrientedPairLoop.cpp). The same expressions in the same order in
+// both, so the two differ only by e^x (std::exp against simdExp, a few ulp apart).
+//
+// Units as Potentials.hpp: lengths in simulation units, r = p_j - p_i, torques tau = -n x dE/dn.
+#include "SimdMath.hpp"
+
+#include <cmath>
+
+namespace bop::core {
+
+// Three components of one type: a vector of one pair (T = double) or of four (T = V4).
+template <class T>
+struct Xyz {
+    T x, y, z;
+};
+
+template <class T>
+[[gnu::always_inline]] inline T dot(const Xyz<T>& a, const Xyz<T>& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+template <class T>
+[[gnu::always_inline]] inline Xyz<T> cross(const Xyz<T>& a, const Xyz<T>& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+[[gnu::always_inline]] inline double naturalExp(double x) {
+    return std::exp(x);
+}
+[[gnu::always_inline]] inline V4 naturalExp(V4 x) {
+    return simdExp(x);
+}
+// 1 / x, and 0 for x = 0 (dpsi -> 0 as r -> 0 for the Gaussian, so the force does too)
+[[gnu::always_inline]] inline double inverseOrZero(double x) {
+    return x > 0.0 ? 1.0 / x : 0.0;
+}
+[[gnu::always_inline]] inline V4 inverseOrZero(V4 x) {
+    return select(x > 0.0, 1.0 / x, splat(0.0));
+}
+
+// The weight's constants (OrientedWeight holds them): all lengths in simulation units.
+struct PsiConstants {
+    double taperOn;        // start of the cubic taper, length
+    double invTaperWidth;  // 1 / (cutoff - taperOn), 1/length
+    double invTwoSigma2;   // 1 / (2 sigma^2), 1/length^2
+    double invSigma2;      // 1 / sigma^2, 1/length^2
+};
+
+template <class T>
+struct Psi {
+    T psi;   // dimensionless
+    T dpsi;  // dpsi/dr, 1/length
+};
+
+// psi and dpsi/dr at distance r (r2 = r^2) inside the cutoff, without branches: below the taper t
+// clamps to 0, where S = 1 and dS = 0 exactly.
+template <class T>
+[[gnu::always_inline]] inline Psi<T> orientedPsi(T r2, T r, const PsiConstants& k) {
+    const T g = naturalExp(-r2 * k.invTwoSigma2);
+    const T t = atLeast((r - k.taperOn) * k.invTaperWidth, 0.0);
+    const T taper = 1.0 + t * t * (2.0 * t - 3.0);
+    return {g * taper, (-r * k.invSigma2 * g) * taper + g * (6.0 * t * (t - 1.0) * k.invTaperWidth)};
+}
+
+// A pair's weights per term and side (PairKernel's tables, eqs. 2-3 and 6-8): F force, T torque,
+// ab to i from j, ba to j from i; E the symmetrised weight of the energy and virial.
+template <class T>
+struct OrientedWeights {
+    T cnFab, cnFba, cnTab, cnTba, cnE;  // co-normal
+    T cpFab, cpFba, cpTab, cpTba, cpE;  // co-planar
+};
+
+template <class T>
+struct OrientedForces {
+    Xyz<T> fj, fi;  // forces on j and on i (energy/length)
+    Xyz<T> ti, tj;  // torques on i and on j (energy)
+    T virial;       // r . F_j of each term, weighted (energy)
+    T energy;       // |n_i - n_j|^2 psi + ((n_i.r)^2 + (n_j.r)^2) c psi, weighted (energy)
+};
+
+// Co-normal E = |n_i - n_j|^2 psi and co-planar E = ((n_i.r)^2 + (n_j.r)^2) c psi with their
+// weights. r = p_j - p_i, r2 = |r|^2, invR = 1/|r| (0 at r = 0); ni, nj unit normals; c the
+// co-planar curvature weight (1 without a map). The energy only when Energy.
+template <bool Energy, class T>
+[[gnu::always_inline]] inline OrientedForces<T> orientedPair(const Xyz<T>& r, T r2, T invR, const Xyz<T>& ni,
+                                                             const Xyz<T>& nj, const Psi<T>& w, T c,
+                                                             const OrientedWeights<T>& k) {
+    // Co-normal: force on j -d2 dpsi r / |r|, torque 2 psi n_i x n_j on i and its opposite on j.
+    const Xyz<T> d{ni.x - nj.x, ni.y - nj.y, ni.z - nj.z};
+    const T d2 = dot(d, d);
+    const T cn = -d2 * w.dpsi * invR;
+    const Xyz<T> nn = cross(ni, nj);
+    const T p2 = 2.0 * w.psi;
+    const Xyz<T> cnT{p2 * nn.x, p2 * nn.y, p2 * nn.z};
+    // Co-planar with A = n_i.r, B = n_j.r: force on j -2 c psi (A n_i + B n_j) - (A^2 + B^2) c dpsi
+    // r / |r|; torques 2 A c psi r x n_i on i and 2 B c psi r x n_j on j.
+    const T cpsi = c * w.psi, cdpsi = c * w.dpsi;
+    const T A = dot(ni, r), B = dot(nj, r);
+    const T ab2 = A * A + B * B;
+    const T cpN = -2.0 * cpsi, cpR = -ab2 * cdpsi * invR;
+    const Xyz<T> cp{cpN * (A * ni.x + B * nj.x) + cpR * r.x, cpN * (A * ni.y + B * nj.y) + cpR * r.y,
+                    cpN * (A * ni.z + B * nj.z) + cpR * r.z};
+    const T ai = 2.0 * A * cpsi, bj = 2.0 * B * cpsi;
+    const Xyz<T> rni = cross(r, ni), rnj = cross(r, nj);
+    OrientedForces<T> o;
+    o.fj = {k.cnFba * cn * r.x + k.cpFba * cp.x, k.cnFba * cn * r.y + k.cpFba * cp.y,
+            k.cnFba * cn * r.z + k.cpFba * cp.z};
+    o.fi = {-(k.cnFab * cn * r.x + k.cpFab * cp.x), -(k.cnFab * cn * r.y + k.cpFab * cp.y),
+            -(k.cnFab * cn * r.z + k.cpFab * cp.z)};
+    o.ti = {k.cnTab * cnT.x + k.cpTab * ai * rni.x, k.cnTab * cnT.y + k.cpTab * ai * rni.y,
+            k.cnTab * cnT.z + k.cpTab * ai * rni.z};
+    o.tj = {-k.cnTba * cnT.x + k.cpTba * bj * rnj.x, -k.cnTba * cnT.y + k.cpTba * bj * rnj.y,
+            -k.cnTba * cnT.z + k.cpTba * bj * rnj.z};
+    o.virial = k.cnE * cn * r2 + k.cpE * dot(r, cp);
+    if constexpr (Energy) o.energy = k.cnE * d2 * w.psi + k.cpE * ab2 * cpsi;
+    return o;
+}
+
+}  // namespace bop::core
