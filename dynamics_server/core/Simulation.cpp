@@ -33,7 +33,7 @@ void setWeight(Model& m, const Command& c) {  // std::invalid_argument if out of
 
 double haloReach(const Model& model, const SimulationOptions& o) {
     const double front = o.construction ? o.construction->params().frontR0 : ConstructionParams{}.frontR0;
-    return std::max(ForceField::listRange(model), model.map || o.map ? front * kR0 : 0.0);
+    return std::max(PairForces::listRange(model), model.map || o.map ? front * kR0 : 0.0);
 }
 
 Simulation::Simulation(std::shared_ptr<const Model> model, Particles particles, Construction construction,
@@ -48,7 +48,7 @@ Simulation::Simulation(std::shared_ptr<const Model> model, Particles particles, 
       construction_(std::move(construction)) {
     stats_.step = firstStep;
     stats_.time = double(firstStep) * model_->integration.dt;
-    range_ = field_.listRange();
+    range_ = field_.pairs().listRange();
     placeMaps();
     field_ = ForceField(sub_);
     applyKeyframe(stats_.time);
@@ -66,7 +66,7 @@ Simulation::Simulation(std::shared_ptr<const Model> model, const Particles& all,
       mapSource_(std::move(options.map)) {
     stats_.step = options.firstStep;
     stats_.time = double(options.firstStep) * model_->integration.dt;
-    range_ = field_.listRange();
+    range_ = field_.pairs().listRange();
     sub_.box = ex_->region(model_->box);
     placeMaps();
     field_ = ForceField(sub_);  // with the map window: the pair terms' curvature weights need to know of a map
@@ -106,7 +106,7 @@ void Simulation::submit(const Command& command) {
     if (command.kind == Command::Kind::Weight) {  // refused here, before any process sees it
         Model trial = sub_;
         setWeight(trial, command);
-        if (ForceField::listRange(trial) != range_)
+        if (PairForces::listRange(trial) != range_)
             throw std::invalid_argument(
                 "weight command: it would change the interaction range (oriented terms on or "
                 "off); give the scene a nonzero weight of that kind to start with");

@@ -13,7 +13,7 @@ BruteForceComparison compareWithBruteForce(const core::Model& m, core::ForceFiel
         q.force[i].setZero();
         q.torque[i].setZero();
     }
-    core::ForceField::computePairsBruteForce(m, q, c.brute);
+    core::PairForces::bruteForce(m, q, c.brute);
     for (std::size_t i = 0; i < p.size(); ++i) {
         c.maxForce = std::max(c.maxForce, q.force[i].norm());
         c.forceError = std::max(c.forceError, (p.force[i] - q.force[i]).norm());

@@ -1,5 +1,5 @@
 #pragma once
-// The step's forces of a ForceField against ForceField::computePairsBruteForce (O(N^2), pair by
+// The step's forces of a ForceField against PairForces::bruteForce (O(N^2), pair by
 // pair): both runs' stats and the largest differences, for the pair-loop tests.
 #include "core/ForceField.hpp"
 

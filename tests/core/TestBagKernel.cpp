@@ -52,7 +52,7 @@ TEST_CASE("the bag's pair loops equal the O(N^2) reference with curvature weight
     float wLo = 1e9f, wHi = -1e9f;
     for (std::size_t i = 0; i < p.size(); ++i)
         if (m->isSurface(p.species[i])) {
-            const float w = ForceField::curvatureWeight(*m, p.pos[i], p.species[i]);
+            const float w = MapForces::curvatureWeight(*m, p.pos[i], p.species[i]);
             wLo = std::min(wLo, w), wHi = std::max(wHi, w);
         }
     ForceField field(*m);

@@ -212,7 +212,7 @@ TEST_CASE("a run's trajectory is the same to the last bit at 1, 2 and 3 threads"
         sim.run(150);
         ends.push_back(sim.particles());
         energies.push_back(sim.stats().total());
-        chunks = sim.forceField().pairChunks();
+        chunks = sim.forceField().pairs().chunks();
     }
     setThreadCount(before);
     INFO("pair chunks " << chunks << ", energies " << energies[0] << " " << energies[1] << " " << energies[2]);

@@ -202,11 +202,11 @@ TEST_CASE("forces match brute force as particles drift across periodic faces and
                 }
                 worst = std::max(worst, bruteForceError(*m, field, p, it % 3 == 0));
             }
-            INFO("surface " << surface << ", periodic " << periodic << ": " << field.neighbours().builds()
+            INFO("surface " << surface << ", periodic " << periodic << ": " << field.pairs().neighbours().builds()
                             << " list builds, " << wraps << " wraps");
             CHECK(worst < 1e-12);
-            CHECK(field.neighbours().builds() > 2);   // rebuilt as particles drift and after the birth
-            CHECK(field.neighbours().builds() < 40);  // and reused in between
+            CHECK(field.pairs().neighbours().builds() > 2);   // rebuilt as particles drift and after the birth
+            CHECK(field.pairs().neighbours().builds() < 40);  // and reused in between
             CHECK((wraps > 0) == periodic);
         }
     }
@@ -240,18 +240,18 @@ TEST_CASE("pruned pair lists give the whole list's forces and torques to the bit
         CHECK(sa.orientedPairsInRange == sb.orientedPairsInRange);
         CHECK(sb.virial == Approx(sa.virial).epsilon(1e-13));
         CHECK(sb.pairEnergy == Approx(sa.pairEnergy).epsilon(1e-13));
-        fewerLj += b.pruned().pairCount() < a.neighbours().pairCount();
-        fewerWide += b.pruned().widePairCount() < a.neighbours().widePairCount();
+        fewerLj += b.pairs().pruned().pairCount() < a.pairs().neighbours().pairCount();
+        fewerWide += b.pairs().pruned().widePairCount() < a.pairs().neighbours().widePairCount();
     }
-    INFO(a.neighbours().builds() << " list builds, " << b.pruned().prunes() << " prunings, last "
-                                 << b.pruned().pairCount() << " of " << b.neighbours().pairCount() << " LJ pairs, "
-                                 << b.pruned().widePairCount() << " of " << b.neighbours().widePairCount()
+    INFO(a.pairs().neighbours().builds() << " list builds, " << b.pairs().pruned().prunes() << " prunings, last "
+                                 << b.pairs().pruned().pairCount() << " of " << b.pairs().neighbours().pairCount() << " LJ pairs, "
+                                 << b.pairs().pruned().widePairCount() << " of " << b.pairs().neighbours().widePairCount()
                                  << " oriented");
     CHECK(differing == 0);
-    CHECK(b.neighbours().builds() == a.neighbours().builds());
-    CHECK(a.pruneSkin() == 0);
-    CHECK(b.pruned().prunes() > b.neighbours().builds() + 3);  // pruned again between builds
-    CHECK(b.pruned().prunes() < 60);                           // and reused in between
+    CHECK(b.pairs().neighbours().builds() == a.pairs().neighbours().builds());
+    CHECK(a.pairs().pruneSkin() == 0);
+    CHECK(b.pairs().pruned().prunes() > b.pairs().neighbours().builds() + 3);  // pruned again between builds
+    CHECK(b.pairs().pruned().prunes() < 60);                           // and reused in between
     CHECK(fewerLj == 80);
     CHECK(fewerWide == 80);
 }
@@ -266,7 +266,7 @@ TEST_CASE("two subdomains with halos give the forces and energy of the whole box
         ForceStats ref;
         whole.compute(*m, ProbeState{}, all, ref);
         const double L = m->box.size().x(), cut = 0.5 * (m->box.lo.x() + m->box.hi.x());
-        const double range = whole.neighbours().range();
+        const double range = whole.pairs().neighbours().range();
         double energy = 0, virial = 0, worst = 0, maxF = 1;
         std::size_t owned = 0;
         for (int side = 0; side < 2; ++side) {
@@ -303,7 +303,7 @@ TEST_CASE("two subdomains with halos give the forces and energy of the whole box
                 worst = std::max({worst, (mine.force[k] - all.force[index[k]]).norm(),
                                   (mine.torque[k] - all.torque[index[k]]).norm()});
             }
-            CHECK(part.neighbours().haloPairs().size() > 100);
+            CHECK(part.pairs().neighbours().haloPairs().size() > 100);
         }
         INFO("surface species " << surface);
         CHECK(owned == all.size());

@@ -36,7 +36,7 @@ void BatchReport::phases(long long steps) {
     row("probe", t.forces.probe);
     row("integrate", t.integrate);
     row("construction", t.construction);
-    const core::NeighbourList& list = sim.forceField().neighbours();
+    const core::NeighbourList& list = sim.forceField().pairs().neighbours();
     const auto perPair = [](double seconds, double pairs) { return pairs > 0 ? seconds / pairs * 1e9 : 0.0; };
     os_ << "pair loops (CPU time over threads): " << std::setprecision(1)
         << perPair(t.forces.ljLoopSeconds, t.forces.ljPairs) << " ns per LJ pair in range, "
@@ -46,11 +46,11 @@ void BatchReport::phases(long long steps) {
         << " LJ pairs within its cutoff + skin (" << f.pairsInRange << " within the cutoff), " << list.widePairCount()
         << " oriented pairs within theirs (" << f.orientedPairsInRange << "), " << list.ghostCount()
         << " periodic images\n";
-    const core::ForceField& field = sim.forceField();
-    if (field.pruneSkin() > 0)
+    const core::PairForces& pairs = sim.forceField().pairs();
+    if (pairs.pruneSkin() > 0)
         os_ << "pair loops read the list pruned to each cutoff + " << std::setprecision(3)
-            << field.pruneSkin() / core::kR0 << " r0: pruned " << field.pruned().prunes() << " times, "
-            << field.pruned().pairCount() << " LJ and " << field.pruned().widePairCount()
+            << pairs.pruneSkin() / core::kR0 << " r0: pruned " << pairs.pruned().prunes() << " times, "
+            << pairs.pruned().pairCount() << " LJ and " << pairs.pruned().widePairCount()
             << " oriented pairs at the last\n";
 }
 

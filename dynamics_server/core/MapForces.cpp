@@ -1,0 +1,46 @@
+#include "MapForces.hpp"
+
+#include "Threads.hpp"
+
+namespace bop::core {
+
+float MapForces::curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species) {
+    if (!model.map || !model.isSurface(species)) return 1.0f;
+    const GradientMap& map = *model.map;
+    const double h = voxelLength(map.r0Voxels);
+    return map.nearestSurface(map.voxelAt((x / h).array().floor().cast<int>().matrix())).cpWeight;
+}
+
+void MapForces::add(const Model& model, Particles& p, ForceStats& stats, bool curvature) {
+    if (curvature) curvature_.assign(p.size(), 1.0f);
+    if (!model.map) return;
+    if (fieldMap_ != model.map) {
+        field_ = std::make_unique<GmField>(*model.map, model.interpolation);
+        fieldMap_ = model.map;
+    }
+    if (blendMap_ && blendFieldMap_ != blendMap_) {
+        blendField_ = std::make_unique<GmField>(*blendMap_, model.interpolation);
+        blendFieldMap_ = blendMap_;
+    }
+    const double w = blendMap_ ? blendW_ : 0.0;
+    const Dims& whole = model.map->wholeDims();
+    const Eigen::Vector3d centre = 0.5 * Eigen::Vector3d(whole.nx, whole.ny, whole.nz) * field_->voxelSize();
+    stats.wallVirial = sumIndex(p.size(), [&](std::size_t i) {  // each particle on its own: on the threads
+        const Species& sp = model.species[p.species[i]];
+        GmSample g = field_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
+        if (w > 0) {  // keyframes: on the way to the next frame's shape
+            const GmSample n = blendField_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
+            g.force = (1 - w) * g.force + w * n.force;
+            g.torque = (1 - w) * g.torque + w * n.torque;
+        }
+        p.force[i] += sp.alphaForceGm * g.force;
+        if (sp.kind == ParticleKind::Surface) {
+            p.torque[i] += sp.alphaTorqueGm * g.torque;
+            if (curvature) curvature_[i] = g.cpWeight;  // curvatureWeight(), from the same voxel
+            return 0.0;
+        }
+        return (p.pos[i] - centre).dot(sp.alphaForceGm * g.force);
+    });
+}
+
+}  // namespace bop::core

@@ -1,0 +1,168 @@
+#include "PairForces.hpp"
+
+#include "MapForces.hpp"
+
+#include <chrono>
+
+namespace bop::core {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+}  // namespace
+
+PairForces::PairForces(const Model& model)
+    : kernel_(model),
+      isVolume_(std::size_t(model.speciesCount()) + 1, 0),
+      isWide_(std::size_t(model.speciesCount()) + 1, 0),
+      oriented_(kernel_.anyOriented()),
+      skin_(model.integration.skinR0 * kR0),
+      prune_(model.integration.pruneR0 < model.integration.skinR0 ? model.integration.pruneR0 * kR0 : 0.0) {
+    for (int s = 1; s <= model.speciesCount(); ++s) {
+        isVolume_[std::size_t(s)] = !model.isSurface(s);
+        isWide_[std::size_t(s)] = oriented_ && kernel_.orientedSpecies(s);
+    }
+}
+
+double PairForces::listRange() const {
+    const double lj = kernel_.lj().cutoff() + skin_;
+    return oriented_ ? std::max(lj, kernel_.weight().cutoff() + skin_) : lj;
+}
+
+double PairForces::listRange(const Model& model) {
+    return PairForces(model).listRange();
+}
+
+void PairForces::setParams(const Model& model) {
+    const std::vector<char> wideBefore = isWide_;
+    const double ljCutBefore = kernel_.lj().cutoff(), wideCutBefore = kernel_.weight().cutoff();
+    const bool orientedBefore = oriented_;
+    kernel_ = PairKernel(model);
+    oriented_ = kernel_.anyOriented();
+    for (int s = 1; s <= model.speciesCount(); ++s) isWide_[std::size_t(s)] = oriented_ && kernel_.orientedSpecies(s);
+    if (oriented_ != orientedBefore || isWide_ != wideBefore || kernel_.lj().cutoff() != ljCutBefore ||
+        kernel_.weight().cutoff() != wideCutBefore)
+        requestRebuild();
+}
+
+bool PairForces::listHolds(const Model& model, const Particles& p) {
+    heldSinceCompute_ = p.revision == revision_ && list_.measure(model.box, p.pos, 0.5 * skin_);
+    return heldSinceCompute_;
+}
+
+void PairForces::updateList(const Model& model, const Particles& p, const Halo* halo) {
+    static const std::vector<Eigen::Vector3d> kNoHalo;
+    const std::vector<Eigen::Vector3d>& haloPos = halo ? halo->pos : kNoHalo;
+    const bool held = heldSinceCompute_;
+    heldSinceCompute_ = false;
+    if (p.revision != revision_ || !(held || list_.measure(model.box, p.pos, 0.5 * skin_))) {
+        if (oriented_) {  // the oriented terms' pairs: surface particles with weights, to their cutoff
+            wide_.range = kernel_.weight().cutoff() + skin_;
+            wide_.member.resize(p.size() + haloPos.size());
+            for (std::size_t i = 0; i < p.size(); ++i) wide_.member[i] = isWide_[p.species[i]];
+            for (std::size_t g = 0; g < haloPos.size(); ++g) wide_.member[p.size() + g] = isWide_[halo->species[g]];
+        }
+        list_.build(model.box, kernel_.lj().cutoff() + skin_, p.pos, haloPos, oriented_ ? &wide_ : nullptr);
+        list_.measure(model.box, p.pos, 0.5 * skin_);
+        revision_ = p.revision;
+    }
+    list_.move(haloPos);
+    // Half the inner skin, less a margin for rounding: a dropped pair stays beyond its cutoff.
+    if (prune_ > 0 && !pruned_.holds(list_))
+        pruned_.prune(list_, kernel_.lj().cutoff() + prune_, kernel_.weight().cutoff() + prune_,
+                      0.5 * prune_ * (1.0 - 1e-9));
+}
+
+void PairForces::gatherEntries(const Model& model, const Particles& p, const Halo* halo,
+                               const std::vector<float>& curvature) {
+    const auto& owner = list_.owner();
+    const std::size_t ne = list_.entryCount(), n = p.size();
+    PairEntries& e = entries_;
+    if (speciesBuild_ != list_.builds()) {  // entries change only when the list is built
+        e.species.resize(ne);
+        for (std::size_t k = 0; k < ne; ++k)
+            e.species[k] = owner[k] < n ? p.species[owner[k]] : halo->species[owner[k] - n];
+        speciesBuild_ = list_.builds();
+    }
+    e.force.resize(ne);
+    if (!oriented_) return;
+    e.torque.resize(ne);
+    e.normal.resize(ne);
+    e.curvature.resize(ne);
+    for (std::size_t k = 0; k < ne; ++k) {
+        if (owner[k] < n) {
+            e.normal[k] = p.normal[owner[k]];
+            e.curvature[k] = curvature[owner[k]];
+        } else {
+            const std::size_t g = owner[k] - n;
+            e.normal[k] = halo->normal[g];
+            e.curvature[k] = MapForces::curvatureWeight(model, halo->pos[g], halo->species[g]);
+        }
+    }
+}
+
+void PairForces::add(const Model& model, Particles& p, const Halo* halo, const std::vector<float>& curvature,
+                     ForceStats& stats, bool energies, PhaseTimes* times) {
+    auto t0 = Clock::now();
+    updateList(model, p, halo);
+    if (times) times->neighbours += since(t0);
+    t0 = Clock::now();
+    gatherEntries(model, p, halo, curvature);
+    if (chunkedBuild_ != list_.builds()) chunks_.plan(list_, oriented_), chunkedBuild_ = list_.builds();
+    // Pairs within the subdomain count whole, pairs with halo ghosts by half (the ghost's owner
+    // counts the other half).
+    PairKernel::Sums sums, haloSums;
+    PairEntries& e = entries_;
+    const PairInputs in{list_.positions().data(), e.species.data(), isVolume_.data(), e.force.data()};
+    const OrientedInputs o{e.normal.data(), e.curvature.data(), e.torque.data()};
+    double loopSeconds[2] = {0, 0};
+    const PrunedPairs::Sets sets = prune_ > 0 ? pruned_.sets() : PrunedPairs::whole(list_);
+    chunks_.run(kernel_, sets, in, o, energies, halo != nullptr, sums, haloSums, loopSeconds);
+    // Forces on images go to their particles; forces on halo ghosts are their owners' business.
+    const auto& owner = list_.owner();
+    const std::size_t ne = list_.entryCount(), n = p.size();
+    for (std::size_t k = 0; k < ne; ++k)
+        if (owner[k] < n) p.force[owner[k]] += e.force[k];
+    if (oriented_)
+        for (std::size_t k = 0; k < ne; ++k)
+            if (owner[k] < n) p.torque[owner[k]] += e.torque[k];
+    stats.pairEnergy = energies ? sums.energy + 0.5 * haloSums.energy : 0.0;
+    stats.virial = sums.virial + 0.5 * haloSums.virial;
+    stats.virialVolume = sums.virialVolume + 0.5 * haloSums.virialVolume;
+    stats.pairsInRange = sums.inRange + haloSums.inRange;
+    stats.orientedPairsInRange = sums.orientedInRange + haloSums.orientedInRange;
+    if (times) {
+        times->pairs += since(t0);
+        times->ljLoopSeconds += loopSeconds[0];
+        times->orientedLoopSeconds += loopSeconds[1];
+        times->ljPairs += double(stats.pairsInRange);
+        times->orientedPairs += double(stats.orientedPairsInRange);
+    }
+}
+
+void PairForces::bruteForce(const Model& model, Particles& p, ForceStats& stats) {
+    const PairKernel kernel(model);
+    std::vector<float> w(p.size(), 1.0f);
+    for (std::size_t i = 0; i < p.size(); ++i) w[i] = MapForces::curvatureWeight(model, p.pos[i], p.species[i]);
+    PairKernel::Sums sums;
+    const Eigen::Vector3d L = model.box.size();
+    for (std::size_t i = 0; i < p.size(); ++i)
+        for (std::size_t j = i + 1; j < p.size(); ++j) {
+            Eigen::Vector3d r = p.pos[j] - p.pos[i];
+            for (int a = 0; a < 3; ++a)
+                if (model.box.periodic[std::size_t(a)]) r[a] -= L[a] * std::round(r[a] / L[a]);
+            kernel.apply(i, j, p.species[i], p.species[j], r, r.squaredNorm(), p.normal[i], p.normal[j], w[i], w[j],
+                         p.force.data(), p.torque.data(), !model.isSurface(p.species[i]),
+                         !model.isSurface(p.species[j]), sums);
+        }
+    stats.pairEnergy = sums.energy;
+    stats.virial = sums.virial;
+    stats.virialVolume = sums.virialVolume;
+    stats.pairsInRange = sums.inRange;
+    stats.orientedPairsInRange = sums.orientedInRange;
+}
+
+}  // namespace bop::core
