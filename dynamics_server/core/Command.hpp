@@ -2,7 +2,7 @@
 // Commands to a running simulation (from the network front, a replay or a script). They are
 // queued on rank 0 and applied by every process at the start of the next step (Simulation.hpp),
 // so that every rank applies them at the same step.
-#include "ForceField.hpp"
+#include "Potentials.hpp"
 
 #include <Eigen/Core>
 

@@ -14,7 +14,7 @@ double since(Clock::time_point t) {
 
 }  // namespace
 
-ForceField::ForceField(const Model& model) : pairs_(model) {}
+ForceField::ForceField(const Model& model, const Params& params) : pairs_(model, params) {}
 
 void ForceField::compute(const Model& model, const ProbeState& probe, Particles& p, ForceStats& stats,
                          PhaseTimes* times, bool energies, const Halo* halo) {

@@ -7,15 +7,10 @@
 
 namespace bop::core {
 
-struct ProbeState {
-    bool active = false;
-    Eigen::Vector3d position = Eigen::Vector3d::Zero();  // simulation length units
-    ProbeParams params;                                  // k0, k1 (eq. 9)
-};
-
 class ForceField {
 public:
-    explicit ForceField(const Model& model);
+    ForceField(const Model& model, const Params& params);
+    explicit ForceField(const Model& model) : ForceField(model, Params(model)) {}  // the scene's weights
 
     // Overwrites particles.force and particles.torque. energies = false skips the pair
     // energies (stats.pairEnergy is then 0); the forces do not depend on it. halo: ghosts owned
@@ -23,10 +18,9 @@ public:
     void compute(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats,
                  PhaseTimes* times = nullptr, bool energies = true, const Halo* halo = nullptr);
 
-    // Weights and potentials' parameters of another model of the same scene (a command between
-    // steps): the kernel's tables again, the neighbour list kept unless the pairs it must hold
-    // change (the oriented pairs' members, a cutoff).
-    void setParams(const Model& model) { pairs_.setParams(model); }
+    // Weights of a command between steps: the kernel's tables again, the neighbour list kept
+    // unless the pairs it must hold change (the oriented pairs' members, a cutoff).
+    void setParams(const Model& model, const Params& params) { pairs_.setParams(model, params); }
 
     // Whether the neighbour list still serves these particles (none added or removed, none moved
     // more than half the skin). A decomposed run asks every rank and rebuilds on all if one says

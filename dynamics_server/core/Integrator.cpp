@@ -15,13 +15,13 @@ inline void limit(Eigen::Vector3d& v, double max2) {
 
 }  // namespace
 
-DragFactors::DragFactors(const Model& m) : v(m.species.size(), 1.0), w(m.species.size(), 1.0) {
+DragFactors::DragFactors(const Model& m, const Params& p) : v(m.species.size(), 1.0), w(m.species.size(), 1.0) {
     const double dt = m.integration.dt;
     maxSpeed2 = std::pow(m.integration.maxStepR0 * kR0 / dt, 2);
     maxSpin2 = std::pow(m.integration.maxTurn / dt, 2);
     for (std::size_t s = 1; s < m.species.size(); ++s) {
-        v[s] = std::exp(-m.species[s].dragV * dt / 2.0);
-        w[s] = std::exp(-m.species[s].dragW * dt / (2.0 * m.integration.inertia));
+        v[s] = std::exp(-p.drag[s].v * dt / 2.0);
+        w[s] = std::exp(-p.drag[s].w * dt / (2.0 * m.integration.inertia));
     }
 }
 

@@ -7,17 +7,18 @@
 // After each B, |v| dt and |omega| dt are held within Integration::maxStepR0 r0 and maxTurn.
 // Mass 1; surface particles rotate with inertia I, volume particles do not rotate.
 #include "Model.hpp"
+#include "Params.hpp"
 #include "Particles.hpp"
 
 namespace bop::core {
 
 // Per species: exp(-beta_v dt / 2) and exp(-beta_tau dt / (2 I)), the drag's exact half step;
-// and the speed limits of Integration::maxStepR0 and maxTurn. Built once per model, outside the
-// step loop.
+// and the speed limits of Integration::maxStepR0 and maxTurn. Built when the drags change,
+// outside the step loop.
 struct DragFactors {
     std::vector<double> v, w;
     double maxSpeed2 = 0, maxSpin2 = 0;  // (length / time)^2 and (radians / time)^2; 0: no limit
-    explicit DragFactors(const Model& m);
+    DragFactors(const Model& m, const Params& p);
 };
 
 // O, B and A; wraps positions into the box along periodic axes unless wrap = false (a

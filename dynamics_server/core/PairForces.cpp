@@ -14,8 +14,8 @@ double since(Clock::time_point t) {
 
 }  // namespace
 
-PairForces::PairForces(const Model& model)
-    : kernel_(model),
+PairForces::PairForces(const Model& model, const Params& params)
+    : kernel_(model, params),
       isVolume_(std::size_t(model.speciesCount()) + 1, 0),
       isWide_(std::size_t(model.speciesCount()) + 1, 0),
       oriented_(kernel_.anyOriented()),
@@ -32,15 +32,15 @@ double PairForces::listRange() const {
     return oriented_ ? std::max(lj, kernel_.weight().cutoff() + skin_) : lj;
 }
 
-double PairForces::listRange(const Model& model) {
-    return PairForces(model).listRange();
+double PairForces::listRange(const Model& model, const Params& params) {
+    return PairForces(model, params).listRange();
 }
 
-void PairForces::setParams(const Model& model) {
+void PairForces::setParams(const Model& model, const Params& params) {
     const std::vector<char> wideBefore = isWide_;
     const double ljCutBefore = kernel_.lj().cutoff(), wideCutBefore = kernel_.weight().cutoff();
     const bool orientedBefore = oriented_;
-    kernel_ = PairKernel(model);
+    kernel_ = PairKernel(model, params);
     oriented_ = kernel_.anyOriented();
     for (int s = 1; s <= model.speciesCount(); ++s) isWide_[std::size_t(s)] = oriented_ && kernel_.orientedSpecies(s);
     if (oriented_ != orientedBefore || isWide_ != wideBefore || kernel_.lj().cutoff() != ljCutBefore ||
@@ -144,7 +144,7 @@ void PairForces::add(const Model& model, Particles& p, const Halo* halo, const s
 }
 
 void PairForces::bruteForce(const Model& model, Particles& p, ForceStats& stats) {
-    const PairKernel kernel(model);
+    const PairKernel kernel(model, Params(model));
     std::vector<float> w(p.size(), 1.0f);
     for (std::size_t i = 0; i < p.size(); ++i) w[i] = MapForces::curvatureWeight(model, p.pos[i], p.species[i]);
     PairKernel::Sums sums;

@@ -35,7 +35,7 @@ struct PairEntries {
 
 class PairForces {
 public:
-    explicit PairForces(const Model& model);
+    PairForces(const Model& model, const Params& params);
 
     // Adds the pair forces and torques to particles.force and .torque and fills the pair fields
     // of stats. curvature: per particle, the co-planar weight from the map (MapForces); halo
@@ -44,7 +44,7 @@ public:
              ForceStats& stats, bool energies, PhaseTimes* times);
 
     // ForceField::setParams: the kernel's tables again, the list kept unless its pairs change.
-    void setParams(const Model& model);
+    void setParams(const Model& model, const Params& params);
     // ForceField::listHolds and requestRebuild.
     bool listHolds(const Model& model, const Particles& particles);
     void requestRebuild() { revision_ = ~std::uint64_t(0); }
@@ -55,10 +55,10 @@ public:
     double pruneSkin() const { return prune_; }  // length units; 0: the loops read the whole list
     std::size_t chunks() const { return chunks_.count(); }
     double listRange() const;                     // the largest cutoff + skin, length units
-    static double listRange(const Model& model);  // the same of any model
+    static double listRange(const Model& model, const Params& params);  // the same of any model
 
-    // Reference O(N^2) pair forces (tests): PairKernel::apply pair by pair, the map's curvature
-    // weights, no lists.
+    // Reference O(N^2) pair forces (tests): PairKernel::apply pair by pair, the scene's weights,
+    // the map's curvature weights, no lists.
     static void bruteForce(const Model& model, Particles& particles, ForceStats& stats);
 
 private:

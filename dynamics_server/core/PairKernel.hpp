@@ -6,6 +6,7 @@
 // (LjPairLoop, OrientedPairLoop) read the same tables and evaluate the same physics
 // (LjForm::forceOverR, OrientedTerms.hpp).
 #include "Model.hpp"
+#include "Params.hpp"
 #include "Potentials.hpp"
 
 #include <vector>
@@ -14,7 +15,8 @@ namespace bop::core {
 
 class PairKernel {
 public:
-    explicit PairKernel(const Model& m)
+    // The scene's species and potentials, the weights in force.
+    PairKernel(const Model& m, const Params& p)
         : lj_(m.ljParams),
           weight_(m.oriented),
           n_(m.speciesCount() + 1),
@@ -33,18 +35,18 @@ public:
             for (int b = 1; b < n_; ++b) {
                 const std::size_t k = std::size_t(a) * n_ + b;
                 const Species& sa = m.species[std::size_t(a)];
-                ljF_[k] = sa.alphaForceOp * m.lj(a, b);
-                ljE_[k] = 0.5 * (m.lj(a, b) + m.lj(b, a));
+                ljF_[k] = sa.alphaForceOp * p.lj(a, b);
+                ljE_[k] = 0.5 * (p.lj(a, b) + p.lj(b, a));
                 const bool both = m.isSurface(a) && m.isSurface(b);
                 if (!both) continue;
-                cnF_[k] = sa.alphaForceOp * m.coNormal(a, b);
-                cnT_[k] = sa.alphaTorqueOp * m.coNormal(a, b);
-                cpF_[k] = sa.alphaForceOp * m.coPlanar(a, b);
-                cpT_[k] = sa.alphaTorqueOp * m.coPlanar(a, b);
-                cnE_[k] = 0.5 * (m.coNormal(a, b) + m.coNormal(b, a));
-                cpE_[k] = 0.5 * (m.coPlanar(a, b) + m.coPlanar(b, a));
+                cnF_[k] = sa.alphaForceOp * p.coNormal(a, b);
+                cnT_[k] = sa.alphaTorqueOp * p.coNormal(a, b);
+                cpF_[k] = sa.alphaForceOp * p.coPlanar(a, b);
+                cpT_[k] = sa.alphaTorqueOp * p.coPlanar(a, b);
+                cnE_[k] = 0.5 * (p.coNormal(a, b) + p.coNormal(b, a));
+                cpE_[k] = 0.5 * (p.coPlanar(a, b) + p.coPlanar(b, a));
                 oriented_[k] =
-                    (m.coNormal(a, b) != 0 || m.coNormal(b, a) != 0 || m.coPlanar(a, b) != 0 || m.coPlanar(b, a) != 0);
+                    (p.coNormal(a, b) != 0 || p.coNormal(b, a) != 0 || p.coPlanar(a, b) != 0 || p.coPlanar(b, a) != 0);
             }
         cutoff2_ = std::max(lj_.cutoff2(), m.hasSurfaceSpecies() ? weight_.cutoff2() : 0.0);
     }

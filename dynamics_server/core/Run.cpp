@@ -79,17 +79,16 @@ const Construction& Run::construction() const {
 
 void Run::reseat(const Particles& all, const Construction& construction, long long step) {
     Impl& i = *impl_;
-    const ProbeState probe = i.sim->probe();
     const StepTimes times = i.sim->times();
     SimulationOptions o = i.options;
     o.construction = construction;
     o.firstStep = step;
+    o.params = i.sim->params();  // the weights, drags and probe that commands set
     i.carriedMigrations += double(i.ex->counts().migrations);
     i.carriedRebuilds += double(i.sim->rebuilds());
     i.carriedExchange += i.sim->exchangeSeconds();
     i.carriedRebalances += double(i.ex->counts().rebalances);
     i.start(all, std::move(o));
-    i.sim->probe() = probe;
     i.sim->setTimes(times);
     i.sim->setEnergyEvery(i.energyEvery);
     i.keepIfSound();

@@ -16,24 +16,11 @@ double since(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-void setWeight(Model& m, const Command& c) {  // std::invalid_argument if out of range
-    if (c.other < 1 || c.other > m.speciesCount())
-        throw std::invalid_argument("weight command: no species " + std::to_string(c.other));
-    if (c.species < 1 || c.species > m.speciesCount())
-        throw std::invalid_argument("weight command: no species " + std::to_string(c.species));
-    if (!std::isfinite(c.value) || c.value < 0)
-        throw std::invalid_argument("weight command: weights must be 0 or more");
-    WeightMatrix& w = c.table == Command::Table::Lj         ? m.lj
-                      : c.table == Command::Table::CoNormal ? m.coNormal
-                                                            : m.coPlanar;
-    w(c.species, c.other) = c.value;
-}
-
 }  // namespace
 
 double haloReach(const Model& model, const SimulationOptions& o) {
     const double front = o.construction ? o.construction->params().frontR0 : ConstructionParams{}.frontR0;
-    return std::max(PairForces::listRange(model), model.map || o.map ? front * kR0 : 0.0);
+    return std::max(PairForces::listRange(model, Params(model)), model.map || o.map ? front * kR0 : 0.0);
 }
 
 Simulation::Simulation(std::shared_ptr<const Model> model, Particles particles, Construction construction,
@@ -41,16 +28,19 @@ Simulation::Simulation(std::shared_ptr<const Model> model, Particles particles, 
     : ownExchange_(std::make_unique<Exchange>()),
       ex_(ownExchange_.get()),
       model_(std::move(model)),
-      sub_(*model_),
-      field_(*model_),
-      drag_(*model_),
+      params_(*model_),
+      region_(model_->box),
+      local_(model_),
+      field_(*model_, params_),
+      drag_(*model_, params_),
       p_(std::move(particles)),
       construction_(std::move(construction)) {
     stats_.step = firstStep;
     stats_.time = double(firstStep) * model_->integration.dt;
     range_ = field_.pairs().listRange();
     placeMaps();
-    field_ = ForceField(sub_);
+    placeLocal();
+    field_ = ForceField(*local_, params_);
     applyKeyframe(stats_.time);
     forcesStale_ = true;  // the first step computes them, with its own keyframe
 }
@@ -59,17 +49,20 @@ Simulation::Simulation(std::shared_ptr<const Model> model, const Particles& all,
                        Exchange& exchange)
     : ex_(&exchange),
       model_(std::move(model)),
-      sub_(*model_),
-      field_(*model_),
-      drag_(*model_),
+      params_(options.params ? *options.params : Params(*model_)),
+      region_(model_->box),
+      local_(model_),
+      field_(*model_, params_),
+      drag_(*model_, params_),
       construction_(options.construction ? *options.construction : Construction({}, {}, model_->speciesCount())),
       mapSource_(std::move(options.map)) {
     stats_.step = options.firstStep;
     stats_.time = double(options.firstStep) * model_->integration.dt;
     range_ = field_.pairs().listRange();
-    sub_.box = ex_->region(model_->box);
+    region_ = ex_->region(model_->box);
     placeMaps();
-    field_ = ForceField(sub_);  // with the map window: the pair terms' curvature weights need to know of a map
+    placeLocal();
+    field_ = ForceField(*local_, params_);  // with the map window: the pair terms' curvature weights need to know of a map
     applyKeyframe(stats_.time);
     for (std::size_t i = 0; i < all.size(); ++i) {
         if (!ex_->owns(all.pos[i])) continue;
@@ -81,32 +74,19 @@ Simulation::Simulation(std::shared_ptr<const Model> model, const Particles& all,
     }
     placeRegion(ex_->start(p_, halo_, range_));
     forces(true);
-    stats_.kinetic = kineticEnergy(sub_, p_);
+    stats_.kinetic = kineticEnergy(*local_, p_);
 }
 
 Simulation::~Simulation() = default;
 Simulation::Simulation(Simulation&&) noexcept = default;
 
-void Simulation::setModel(std::shared_ptr<const Model> m) {
-    const Box region = sub_.box;
-    const std::shared_ptr<const GradientMap> map = sub_.map;
-    const std::vector<std::shared_ptr<const GradientMap>> frames = sub_.frames;
-    model_ = std::move(m);
-    sub_ = *model_;
-    sub_.box = region;
-    sub_.map = map;
-    sub_.frames = frames;
-    drag_ = DragFactors(sub_);
-    field_.setParams(sub_);
-    forcesStale_ = true;
-}
-
 void Simulation::submit(const Command& command) {
     if (ex_->rank() != 0) throw std::logic_error("commands are submitted on rank 0");
-    if (command.kind == Command::Kind::Weight) {  // refused here, before any process sees it
-        Model trial = sub_;
-        setWeight(trial, command);
-        if (PairForces::listRange(trial) != range_)
+    if (command.kind == Command::Kind::Probe || command.kind == Command::Kind::Drag ||
+        command.kind == Command::Kind::Weight) {  // refused here, before any process sees it
+        Params trial = params_;
+        trial.apply(command);
+        if (PairForces::listRange(*local_, trial) != range_)
             throw std::invalid_argument(
                 "weight command: it would change the interaction range (oriented terms on or "
                 "off); give the scene a nonzero weight of that kind to start with");
@@ -115,30 +95,22 @@ void Simulation::submit(const Command& command) {
 }
 
 void Simulation::apply(const Command& c) {
-    if (c.kind == Command::Kind::Probe) {
-        probe_ = c.probe;
-        return;
-    }
-    if (c.species < 1 || c.species > sub_.speciesCount())
-        throw std::invalid_argument("command: no species " + std::to_string(c.species));
     if (c.kind == Command::Kind::Birth) {
+        if (c.species < 1 || c.species > model_->speciesCount())
+            throw std::invalid_argument("command: no species " + std::to_string(c.species));
         construction_.setBirth(c.species, c.on);
         return;
     }
+    params_.apply(c);
     if (c.kind == Command::Kind::Weight) {
-        setWeight(sub_, c);
-        field_.setParams(sub_);
+        field_.setParams(*local_, params_);
         forcesStale_ = true;
-        return;
     }
-    if (!(c.dragV >= 0 && c.dragW >= 0)) throw std::invalid_argument("drag command: drags must be 0 or more");
-    sub_.species[std::size_t(c.species)].dragV = c.dragV;
-    sub_.species[std::size_t(c.species)].dragW = c.dragW;
-    drag_ = DragFactors(sub_);
+    if (c.kind == Command::Kind::Drag) drag_ = DragFactors(*local_, params_);
 }
 
 void Simulation::forces(bool energies) {
-    field_.compute(sub_, probe_, p_, stats_.forces, &times_.forces, energies, ex_->hasGhosts() ? &halo_ : nullptr);
+    field_.compute(*local_, params_.probe, p_, stats_.forces, &times_.forces, energies, ex_->hasGhosts() ? &halo_ : nullptr);
     forcesStale_ = false;
     energiesCurrent_ = energies;
 }
@@ -150,8 +122,9 @@ void Simulation::refreshForces() {
 void Simulation::placeRegion(Refreshed r) {
     if (r == Refreshed::Kept) return;
     if (r == Refreshed::Moved) {
-        sub_.box = ex_->region(model_->box);
+        region_ = ex_->region(model_->box);
         placeMaps();
+        placeLocal();
     }
     field_.requestRebuild();
 }
@@ -167,12 +140,12 @@ void Simulation::step() {
             apply(c);
             continue;
         }
-        if (c.species < 1 || c.species > sub_.speciesCount())
+        if (c.species < 1 || c.species > model_->speciesCount())
             throw std::invalid_argument("seed command: no species " + std::to_string(c.species));
         ConstructionEvent e;
         e.step = stats_.step;
         e.species = c.species;
-        e.positionVoxels = c.position / (sub_.map ? voxelLength(sub_.map->r0Voxels) : 1.0);
+        e.positionVoxels = c.position / (local_->map ? voxelLength(local_->map->r0Voxels) : 1.0);
         events.push_back(e);
     }
     commands_.clear();
@@ -182,9 +155,9 @@ void Simulation::step() {
     if (forcesStale_) forces(true);  // the step starts from forces of today's weights and particles
 
     t0 = Clock::now();
-    kickDrift(sub_, drag_, p_, ex_->wrapsEveryDrift());
+    kickDrift(*local_, drag_, p_, ex_->wrapsEveryDrift());
     times_.integrate += since(t0);
-    const bool holds = field_.listHolds(sub_, p_);
+    const bool holds = field_.listHolds(*local_, p_);
     t0 = Clock::now();
     const Refreshed r = ex_->afterDrift(p_, halo_, range_, holds);
     if (r != Refreshed::Kept) ++rebuilds_;
@@ -195,8 +168,8 @@ void Simulation::step() {
     forces(energiesNext_ || stats_.step % energyEvery_ == 0);
     energiesNext_ = false;
     t0 = Clock::now();
-    stats_.kinetic = kick(sub_, drag_, p_);
-    stats_.blood = bloodSums(sub_, p_);
+    stats_.kinetic = kick(*local_, drag_, p_);
+    stats_.blood = bloodSums(*local_, p_);
     times_.integrate += since(t0);
     if (!ex_->allTrue(sound(*model_, p_, stats_.forces.probeReaction))) throwUnsound();
 }
@@ -229,7 +202,7 @@ struct ProcessSums {
 
 Totals Simulation::totals() const {
     const ForceStats& f = stats_.forces;
-    const BloodSums blood = bloodSums(sub_, p_);
+    const BloodSums blood = bloodSums(*local_, p_);
     const ProcessSums mine{double(p_.size()), stats_.kinetic,  f.pairEnergy, f.probeEnergy, f.virial,
                            f.virialVolume,    f.probeReaction, blood.mv2,    blood.count,   f.wallVirial};
     const ProcessSums sum = sumInOrder(ex_->allGather(std::vector{mine}));

@@ -11,6 +11,7 @@
 #include "Exchange.hpp"
 #include "ForceField.hpp"
 #include "Integrator.hpp"
+#include "Params.hpp"
 #include "SoundState.hpp"
 #include "bop/common/GradientMapCrop.hpp"
 
@@ -65,6 +66,7 @@ struct SimulationOptions {
     std::optional<Construction> construction;  // timeline and parameters; none: no timeline
     long long firstStep = 0;                   // step number of the initial state
     std::optional<MapSource> map;              // none: windows of model->map
+    std::optional<Params> params;              // none: the scene's weights and drags, the probe off
 };
 
 // The widest reach of ghosts a run needs: the pair terms' list range, or the birth front of
@@ -102,15 +104,15 @@ public:
     void energiesNextStep() { energiesNext_ = true; }
     bool energiesCurrent() const { return energiesCurrent_; }  // the last forces came with energies
 
-    // The model over this process's region, with its window of the map in force.
-    const Model& model() const { return sub_; }
-    // Between steps, on one process: weights, drags and parameters of another model of the same
-    // scene (the same box and maps).
-    void setModel(std::shared_ptr<const Model> m);
+    // The scene's constants over this process's region, with its window of the map in force:
+    // made again, whole, when the region or the map in force changes, never written field by
+    // field. Its weights and drags are the scene's first ones; those in force are params().
+    const Model& model() const { return *local_; }
+    const Params& params() const { return params_; }  // weights, drags and probe in force
     const Particles& particles() const { return p_; }
     Particles& particles() { return p_; }  // between steps (tests)
     const Halo& halo() const { return halo_; }
-    ProbeState& probe() { return probe_; }
+    ProbeState& probe() { return params_.probe; }  // between steps, on one process (tests)
     Construction& construction() { return construction_; }
     const Construction& construction() const { return construction_; }
     const StepStats& stats() const { return stats_; }
@@ -138,7 +140,8 @@ private:
     void apply(const Command& c);                           // every process, at the start of a step
     void construct(std::vector<ConstructionEvent> events);  // SimulationConstruction.cpp
     Eigen::Vector3d defaultSeed(int species) const;         // collective
-    void placeMaps();                                       // this region's windows of the map(s); SimulationMaps.cpp
+    void placeMaps();   // this region's windows of the map(s); SimulationMaps.cpp
+    void placeLocal();  // local_ again: the scene over region_ with the window of the map in force
     void applyKeyframe(double time);
     void placeRegion(Refreshed r);  // after the exchange's refresh: a new region's windows, a new list
     void forces(bool energies);
@@ -147,19 +150,20 @@ private:
     std::unique_ptr<Exchange> ownExchange_;  // one process's
     Exchange* ex_;
     std::shared_ptr<const Model> model_;  // the whole scene
-    Model sub_;                           // the same over this process's region, its map window in force
+    Params params_;                       // what commands change
+    Box region_;                          // this process's region of the box (state: the exchange moves it)
+    std::shared_ptr<const Model> local_;  // the scene over region_, the window of the map in force
     ForceField field_;
-    DragFactors drag_;
+    DragFactors drag_;  // of params_.drag
     Particles p_;
     Halo halo_;
-    ProbeState probe_;
     Construction construction_;
     StepStats stats_;
     StepTimes times_;
     double range_ = 0;  // neighbour-list range, length
     long long energyEvery_ = 1;
     bool energiesNext_ = false, energiesCurrent_ = false;
-    bool forcesStale_ = false;       // a command or setModel changed the weights since the last forces
+    bool forcesStale_ = false;       // a command changed the weights since the last forces
     std::vector<Command> commands_;  // queued on rank 0
     std::size_t rebuilds_ = 0;
     double exchangeSeconds_ = 0;

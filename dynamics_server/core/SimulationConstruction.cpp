@@ -49,8 +49,8 @@ void removeIds(Particles& p, const std::vector<std::uint64_t>& sortedIds) {
 }  // namespace
 
 Eigen::Vector3d Simulation::defaultSeed(int species) const {
-    if (!sub_.map) throw std::invalid_argument("seeding needs a gradient map");
-    const auto best = core::defaultSeed(construction_.params(), sub_, species,
+    if (!local_->map) throw std::invalid_argument("seeding needs a gradient map");
+    const auto best = core::defaultSeed(construction_.params(), *local_, species,
                                         [&](const Eigen::Vector3d& x) { return ex_->owns(x); });
     const std::vector<SeedOffer> all =
         ex_->allGather(std::vector{best ? SeedOffer{1, best->key.first, best->key.second, best->pos} : SeedOffer{}});
@@ -77,13 +77,13 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
             construction_.setBirth(e.species, e.action == ConstructionEvent::Action::BirthOn);
             continue;
         }
-        const double h = sub_.map ? voxelLength(sub_.map->r0Voxels) : 1.0;
+        const double h = local_->map ? voxelLength(local_->map->r0Voxels) : 1.0;
         const Eigen::Vector3d x = e.positionVoxels ? Eigen::Vector3d(*e.positionVoxels * h) : defaultSeed(e.species);
         const double near = construction_.params().deathR0 * kR0;  // the ghosts reach further
         const bool free = !crowded(p_.pos, model_->box, x, near) && !crowded(halo_.pos, model_->box, x, near) &&
                           !crowded(seeded, model_->box, x, near);
         const std::size_t before = p_.size();
-        construction_.seed(sub_, p_, e.species, x, step, ex_->owns(x) && free);  // every process counts the seed
+        construction_.seed(*local_, p_, e.species, x, step, ex_->owns(x) && free);  // every process counts the seed
         changed = changed || p_.size() != before;
         seeded.push_back(x);
     }
@@ -95,23 +95,23 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
         for (std::size_t g = 0; g < halo_.size(); ++g) seen.add(halo_.pos[g], halo_.species[g], halo_.id[g]);
         const std::size_t owned = p_.size();
 
-        std::vector<std::size_t> count = speciesCounts(*ex_, p_, sub_.speciesCount());
+        std::vector<std::size_t> count = speciesCounts(*ex_, p_, model_->speciesCount());
         const std::vector<std::uint64_t> die =
-            chooseDeaths(params, gatherMarks(*ex_, markDeaths(params, {sub_, sub_.box, seen, owned}, step)), count,
+            chooseDeaths(params, gatherMarks(*ex_, markDeaths(params, {*local_, local_->box, seen, owned}, step)), count,
                          construction_.birthSwitches());
         removeIds(p_, die);
         removeIds(seen, die);
         built.deaths = die.size();
 
-        count = speciesCounts(*ex_, p_, sub_.speciesCount());
-        for (int s = 1; sub_.map && s <= sub_.speciesCount(); ++s) {
+        count = speciesCounts(*ex_, p_, model_->speciesCount());
+        for (int s = 1; local_->map && s <= model_->speciesCount(); ++s) {
             if (!construction_.birthOn(s) || count[std::size_t(s)] == 0) continue;  // births grow from a seed
-            const auto found = birthCandidates(params, {sub_, sub_.box, seen, p_.size()}, s, step,
+            const auto found = birthCandidates(params, {*local_, local_->box, seen, p_.size()}, s, step,
                                                [&](const Eigen::Vector3d& x) { return ex_->owns(x); });
             const auto winners =
                 chooseBirths(params, model_->box, gatherCandidates(*ex_, found), count[std::size_t(s)]);
             for (const auto& w : winners) {
-                if (ex_->owns(w.pos)) addBirth(sub_, p_, s, w, step);
+                if (ex_->owns(w.pos)) addBirth(*local_, p_, s, w, step);
                 // Every newborn blocks later species' births nearby, here too; across a periodic
                 // seam that other processes hold, as the image this process's ghosts would show.
                 for (int image = 0; image < 27; ++image) {

@@ -32,7 +32,7 @@ void Simulation::placeMaps() {
         // ghosts (whose curvature weights the pair terms read) up to the list range beyond it;
         // the trilinear rule reads one voxel further.
         const double margin = 1.5 * range_ + 2 * h;
-        const bop::VoxelWindow w = bop::windowAround(whole.dims(), h, sub_.box.lo, sub_.box.hi, margin);
+        const bop::VoxelWindow w = bop::windowAround(whole.dims(), h, region_.lo, region_.hi, margin);
         if (!first && w.lo == window_.lo && w.hi == window_.hi) return;
         window_ = w;
         // The new windows are made while the old ones live, so the force field, which notices a
@@ -42,16 +42,14 @@ void Simulation::placeMaps() {
             next.push_back(std::make_shared<const GradientMap>(mapSource_->crop(f, w)));
         frames_ = std::move(next);
     }
-    sub_.frames = frames_.size() > 1 ? frames_ : std::vector<std::shared_ptr<const GradientMap>>{};
-    sub_.map = frames_[std::size_t(stats_.keyframe.a)];
     field_.setMapBlend(frames_[std::size_t(stats_.keyframe.b)].get(), stats_.keyframe.w);  // not the old window's
     if (!first) return;
     // The whole maps' voxel counts: each process counts the voxel centres in its region (one
     // process: all of them), summed in rank order.
     const double inf = std::numeric_limits<double>::infinity();
     const bool whole = ex_->size() == 1;
-    const Eigen::Vector3d lo = whole ? Eigen::Vector3d::Constant(-inf) : sub_.box.lo;
-    const Eigen::Vector3d hi = whole ? Eigen::Vector3d::Constant(inf) : sub_.box.hi;
+    const Eigen::Vector3d lo = whole ? Eigen::Vector3d::Constant(-inf) : region_.lo;
+    const Eigen::Vector3d hi = whole ? Eigen::Vector3d::Constant(inf) : region_.hi;
     std::vector<MapVolume> mine;
     for (const auto& f : frames_) mine.push_back(countMapVolume(*f, lo, hi));
     const std::vector<MapVolume> counts = ex_->allGather(mine);
@@ -63,14 +61,24 @@ void Simulation::placeMaps() {
     }
 }
 
+void Simulation::placeLocal() {
+    auto local = std::make_shared<Model>(*model_);
+    local->box = region_;
+    if (!frames_.empty()) {
+        local->map = frames_[std::size_t(stats_.keyframe.a)];
+        local->frames = frames_.size() > 1 ? frames_ : std::vector<std::shared_ptr<const GradientMap>>{};
+    }
+    local_ = std::move(local);
+}
+
 void Simulation::applyKeyframe(double time) {
     if (frames_.empty()) return;
     const bool animated = model_->keyframes.animated() && frames_.size() > 1;
     const KeyframeAt at = animated ? model_->keyframes.at(time) : KeyframeAt{};
     stats_.keyframe = at;
-    sub_.map = frames_[std::size_t(at.a)];
+    if (local_->map != frames_[std::size_t(at.a)]) placeLocal();
     field_.setMapBlend(frames_[std::size_t(at.b)].get(), at.w);
-    const double h3 = std::pow(voxelLength(sub_.map->r0Voxels), 3);
+    const double h3 = std::pow(voxelLength(local_->map->r0Voxels), 3);
     std::vector<double> blood, cavity;
     for (const MapVolume& v : frameVolumes_) blood.push_back(v.volumeVoxels), cavity.push_back(v.bagVoxels);
     const KeyframeAt pick = frameVolumes_.size() > 1 ? at : KeyframeAt{};

@@ -227,11 +227,6 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
     // The single process: the probe appears at step 10 and moves at step 30; species 2 gets a
     // drag at step 40; species 2 feels species 3 more strongly from step 50.
     Simulation single(m, all, Construction({}, {}, 3));
-    auto damped = std::make_shared<Model>(*m);
-    damped->species[2].dragV = 2.0;
-    damped->species[2].dragW = 1.0;
-    auto reweighted = std::make_shared<Model>(*damped);
-    reweighted->lj(2, 3) = 0.9;
     CartComm comm(MPI_COMM_WORLD, m->box);
     RankRun run(m, all);
     for (int s = 0; s < 80; ++s) {
@@ -245,22 +240,22 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
             if (comm.rank() == 0) run.submit(c);
         }
         if (s == 40) {
-            single.setModel(damped);
             Command c;
             c.kind = Command::Kind::Drag;
             c.species = 2;
             c.dragV = 2.0;
             c.dragW = 1.0;
+            single.submit(c);
             if (comm.rank() == 0) run.submit(c);
         }
         if (s == 50) {
-            single.setModel(reweighted);
             Command c;
             c.kind = Command::Kind::Weight;
             c.table = Command::Table::Lj;
             c.species = 2;
             c.other = 3;
             c.value = 0.9;
+            single.submit(c);
             if (comm.rank() == 0) run.submit(c);
         }
         single.step();
