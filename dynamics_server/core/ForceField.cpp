@@ -1,18 +1,9 @@
 #include "ForceField.hpp"
 
+#include "Stopwatch.hpp"
 #include "Threads.hpp"
 
-#include <chrono>
-
 namespace bop::core {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-}  // namespace
 
 ForceField::ForceField(const Model& model, const Params& params) : pairs_(model, params) {}
 
@@ -23,13 +14,13 @@ void ForceField::compute(const Model& model, const ProbeState& probe, Particles&
         p.force[i].setZero();
         p.torque[i].setZero();
     });
-    auto t0 = Clock::now();
+    auto t0 = PhaseClock::now();
     map_.add(model, p, stats, pairs_.oriented());  // curvature weights serve the co-planar pairs only
-    if (times) times->gradientMap += since(t0);
+    if (times) times->gradientMap += secondsSince(t0);
     pairs_.add(model, p, halo, map_.curvatureWeights(), stats, energies, times);
-    t0 = Clock::now();
+    t0 = PhaseClock::now();
     probeForces(model, probe, p, stats);
-    if (times) times->probe += since(t0);
+    if (times) times->probe += secondsSince(t0);
 }
 
 void ForceField::probeForces(const Model& model, const ProbeState& probe, Particles& p, ForceStats& stats) {

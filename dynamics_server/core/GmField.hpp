@@ -37,7 +37,7 @@ struct GmSample {
     Eigen::Vector3d force = Eigen::Vector3d::Zero();   // f^GM, simulation length units
     Eigen::Vector3d torque = Eigen::Vector3d::Zero();  // tau^GM = n_i x n(p); zero for volume kind
     // Surface kind: the co-planar weight of the nearest surface of the voxel holding the particle
-    // (clamped into the map; ForceField::curvatureWeight's), dimensionless; 1 for volume kind.
+    // (clamped into the map; MapForces::curvatureWeight's), dimensionless; 1 for volume kind.
     float cpWeight = 1.0f;
 };
 

@@ -20,6 +20,15 @@ struct Block {
     return V4{t[k[0]], t[k[1]], t[k[2]], t[k[3]]};
 }
 
+// Four pairs' vectors into a block's entries q..q+3, zero in the lanes not `near`.
+[[gnu::always_inline]] inline void storeNear(double (&to)[3][kPairBlock], std::uint32_t q, V4Mask near,
+                                             const Xyz<V4>& v) {
+    const V4 zero = splat(0.0);
+    store4(to[0] + q, select(near, v.x, zero));
+    store4(to[1] + q, select(near, v.y, zero));
+    store4(to[2] + q, select(near, v.z, zero));
+}
+
 // One: every pair is of the one oriented species (a bag's surface), its weights held throughout.
 template <bool Energy, bool One>
 [[gnu::always_inline]] inline void loop(const PairKernel& kernel, const NeighbourList::Pairs& pairs,
@@ -86,18 +95,10 @@ template <bool Energy, bool One>
                 for (int l = 0; l < 4; ++l) c[l] = 0.5 * (double(cw[iq[l]]) + double(cw[jq[l]]));
             const OrientedForces<V4> p = orientedPair<Energy>(r, r2, inverseOrZero(rlen), ni, nj,
                                                               orientedPsi(r2, rlen, psiK), c, k);
-            store4(b.fj[0] + q, select(near, p.fj.x, zero));
-            store4(b.fj[1] + q, select(near, p.fj.y, zero));
-            store4(b.fj[2] + q, select(near, p.fj.z, zero));
-            store4(b.fi[0] + q, select(near, p.fi.x, zero));
-            store4(b.fi[1] + q, select(near, p.fi.y, zero));
-            store4(b.fi[2] + q, select(near, p.fi.z, zero));
-            store4(b.ti[0] + q, select(near, p.ti.x, zero));
-            store4(b.ti[1] + q, select(near, p.ti.y, zero));
-            store4(b.ti[2] + q, select(near, p.ti.z, zero));
-            store4(b.tj[0] + q, select(near, p.tj.x, zero));
-            store4(b.tj[1] + q, select(near, p.tj.y, zero));
-            store4(b.tj[2] + q, select(near, p.tj.z, zero));
+            storeNear(b.fj, q, near, p.fj);
+            storeNear(b.fi, q, near, p.fi);
+            storeNear(b.ti, q, near, p.ti);
+            storeNear(b.tj, q, near, p.tj);
             virial += select(near, p.virial, zero);
             if constexpr (Energy) energy += select(near, p.energy, zero);
             count -= near;  // a true lane is -1

@@ -1,18 +1,9 @@
 #include "PairForces.hpp"
 
 #include "MapForces.hpp"
-
-#include <chrono>
+#include "Stopwatch.hpp"
 
 namespace bop::core {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-}  // namespace
 
 PairForces::PairForces(const Model& model, const Params& params)
     : kernel_(model, params),
@@ -106,10 +97,10 @@ void PairForces::gatherEntries(const Model& model, const Particles& p, const Hal
 
 void PairForces::add(const Model& model, Particles& p, const Halo* halo, const std::vector<float>& curvature,
                      ForceStats& stats, bool energies, PhaseTimes* times) {
-    auto t0 = Clock::now();
+    auto t0 = PhaseClock::now();
     updateList(model, p, halo);
-    if (times) times->neighbours += since(t0);
-    t0 = Clock::now();
+    if (times) times->neighbours += secondsSince(t0);
+    t0 = PhaseClock::now();
     gatherEntries(model, p, halo, curvature);
     if (chunkedBuild_ != list_.builds()) chunks_.plan(list_, oriented_), chunkedBuild_ = list_.builds();
     // Pairs within the subdomain count whole, pairs with halo ghosts by half (the ghost's owner
@@ -135,7 +126,7 @@ void PairForces::add(const Model& model, Particles& p, const Halo* halo, const s
     stats.pairsInRange = sums.inRange + haloSums.inRange;
     stats.orientedPairsInRange = sums.orientedInRange + haloSums.orientedInRange;
     if (times) {
-        times->pairs += since(t0);
+        times->pairs += secondsSince(t0);
         times->ljLoopSeconds += loopSeconds[0];
         times->orientedLoopSeconds += loopSeconds[1];
         times->ljPairs += double(stats.pairsInRange);

@@ -1,22 +1,14 @@
 #include "Simulation.hpp"
 
 #include "ParticleRecords.hpp"
+#include "Stopwatch.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 namespace bop::core {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-}  // namespace
 
 double haloReach(const Model& model, const SimulationOptions& o) {
     const double front = o.construction ? o.construction->params().frontR0 : ConstructionParams{}.frontR0;
@@ -130,7 +122,7 @@ void Simulation::placeRegion(Refreshed r) {
 }
 
 void Simulation::step() {
-    auto t0 = Clock::now();
+    auto t0 = PhaseClock::now();
     // Rank 0's commands, the same on every process; seeds join the timeline's events, so that
     // construction places them as a single process does.
     ex_->broadcast(commands_);
@@ -151,26 +143,26 @@ void Simulation::step() {
     commands_.clear();
     applyKeyframe(double(stats_.step + 1) * model_->integration.dt);  // the time of this step's forces
     construct(std::move(events));
-    times_.construction += since(t0);
+    times_.construction += secondsSince(t0);
     if (forcesStale_) forces(true);  // the step starts from forces of today's weights and particles
 
-    t0 = Clock::now();
+    t0 = PhaseClock::now();
     kickDrift(*local_, drag_, p_, ex_->wrapsEveryDrift());
-    times_.integrate += since(t0);
+    times_.integrate += secondsSince(t0);
     const bool holds = field_.listHolds(*local_, p_);
-    t0 = Clock::now();
+    t0 = PhaseClock::now();
     const Refreshed r = ex_->afterDrift(p_, halo_, range_, holds);
     if (r != Refreshed::Kept) ++rebuilds_;
     placeRegion(r);
-    exchangeSeconds_ += since(t0);
+    exchangeSeconds_ += secondsSince(t0);
     ++stats_.step;
     stats_.time += model_->integration.dt;
     forces(energiesNext_ || stats_.step % energyEvery_ == 0);
     energiesNext_ = false;
-    t0 = Clock::now();
+    t0 = PhaseClock::now();
     stats_.kinetic = kick(*local_, drag_, p_);
     stats_.blood = bloodSums(*local_, p_);
-    times_.integrate += since(t0);
+    times_.integrate += secondsSince(t0);
     if (!ex_->allTrue(sound(*model_, p_, stats_.forces.probeReaction))) throwUnsound();
 }
 

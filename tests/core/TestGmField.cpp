@@ -154,7 +154,7 @@ TEST_CASE("trilinear samples blend the 8 voxels' rules, and carry the voxel's co
                 blendMismatches += (f.sample(ParticleKind::Volume, 2, x * h, n).force - expected * h).norm() >
                                    1e-12 * (1 + expected.norm());
             // The co-planar weight is that of the nearest surface of the voxel holding the particle
-            // (ForceField::curvatureWeight), for any interpolation, on and beyond the grid.
+            // (MapForces::curvatureWeight), for any interpolation, on and beyond the grid.
             const Eigen::Vector3d y = k % 2 ? x : Eigen::Vector3d(anywhere(rng), anywhere(rng), anywhere(rng));
             const float wanted = m.nearestSurface(m.voxelAt((y).array().floor().cast<int>().matrix())).cpWeight;
             weightMismatches += f.sample(ParticleKind::Surface, 1, y * h, n).cpWeight != wanted;
