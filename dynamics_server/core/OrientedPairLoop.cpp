@@ -93,8 +93,8 @@ template <bool Energy, bool One>
             V4 c = splat(1.0);  // the co-planar curvature weight: the mean of the two
             if (curvature)
                 for (int l = 0; l < 4; ++l) c[l] = 0.5 * (double(cw[iq[l]]) + double(cw[jq[l]]));
-            const OrientedForces<V4> p = orientedPair<Energy>(r, r2, inverseOrZero(rlen), ni, nj,
-                                                              orientedPsi(r2, rlen, psiK), c, k);
+            const OrientedForces<V4> p =
+                orientedPair<Energy>(r, r2, inverseOrZero(rlen), ni, nj, orientedPsi(r2, rlen, psiK), c, k);
             storeNear(b.fj, q, near, p.fj);
             storeNear(b.fi, q, near, p.fi);
             storeNear(b.ti, q, near, p.ti);

@@ -54,7 +54,7 @@ public:
     const PrunedPairs& pruned() const { return pruned_; }
     double pruneSkin() const { return prune_; }  // length units; 0: the loops read the whole list
     std::size_t chunks() const { return chunks_.count(); }
-    double listRange() const;                     // the largest cutoff + skin, length units
+    double listRange() const;                                           // the largest cutoff + skin, length units
     static double listRange(const Model& model, const Params& params);  // the same of any model
 
     // Reference O(N^2) pair forces (tests): PairKernel::apply pair by pair, the scene's weights,

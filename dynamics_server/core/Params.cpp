@@ -27,10 +27,9 @@ void Params::apply(const Command& c) {
     if (c.kind != Command::Kind::Weight) throw std::invalid_argument("command: not a probe, drag or weight command");
     if (c.other < 1 || c.other > species)
         throw std::invalid_argument("weight command: no species " + std::to_string(c.other));
-    if (!std::isfinite(c.value) || c.value < 0) throw std::invalid_argument("weight command: weights must be 0 or more");
-    WeightMatrix& w = c.table == Command::Table::Lj         ? lj
-                      : c.table == Command::Table::CoNormal ? coNormal
-                                                            : coPlanar;
+    if (!std::isfinite(c.value) || c.value < 0)
+        throw std::invalid_argument("weight command: weights must be 0 or more");
+    WeightMatrix& w = c.table == Command::Table::Lj ? lj : c.table == Command::Table::CoNormal ? coNormal : coPlanar;
     w(c.species, c.other) = c.value;
 }
 

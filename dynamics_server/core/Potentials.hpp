@@ -191,14 +191,14 @@ struct ProbeParams {
 // kProbeCoreR0 k0 r0 the force stays that of kProbeCoreR0 k0 r0 (the energy grows linearly, so
 // F = -dE/dr still holds): an overlap no haptic contact reaches, where f(r) grows as r^-4 and a
 // probe dropped onto a particle would launch it at near-infinite speed. At r = 0 the force is 0.
-inline constexpr double kProbeCoreR0 = 0.5;
+inline constexpr double kProbeCoreR0 = 0.5;  // multiples of k0 r0
 
 // The probe as commands set it.
 struct ProbeState {
     bool active = false;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();  // simulation length units
     ProbeParams params;                                  // k0, k1 (eq. 9)
-};  // multiples of k0 r0
+};
 
 class ProbeForm {
 public:

@@ -203,6 +203,9 @@ std::array<int, 3> Run::grid() const {
 const Simulation& Run::simulation() const {
     return *impl_->sim;
 }
+Simulation& Run::simulation() {
+    return *impl_->sim;
+}
 const Exchange& Run::exchange() const {
     return *impl_->ex;
 }

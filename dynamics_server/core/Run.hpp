@@ -95,6 +95,7 @@ public:
     // This process's share: the step over its region (its particles, halo, model window) and its
     // exchange, for tests and reports.
     const Simulation& simulation() const;
+    Simulation& simulation();  // between steps (tests: particles added, switches turned)
     const Exchange& exchange() const;
 
 private:

@@ -15,31 +15,17 @@ double haloReach(const Model& model, const SimulationOptions& o) {
     return std::max(PairForces::listRange(model, Params(model)), model.map || o.map ? front * kR0 : 0.0);
 }
 
-Simulation::Simulation(std::shared_ptr<const Model> model, Particles particles, Construction construction,
-                       long long firstStep)
-    : ownExchange_(std::make_unique<Exchange>()),
-      ex_(ownExchange_.get()),
-      model_(std::move(model)),
-      params_(*model_),
-      region_(model_->box),
-      local_(model_),
-      field_(*model_, params_),
-      drag_(*model_, params_),
-      p_(std::move(particles)),
-      construction_(std::move(construction)) {
-    stats_.step = firstStep;
-    stats_.time = double(firstStep) * model_->integration.dt;
-    range_ = field_.pairs().listRange();
-    placeMaps();
-    placeLocal();
-    field_ = ForceField(*local_, params_);
-    applyKeyframe(stats_.time);
-    forcesStale_ = true;  // the first step computes them, with its own keyframe
-}
-
 Simulation::Simulation(std::shared_ptr<const Model> model, const Particles& all, SimulationOptions options,
                        Exchange& exchange)
-    : ex_(&exchange),
+    : Simulation(nullptr, &exchange, std::move(model), all, std::move(options)) {}
+
+Simulation::Simulation(std::shared_ptr<const Model> model, const Particles& all, SimulationOptions options)
+    : Simulation(std::make_unique<Exchange>(), nullptr, std::move(model), all, std::move(options)) {}
+
+Simulation::Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::shared_ptr<const Model> model,
+                       const Particles& all, SimulationOptions options)
+    : ownExchange_(std::move(own)),
+      ex_(exchange ? exchange : ownExchange_.get()),
       model_(std::move(model)),
       params_(options.params ? *options.params : Params(*model_)),
       region_(model_->box),
@@ -54,7 +40,8 @@ Simulation::Simulation(std::shared_ptr<const Model> model, const Particles& all,
     region_ = ex_->region(model_->box);
     placeMaps();
     placeLocal();
-    field_ = ForceField(*local_, params_);  // with the map window: the pair terms' curvature weights need to know of a map
+    field_ =
+        ForceField(*local_, params_);  // with the map window: the pair terms' curvature weights need to know of a map
     applyKeyframe(stats_.time);
     for (std::size_t i = 0; i < all.size(); ++i) {
         if (!ex_->owns(all.pos[i])) continue;
@@ -102,7 +89,8 @@ void Simulation::apply(const Command& c) {
 }
 
 void Simulation::forces(bool energies) {
-    field_.compute(*local_, params_.probe, p_, stats_.forces, &times_.forces, energies, ex_->hasGhosts() ? &halo_ : nullptr);
+    field_.compute(*local_, params_.probe, p_, stats_.forces, &times_.forces, energies,
+                   ex_->hasGhosts() ? &halo_ : nullptr);
     forcesStale_ = false;
     energiesCurrent_ = energies;
 }

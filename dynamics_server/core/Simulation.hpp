@@ -63,10 +63,10 @@ struct MapSource {
 };
 
 struct SimulationOptions {
-    std::optional<Construction> construction;  // timeline and parameters; none: no timeline
-    long long firstStep = 0;                   // step number of the initial state
-    std::optional<MapSource> map;              // none: windows of model->map
-    std::optional<Params> params;              // none: the scene's weights and drags, the probe off
+    std::optional<Construction> construction{};  // timeline and parameters; none: no timeline
+    long long firstStep = 0;                     // step number of the initial state
+    std::optional<MapSource> map{};              // none: windows of model->map
+    std::optional<Params> params{};              // none: the scene's weights and drags, the probe off
 };
 
 // The widest reach of ghosts a run needs: the pair terms' list range, or the birth front of
@@ -75,13 +75,12 @@ double haloReach(const Model& model, const SimulationOptions& options);
 
 class Simulation {
 public:
-    // One process: every particle, the scene's construction (timeline and parameters).
-    Simulation(std::shared_ptr<const Model> model, Particles particles, Construction construction,
-               long long firstStep = 0);
     // A process of a run over `exchange` (outliving this): the model of the whole scene, `all` the
     // particles of the whole scene (the same on every process; each keeps those it owns).
     // Computes the first forces. Collective.
     Simulation(std::shared_ptr<const Model> model, const Particles& all, SimulationOptions options, Exchange& exchange);
+    // One process with its own exchange (nothing to exchange), as core::Run starts one.
+    explicit Simulation(std::shared_ptr<const Model> model, const Particles& all, SimulationOptions options = {});
     ~Simulation();
     Simulation(Simulation&&) noexcept;
 
@@ -137,10 +136,12 @@ public:
     Particles gather(const Particles& mine) const;
 
 private:
+    Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::shared_ptr<const Model> model,
+               const Particles& all, SimulationOptions options);
     void apply(const Command& c);                           // every process, at the start of a step
     void construct(std::vector<ConstructionEvent> events);  // SimulationConstruction.cpp
     Eigen::Vector3d defaultSeed(int species) const;         // collective
-    void placeMaps();   // this region's windows of the map(s); SimulationMaps.cpp
+    void placeMaps();                                       // this region's windows of the map(s); SimulationMaps.cpp
     void placeLocal();  // local_ again: the scene over region_ with the window of the map in force
     void applyKeyframe(double time);
     void placeRegion(Refreshed r);  // after the exchange's refresh: a new region's windows, a new list

@@ -97,8 +97,8 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
 
         std::vector<std::size_t> count = speciesCounts(*ex_, p_, model_->speciesCount());
         const std::vector<std::uint64_t> die =
-            chooseDeaths(params, gatherMarks(*ex_, markDeaths(params, {*local_, local_->box, seen, owned}, step)), count,
-                         construction_.birthSwitches());
+            chooseDeaths(params, gatherMarks(*ex_, markDeaths(params, {*local_, local_->box, seen, owned}, step)),
+                         count, construction_.birthSwitches());
         removeIds(p_, die);
         removeIds(seen, die);
         built.deaths = die.size();

@@ -96,14 +96,14 @@ TEST_CASE("total momentum is conserved with symmetric weights and no field", "[c
         speed += v.norm();
     }
     const Eigen::Vector3d p0 = momentum(p);
-    Simulation sim(m, p, Construction({}, {}, 3));
+    Simulation sim(m, p, {.construction = Construction({}, {}, 3)});
     sim.run(500);
     const double drift = (momentum(sim.particles()) - p0).norm() / speed;
     INFO("relative momentum change " << drift);
     CHECK(drift < 1e-10);
     // Asymmetric weights break it (the paper accepts this): the test can tell the difference.
     auto a = mixedModel(false, false, false, 12.0);
-    Simulation asym(a, p, Construction({}, {}, 3));
+    Simulation asym(a, p, {.construction = Construction({}, {}, 3)});
     asym.run(500);
     CHECK((momentum(asym.particles()) - p0).norm() / speed > 1e-6);
 }
@@ -127,7 +127,7 @@ TEST_CASE("an undamped LJ cluster conserves energy over 10,000 steps", "[core][c
                                             1, p.size() + 1);
                 p.vel[n] = Eigen::Vector3d(g(rng), g(rng), g(rng));
             }
-    Simulation sim(m, p, Construction({}, {}, 1));
+    Simulation sim(m, p, {.construction = Construction({}, {}, 1)});
     sim.refreshForces();
     const double e0 = sim.stats().forces.pairEnergy + kineticEnergy(*m, sim.particles());
     const double scale = std::abs(sim.stats().forces.pairEnergy);
@@ -147,7 +147,7 @@ TEST_CASE("drag is integrated exactly and runs are deterministic", "[core][integ
     Particles one;
     one.add(Eigen::Vector3d::Constant(10.0), 2, 1);
     one.vel[0] = Eigen::Vector3d(1, 0, 0);
-    Simulation sim(m, one, Construction({}, {}, 3));
+    Simulation sim(m, one, {.construction = Construction({}, {}, 3)});
     sim.run(100);
     // A free particle with drag beta_v = 1: v(t) = v0 exp(-t), x(t) = x0 + v0 (1 - exp(-t)) (to O(dt^2)).
     const double t = 100 * m->integration.dt;
@@ -155,7 +155,7 @@ TEST_CASE("drag is integrated exactly and runs are deterministic", "[core][integ
     CHECK(sim.particles().pos[0].x() == Approx(10.0 + (1 - std::exp(-t))).epsilon(1e-4));
 
     Particles p = randomParticles(*m, 150, 0.7, 9);
-    Simulation a(m, p, Construction({}, {}, 3)), b(m, p, Construction({}, {}, 3));
+    Simulation a(m, p, {.construction = Construction({}, {}, 3)}), b(m, p, {.construction = Construction({}, {}, 3)});
     a.run(200);
     b.run(200);
     CHECK(a.particles().pos == b.particles().pos);
@@ -186,7 +186,7 @@ TEST_CASE("an undamped cluster of oriented particles conserves energy", "[core][
     auto m = mixedModel(true, false, false, 14.0);
     Particles p = randomParticles(*m, 60, 0.8, 11);
     for (auto& x : p.pos) x = Eigen::Vector3d::Constant(7 * kR0) + 0.75 * (x - Eigen::Vector3d::Constant(7 * kR0));
-    Simulation sim(m, p, Construction({}, {}, 3));
+    Simulation sim(m, p, {.construction = Construction({}, {}, 3)});
     sim.refreshForces();
     const double e0 = sim.stats().forces.pairEnergy + kineticEnergy(*m, sim.particles());
     double worst = 0;
@@ -208,7 +208,7 @@ TEST_CASE("a run's trajectory is the same to the last bit at 1, 2 and 3 threads"
     std::size_t chunks = 0;
     for (int threads : {1, 2, 3}) {
         setThreadCount(threads);
-        Simulation sim(m, p, Construction({}, {}, 3));
+        Simulation sim(m, p, {.construction = Construction({}, {}, 3)});
         sim.run(150);
         ends.push_back(sim.particles());
         energies.push_back(sim.stats().total());

@@ -1,6 +1,7 @@
 // A keyframed bag in one process: the map in force switches at the stated times and the shape
 // force is the blend of two frames' forces; the blood's pressure against the mechanical
 // pressure on the walls of an ideal gas; the averaged pressure cycle of app/CardiacSeries.
+#include "OneProcessRun.hpp"
 #include "TestUtil.hpp"
 #include "app/cardiac/CardiacSeries.hpp"
 #include "app/scene/SimulationSetup.hpp"
@@ -18,7 +19,7 @@ using namespace bop;
 TEST_CASE("keyframes at one process: the map switches every frame duration and the force is the blend", "[keyframes]") {
     test::TempDir dir("keyframes");
     app::Scene scene = app::loadScene(test::writeKeyframeScene(dir.path.string(), 0.1, true));
-    auto sim = app::startSimulation(scene, "", "");
+    test::OneProcessRun sim(scene);
     const auto frames = sim->model().frames;
     REQUIRE(frames.size() == 2);
     REQUIRE(sim->frameVolumes().size() == 2);
@@ -85,7 +86,7 @@ co_normal = [[0.0, 0.0], [0.0, 0.0]]
 co_planar = [[0.0, 0.0], [0.0, 0.0]]
 )");
     app::Scene scene = app::loadScene(path);
-    auto sim = app::startSimulation(scene, "", "");
+    test::OneProcessRun sim(scene);
     const GradientMap& map = *sim->model().map;
     const double h = core::kR0 / map.r0Voxels, temperature = 0.4;
     std::mt19937_64 rng(7);

@@ -244,14 +244,15 @@ TEST_CASE("pruned pair lists give the whole list's forces and torques to the bit
         fewerWide += b.pairs().pruned().widePairCount() < a.pairs().neighbours().widePairCount();
     }
     INFO(a.pairs().neighbours().builds() << " list builds, " << b.pairs().pruned().prunes() << " prunings, last "
-                                 << b.pairs().pruned().pairCount() << " of " << b.pairs().neighbours().pairCount() << " LJ pairs, "
-                                 << b.pairs().pruned().widePairCount() << " of " << b.pairs().neighbours().widePairCount()
-                                 << " oriented");
+                                         << b.pairs().pruned().pairCount() << " of "
+                                         << b.pairs().neighbours().pairCount() << " LJ pairs, "
+                                         << b.pairs().pruned().widePairCount() << " of "
+                                         << b.pairs().neighbours().widePairCount() << " oriented");
     CHECK(differing == 0);
     CHECK(b.pairs().neighbours().builds() == a.pairs().neighbours().builds());
     CHECK(a.pairs().pruneSkin() == 0);
     CHECK(b.pairs().pruned().prunes() > b.pairs().neighbours().builds() + 3);  // pruned again between builds
-    CHECK(b.pairs().pruned().prunes() < 60);                           // and reused in between
+    CHECK(b.pairs().pruned().prunes() < 60);                                   // and reused in between
     CHECK(fewerLj == 80);
     CHECK(fewerWide == 80);
 }

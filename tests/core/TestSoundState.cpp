@@ -37,7 +37,7 @@ Particles three() {
 }
 
 Simulation simulation(const std::shared_ptr<Model>& m, Particles p) {
-    Simulation s(m, std::move(p), Construction({}, {}, m->speciesCount()));
+    Simulation s(m, std::move(p), {.construction = Construction({}, {}, m->speciesCount())});
     s.refreshForces();
     return s;
 }
@@ -112,7 +112,7 @@ TEST_CASE("two particles on one point: the forces blow up and the step says so",
     const auto m = smallModel();
     Particles p = three();
     p.pos[2] = p.pos[1];  // r = 0: f(r) is infinite
-    Simulation sim(m, std::move(p), Construction({}, {}, 1));
+    Simulation sim(m, std::move(p), {.construction = Construction({}, {}, 1)});
     CHECK_THROWS_AS(sim.step(), UnsoundState);
 }
 
@@ -177,7 +177,7 @@ TEST_CASE("a seed on a particle is not placed, elsewhere it is, and the seed cou
     timeline[2].positionVoxels = acrossFace;
     timeline[3].positionVoxels = free + Eigen::Vector3d(0.2, 0, 0);  // on the seed before it, this step
     const std::size_t before = p.size();
-    Simulation sim(m, std::move(p), Construction({}, timeline, 1));
+    Simulation sim(m, std::move(p), {.construction = Construction({}, timeline, 1)});
     sim.step();  // the timeline's seeds at step 0
     REQUIRE(sim.particles().size() == before + 1);
     CHECK((sim.particles().pos.back() - free).norm() < 0.1);  // placed, then one step of motion

@@ -150,7 +150,7 @@ TEST_CASE("an undamped LJ cluster follows the single-process trajectory for 200 
                                               2 + (i + j + k) % 2, all.size() + 1);
                 all.vel[n] = Eigen::Vector3d(g(rng), g(rng), g(rng));
             }
-    Simulation single(m, all, Construction({}, {}, 3));
+    Simulation single(m, all, {.construction = Construction({}, {}, 3)});
     single.run(200);
     single.refreshForces();
     CartComm comm(MPI_COMM_WORLD, m->box);
@@ -226,7 +226,7 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
     const Eigen::Vector3d centre = 0.5 * (m->box.lo + m->box.hi);
     // The single process: the probe appears at step 10 and moves at step 30; species 2 gets a
     // drag at step 40; species 2 feels species 3 more strongly from step 50.
-    Simulation single(m, all, Construction({}, {}, 3));
+    Simulation single(m, all, {.construction = Construction({}, {}, 3)});
     CartComm comm(MPI_COMM_WORLD, m->box);
     RankRun run(m, all);
     for (int s = 0; s < 80; ++s) {

@@ -1,6 +1,7 @@
 // Construction across ranks: the torus bag built by births and deaths at whatever rank count
 // mpiexec gave makes the same particles, with the same ids, as a single process; ids stay
 // unique; each rank holds only its window of the gradient map.
+#include "OneProcessRun.hpp"
 #include "RankRun.hpp"
 #include "TestUtil.hpp"
 #include "app/scene/SimulationSetup.hpp"
@@ -22,7 +23,8 @@ namespace {
 // The torus scene with surface and volume growing from step 0, the single-process run built.
 struct TorusBuild {
     app::Scene scene;
-    std::unique_ptr<core::Simulation> serial;
+    std::unique_ptr<test::OneProcessRun> serialRun;
+    core::Simulation* serial = nullptr;  // serialRun's
 };
 
 TorusBuild torus(long long steps) {
@@ -30,14 +32,17 @@ TorusBuild torus(long long steps) {
     b.scene = app::loadScene(test::sourceDir() + "/config/scenes/torus.toml");
     using A = core::ConstructionEvent::Action;
     b.scene.timeline = {{0, A::Seed, 1, {}}, {0, A::BirthOn, 1, {}}, {0, A::Seed, 2, {}}, {0, A::BirthOn, 2, {}}};
-    b.serial = app::startSimulation(b.scene, "", "");
+    b.serialRun = std::make_unique<test::OneProcessRun>(b.scene);
+    b.serial = &**b.serialRun;
     b.serial->run(steps);
     return b;
 }
 
-core::SimulationOptions optionsFor(const app::Scene& scene) {
+// The decomposed run's start: the scene's construction, the map windows from the serial run's cache.
+core::SimulationOptions optionsFor(const TorusBuild& b) {
     core::SimulationOptions o;
-    o.construction = core::Construction(scene.construction, scene.timeline, scene.model->speciesCount());
+    o.construction = core::Construction(b.scene.construction, b.scene.timeline, b.scene.model->speciesCount());
+    o.map = b.serialRun->mapSource();
     return o;
 }
 
@@ -50,7 +55,7 @@ TEST_CASE("the torus built across ranks has the single process's particles and i
     REQUIRE(b.serial->construction().totals().births > 300);  // the test builds something
 
     const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
-    RankRun run(b.scene.model, core::Particles{}, optionsFor(b.scene));
+    RankRun run(b.scene.model, core::Particles{}, optionsFor(b));
     run.run(steps);
     const core::Particles got = run.gather();
 
@@ -77,9 +82,10 @@ TEST_CASE("the torus built across ranks has the single process's particles and i
 TEST_CASE("each rank holds only its window of the gradient map", "[mpi][construction]") {
     TorusBuild b = torus(0);
     const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
-    RankRun run(b.scene.model, core::Particles{}, optionsFor(b.scene));
+    RankRun run(b.scene.model, core::Particles{}, optionsFor(b));
     const std::vector<double> bytes = comm.allGather(std::vector<double>{double(run.simulation().mapBytes())});
-    const double whole = double(bop::gradientMapBytes(*b.scene.model->map));
+    const GradientMap map = b.serialRun->wholeMap();
+    const double whole = double(bop::gradientMapBytes(map));
     double sum = 0, largest = 0;
     for (double x : bytes) sum += x, largest = std::max(largest, x);
     if (comm.size() == 1)
@@ -90,7 +96,6 @@ TEST_CASE("each rank holds only its window of the gradient map", "[mpi][construc
     CHECK(sum < 4.0 * whole);
     // Every rank's window answers like the whole map where its particles can be.
     const GradientMap& crop = *run.simulation().model().map;
-    const GradientMap& map = *b.scene.model->map;
     const core::Box& sub = run.simulation().model().box;
     const double h = core::kR0 / map.r0Voxels;
     std::size_t checked = 0;
@@ -111,7 +116,7 @@ TEST_CASE("seed and birth commands sent to rank 0 build the same bag as the time
     const long long steps = 120;
     TorusBuild b = torus(steps);
     const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
-    core::SimulationOptions o;
+    core::SimulationOptions o = optionsFor(b);
     o.construction = core::Construction(b.scene.construction, {}, b.scene.model->speciesCount());
     RankRun run(b.scene.model, core::Particles{}, std::move(o));
     const core::Construction timeline(b.scene.construction, b.scene.timeline, b.scene.model->speciesCount());
@@ -120,7 +125,7 @@ TEST_CASE("seed and birth commands sent to rank 0 build the same bag as the time
             Command seed;
             seed.kind = Command::Kind::Seed;
             seed.species = s;
-            seed.position = timeline.defaultSeedPosition(*b.scene.model, s);
+            seed.position = timeline.defaultSeedPosition(b.serial->model(), s);  // its map: the whole grid
             run.submit(seed);
             Command birth;
             birth.kind = Command::Kind::Birth;
@@ -171,7 +176,7 @@ TEST_CASE("deaths across ranks take the single process's victims and keep ids un
     // Checks run and both species may die (only species whose birth is on lose particles); no map, no births.
     const std::vector<core::ConstructionEvent> timeline{{0, A::BirthOn, 1, {}}, {0, A::BirthOn, 2, {}}};
     const long long steps = 200;
-    core::Simulation serial(m, all, core::Construction(params, timeline, 2));
+    core::Simulation serial(m, all, {.construction = core::Construction(params, timeline, 2)});
     serial.run(steps);
     REQUIRE(serial.construction().totals().deaths > 100);
 

@@ -1,6 +1,7 @@
 // Keyframed maps across ranks: a bag built while its map cycles (a ball growing and shrinking
 // every few steps) has, at whatever rank count mpiexec gave, the map frame of the schedule at
 // every step, the single process's blood volume and pressure sums, and its particles.
+#include "OneProcessRun.hpp"
 #include "RankRun.hpp"
 #include "TestUtil.hpp"
 #include "app/scene/SimulationSetup.hpp"
@@ -21,10 +22,11 @@ TEST_CASE("keyframes switch at the stated times at any rank count, as in one pro
     test::TempDir dir("mpi-keyframes");  // frames of 0.5 time units (25 steps); the bag grows while its map cycles
     const std::string scene = test::writeKeyframeScene(dir.path.string(), 0.5, true, test::kGrowFromSeeds);
     app::Scene s = app::loadScene(scene);
-    auto serial = app::startSimulation(s, "", "");
+    test::OneProcessRun serial(s);
     const CartComm comm(MPI_COMM_WORLD, s.model->box);
     core::SimulationOptions o;
     o.construction = core::Construction(s.construction, s.timeline, s.model->speciesCount());
+    o.map = serial.mapSource();  // the windows of the serial run's cache
     RankRun run(s.model, core::Particles{}, o);
     const double dt = s.model->integration.dt;
     int switches = 0;
@@ -79,7 +81,7 @@ TEST_CASE("bop-server's start under mpirun reads every keyframe's window from th
     REQUIRE(start.options.map);
     CHECK(start.options.map->frames == 2);
     app::Scene serialScene = app::loadScene(dir + "/keyframes.toml");
-    auto serial = app::startSimulation(serialScene, "", "");
+    test::OneProcessRun serial(serialScene);
     const CartComm comm(MPI_COMM_WORLD, s.model->box);
     RankRun run(s.model, start.particles, std::move(start.options));
     for (long long step = 1; step <= 60; ++step) {

@@ -1,6 +1,7 @@
 // Whole bags built by the construction timeline of the shipped scenes (label "physics": minutes
 // of stepping, run in the Release build only): shape fidelity, elastic recovery after a poke,
 // and how particle counts scale with r0 (paper Table 1).
+#include "OneProcessRun.hpp"
 #include "TestUtil.hpp"
 #include "app/scene/SimulationSetup.hpp"
 #include "core/Threads.hpp"
@@ -15,7 +16,8 @@ namespace {
 
 struct Built {
     app::Scene scene;
-    std::unique_ptr<core::Simulation> sim;
+    std::unique_ptr<test::OneProcessRun> run;
+    core::Simulation* sim = nullptr;  // run's
 };
 
 // Each scene is built once per test run and shared by the tests that need it.
@@ -25,7 +27,8 @@ Built& built(const std::string& name) {
     if (it != cache.end()) return it->second;
     Built b;
     b.scene = app::loadScene(test::sourceDir() + "/config/scenes/" + name + ".toml");
-    b.sim = app::startSimulation(b.scene, "", "");
+    b.run = std::make_unique<test::OneProcessRun>(b.scene);
+    b.sim = &**b.run;
     b.sim->run(b.scene.run.steps);
     return cache.emplace(name, std::move(b)).first->second;
 }
@@ -171,7 +174,7 @@ TEST_CASE("construction is deterministic for a given seed, at any thread count",
         core::setThreadCount(threads);
         app::Scene scene = app::loadScene(test::sourceDir() + "/config/scenes/star.toml");
         scene.construction.seed = seed;
-        auto sim = app::startSimulation(scene, "", "");
+        test::OneProcessRun sim(scene);
         sim->run(2000);
         core::setThreadCount(before);
         return sim->particles();

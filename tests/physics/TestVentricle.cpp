@@ -3,6 +3,7 @@
 // ejection fraction from the maps' voxels matches the phantom's ground truth; the blood's
 // pressure peaks in systole, within one frame of the smallest cavity; the particles follow the
 // wall at end-diastole and eject less than the voxels (the blood has no valve to leave by).
+#include "OneProcessRun.hpp"
 #include "TestUtil.hpp"
 #include "app/cardiac/CardiacRun.hpp"
 #include "app/scene/SimulationSetup.hpp"
@@ -19,7 +20,7 @@ TEST_CASE("the ventricle beats: ejection fraction and the pressure peak in systo
     app::Scene scene = app::loadScene(test::sourceDir() + "/config/scenes/ventricle.toml");
     REQUIRE(scene.pressure);
     scene.pressure->skipCycles = 0;  // construction ends at rest at end-diastole: the first cycle counts
-    auto sim = app::startSimulation(scene, "", "");
+    test::OneProcessRun sim(scene);
     app::CardiacRun cardiac(scene, *sim->model().map, sim->frameVolumes());
     const core::KeyframeSchedule& k = scene.model->keyframes;
     const long long start = std::llround(k.startTime / scene.model->integration.dt);

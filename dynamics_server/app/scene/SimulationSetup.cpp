@@ -83,29 +83,6 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
     return s;
 }
 
-std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart,
-                                                  const shape::ProgressFn& progress) {
-    core::Model& model = *scene.model;
-    if (scene.shape) {
-        shape::ShapeBuild maps = shape::loadOrBuildShape(*scene.shape, cache, false, progress);
-        if (model.keyframes.animated()) {  // every frame, the first one's map in force
-            for (GradientMap& m : maps.frames)
-                model.frames.push_back(std::make_shared<const GradientMap>(std::move(m)));
-            model.map = model.frames[std::size_t(model.keyframes.firstFrame)];
-        } else {
-            model.map = std::make_shared<GradientMap>(std::move(maps.frames.front()));
-        }
-        placeInMap(scene, *model.map);
-    }
-    long long firstStep = 0;
-    core::Construction construction({}, {}, model.speciesCount());
-    core::Particles particles = initialParticles(scene, restart, firstStep, construction);
-    auto sim =
-        std::make_unique<core::Simulation>(scene.model, std::move(particles), std::move(construction), firstStep);
-    sim->probe() = scene.probe;
-    return sim;
-}
-
 void printFidelity(std::ostream& out, const Fidelity& f) {
     out << "shape fidelity: " << std::setprecision(3) << 100 * f.surfaceInOwnVoxels
         << "% of surface particles in their surface voxels, " << 100 * f.volumeInOwnVoxels

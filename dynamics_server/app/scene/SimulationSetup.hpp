@@ -25,11 +25,6 @@ struct RunStart {
 RunStart startRun(Scene& scene, const std::string& cache, const std::string& restart, bool root,
                   const std::function<void()>& waitForAll, const shape::ProgressFn& progress = {});
 
-// One process's Simulation holding the whole map in the model, for tests (bop-server starts
-// with startRun): cache "" = always build.
-std::unique_ptr<core::Simulation> startSimulation(Scene& scene, const std::string& cache, const std::string& restart,
-                                                  const shape::ProgressFn& progress = {});
-
 // The particles to start from (a restart file's, a bulk lattice, or none) and the construction:
 // the scene's timeline, with a checkpoint's birth switches and seed count when the restart file
 // is one (app/Checkpoint.hpp). firstStep: the file's step, else 0.
