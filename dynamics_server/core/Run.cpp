@@ -203,6 +203,9 @@ std::array<int, 3> Run::grid() const {
 const Simulation& Run::simulation() const {
     return *impl_->sim;
 }
+const Params& Run::paramsAhead() const {
+    return impl_->sim->paramsAhead();
+}
 Simulation& Run::simulation() {
     return *impl_->sim;
 }

@@ -64,7 +64,8 @@ public:
     // On rank 0 only: a command every process applies at the start of the next step
     // (std::invalid_argument if it is refused, std::logic_error on other ranks).
     void submit(const Command& command);
-    bool commandsQueued() const;  // on rank 0: submitted, not yet applied by a step
+    bool commandsQueued() const;        // on rank 0: submitted, not yet applied by a step
+    const Params& paramsAhead() const;  // on rank 0: the params once the queued commands apply
     // What rank 0 decided for this pass of a run loop, on every process (one small broadcast).
     struct Decision {
         int stop = 0;  // 0: go on; otherwise why the loop stops (the loop's own codes)

@@ -61,9 +61,9 @@ Simulation::Simulation(Simulation&&) noexcept = default;
 
 void Simulation::submit(const Command& command) {
     if (ex_->rank() != 0) throw std::logic_error("commands are submitted on rank 0");
+    Params trial = paramsAhead();
     if (command.kind == Command::Kind::Probe || command.kind == Command::Kind::Drag ||
         command.kind == Command::Kind::Weight) {  // refused here, before any process sees it
-        Params trial = params_;
         trial.apply(command);
         if (PairForces::listRange(*local_, trial) != range_)
             throw std::invalid_argument(
@@ -71,6 +71,7 @@ void Simulation::submit(const Command& command) {
                 "off); give the scene a nonzero weight of that kind to start with");
     }
     commands_.push_back(command);
+    queued_ = std::move(trial);
 }
 
 void Simulation::apply(const Command& c) {

@@ -108,6 +108,8 @@ public:
     // field. Its weights and drags are the scene's first ones; those in force are params().
     const Model& model() const { return *local_; }
     const Params& params() const { return params_; }  // weights, drags and probe in force
+    // On rank 0: the params once the queued commands apply, what the next step runs with.
+    const Params& paramsAhead() const { return commands_.empty() ? params_ : queued_; }
     const Particles& particles() const { return p_; }
     Particles& particles() { return p_; }  // between steps (tests)
     const Halo& halo() const { return halo_; }
@@ -166,6 +168,7 @@ private:
     bool energiesNext_ = false, energiesCurrent_ = false;
     bool forcesStale_ = false;       // a command changed the weights since the last forces
     std::vector<Command> commands_;  // queued on rank 0
+    Params queued_;                  // rank 0: params_ with commands_ applied (paramsAhead())
     std::size_t rebuilds_ = 0;
     double exchangeSeconds_ = 0;
     std::optional<MapSource> mapSource_;

@@ -45,18 +45,17 @@ protocol::CommandReply apply(const protocol::Command& c, Desk& desk, core::Run& 
                 rc.other = p->speciesB;
                 rc.value = p->value;
             } else if (n == "k0" || n == "k1") {  // within their ranges: the decoder checked
-                (n == "k0" ? desk.probe.params.k0 : desk.probe.params.k1) = p->value;
                 rc.kind = core::Command::Kind::Probe;
-                rc.probe = desk.probe;
+                rc.probe = run.paramsAhead().probe;
+                (n == "k0" ? rc.probe.params.k0 : rc.probe.params.k1) = p->value;
             } else if (n == "drag_v" || n == "drag_w") {
                 if (p->speciesA < 1 || p->speciesA > speciesCount)
                     return answer(c, ReplyStatus::Rejected, next, "no species " + std::to_string(p->speciesA));
-                auto& d = desk.drags[std::size_t(p->speciesA)];
-                (n == "drag_v" ? d.first : d.second) = p->value;
+                const core::Drag d = run.paramsAhead().drag[std::size_t(p->speciesA)];
                 rc.kind = core::Command::Kind::Drag;
                 rc.species = p->speciesA;
-                rc.dragV = d.first;
-                rc.dragW = d.second;
+                rc.dragV = n == "drag_v" ? p->value : d.v;
+                rc.dragW = n == "drag_w" ? p->value : d.w;
             } else {
                 return answer(c, ReplyStatus::Unsupported, next, "unknown parameter '" + n + "'");
             }

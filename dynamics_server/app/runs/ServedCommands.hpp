@@ -18,13 +18,11 @@ namespace bop::app {
 // Rank 0's state between passes: what clients asked for and what the run is doing.
 struct Desk {
     bool paused = false;
-    long long singleSteps = 0;  // steps still to do while paused
-    core::ProbeState probe;
-    std::uint64_t probeSeq = 0;
-    protocol::LoopStats loop;  // the newest probe's device loop (haptic clients), shown in frames
-    bool clientProbe = false;  // the probe was last set by a client (not the scene)...
+    long long singleSteps = 0;   // steps still to do while paused
+    std::uint64_t probeSeq = 0;  // the newest client probe's
+    protocol::LoopStats loop;    // the newest probe's device loop (haptic clients), shown in frames
+    bool clientProbe = false;    // the probe was last set by a client (not the scene)...
     std::chrono::steady_clock::time_point lastClientProbe{};  // ...at this time
-    std::vector<std::pair<double, double>> drags;             // per species: beta_v, beta_tau
 };
 
 // One client command (not Record): run commands submitted, or the desk changed. Checked again

@@ -17,15 +17,16 @@ std::int64_t nowNs() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
 }
 
-protocol::StateFrame frameOf(core::FrameArrays a, const core::Totals& t, const Desk& desk, long long step, double dt,
-                             double volume, double stepRate, bool paperEq15) {
+protocol::StateFrame frameOf(core::FrameArrays a, const core::Totals& t, const Desk& desk,
+                             const core::ProbeState& probe, long long step, double dt, double volume, double stepRate,
+                             bool paperEq15) {
     protocol::StateFrame f;
     const std::size_t n = a.species.size();
     f.step = std::uint64_t(step);
     f.simTime = double(step) * dt;
-    f.probePosition = desk.probe.position;
+    f.probePosition = probe.position;
     f.probeForce = t.probeReaction;
-    f.probeActive = desk.probe.active;
+    f.probeActive = probe.active;
     // In a bag: the blood's pressure (core/BloodPressure.hpp; the scene's formula); in a bulk box: the whole box's.
     const double pressure = t.bloodVolume <= 0 ? (2 * t.kinetic + t.virial) / (3 * volume)
                             : paperEq15
@@ -58,24 +59,19 @@ ServedLoop::ServedLoop(const Scene& scene, core::Run& run, protocol::ServerFront
       info_(sceneInfoOf(scene, nullptr)),
       volume_(model_.box.size().prod()),
       rateClock_(Clock::now()) {
-    desk_.probe = scene.probe;
-    for (const auto& s : model_.species) desk_.drags.emplace_back(s.dragV, s.dragW);
     if (o.replay)
         for (const auto& c : o.replay->chunks)
             if (c.frame.chunkIndex == 0) frameSteps_.insert(static_cast<long long>(c.frame.step));
 }
 
 void ServedLoop::takeProbe(const protocol::Probe& p) {
-    desk_.probe.active = p.active;
-    desk_.probe.position = p.position;
-    desk_.probe.params = {p.k0, p.k1};
     desk_.probeSeq = p.seq;
     desk_.loop = p.loop;
     desk_.clientProbe = true;
     desk_.lastClientProbe = Clock::now();
     front_->probeApplied(p, std::uint64_t(run_.stepNumber()));
     core::Command c;
-    c.probe = desk_.probe;
+    c.probe = {p.active, p.position, {p.k0, p.k1}};
     run_.submit(c);
 }
 
@@ -99,7 +95,8 @@ ServedLoop::Decision ServedLoop::replayInputs() {
     }
     desk_.paused = false;  // the recording's steps drive the run
     const bool last = frameSteps_.empty() || now >= *frameSteps_.rbegin();
-    return {stopRequested_() || last ? Stopped : Go, true, frameSteps_.count(now + 1) > 0, desk_.probe.active};
+    return {stopRequested_() || last ? Stopped : Go, true, frameSteps_.count(now + 1) > 0,
+            run_.paramsAhead().probe.active};
 }
 
 ServedLoop::Decision ServedLoop::decide() {
@@ -112,13 +109,14 @@ ServedLoop::Decision ServedLoop::decide() {
     if (!front_->anyHaptic()) desk_.loop = {};  // no device loop probing now
     // No probe from any client for a second: a dead client's probe lets go. Taken as a probe like
     // any other, so that a recording holds it and a replay applies it.
-    if (desk_.clientProbe && desk_.probe.active && Clock::now() - desk_.lastClientProbe > std::chrono::seconds(1)) {
+    const core::ProbeState& probe = run_.paramsAhead().probe;
+    if (desk_.clientProbe && probe.active && Clock::now() - desk_.lastClientProbe > std::chrono::seconds(1)) {
         protocol::Probe off;
         off.seq = desk_.probeSeq;
-        off.position = desk_.probe.position;
+        off.position = probe.position;
         off.active = false;
-        off.k0 = desk_.probe.params.k0;
-        off.k1 = desk_.probe.params.k1;
+        off.k0 = probe.params.k0;
+        off.k1 = probe.params.k1;
         takeProbe(off);
     }
     const bool step = !desk_.paused || desk_.singleSteps > 0;
@@ -126,7 +124,7 @@ ServedLoop::Decision ServedLoop::decide() {
     // No gather while the front still holds a frame: it would only replace it.
     const bool frame = !front_->framePending() && front_->frameDue(Clock::now());
     const bool stop = stopRequested_() || (o_.steps > 0 && done_ >= o_.steps);
-    return {stop ? Stopped : Go, step, frame, front_->anyHaptic() || desk_.probe.active};
+    return {stop ? Stopped : Go, step, frame, front_->anyHaptic() || run_.paramsAhead().probe.active};
 }
 
 bool ServedLoop::pass() {
@@ -182,8 +180,9 @@ void ServedLoop::publish(const core::Totals& t) {
     if (o_.replay)  // a replay is compared frame by frame: none may be replaced unsent
         while (front_->framePending()) std::this_thread::sleep_for(std::chrono::microseconds(200));
     front_->setParticleCount(arrays.species.size());
-    front_->offerFrame(frameOf(std::move(arrays), t, desk_, run_.stepNumber(), model_.integration.dt, volume_,
-                               stepRate_, scene_.pressure && scene_.pressure->paperEq15));
+    front_->offerFrame(frameOf(std::move(arrays), t, desk_, run_.paramsAhead().probe, run_.stepNumber(),
+                               model_.integration.dt, volume_, stepRate_,
+                               scene_.pressure && scene_.pressure->paperEq15));
 }
 
 }  // namespace bop::app
