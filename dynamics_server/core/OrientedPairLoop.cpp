@@ -29,6 +29,22 @@ struct Block {
     store4(to[2] + q, select(near, v.z, zero));
 }
 
+// Where orientedPair's results for four pairs go: the block's entries q..q+3 and the lane sums,
+// lanes not `near` zero.
+struct BlockSink {
+    Block& b;
+    std::uint32_t q;
+    V4Mask near;
+    V4& virialSum;
+    V4& energySum;
+    [[gnu::always_inline]] void fj(const Xyz<V4>& v) { storeNear(b.fj, q, near, v); }
+    [[gnu::always_inline]] void fi(const Xyz<V4>& v) { storeNear(b.fi, q, near, v); }
+    [[gnu::always_inline]] void ti(const Xyz<V4>& v) { storeNear(b.ti, q, near, v); }
+    [[gnu::always_inline]] void tj(const Xyz<V4>& v) { storeNear(b.tj, q, near, v); }
+    [[gnu::always_inline]] void virial(V4 v) { virialSum += select(near, v, splat(0.0)); }
+    [[gnu::always_inline]] void energy(V4 v) { energySum += select(near, v, splat(0.0)); }
+};
+
 // One: every pair is of the one oriented species (a bag's surface), its weights held throughout.
 template <bool Energy, bool One>
 [[gnu::always_inline]] inline void loop(const PairKernel& kernel, const NeighbourList::Pairs& pairs,
@@ -93,14 +109,8 @@ template <bool Energy, bool One>
             V4 c = splat(1.0);  // the co-planar curvature weight: the mean of the two
             if (curvature)
                 for (int l = 0; l < 4; ++l) c[l] = 0.5 * (double(cw[iq[l]]) + double(cw[jq[l]]));
-            const OrientedForces<V4> p =
-                orientedPair<Energy>(r, r2, inverseOrZero(rlen), ni, nj, orientedPsi(r2, rlen, psiK), c, k);
-            storeNear(b.fj, q, near, p.fj);
-            storeNear(b.fi, q, near, p.fi);
-            storeNear(b.ti, q, near, p.ti);
-            storeNear(b.tj, q, near, p.tj);
-            virial += select(near, p.virial, zero);
-            if constexpr (Energy) energy += select(near, p.energy, zero);
+            BlockSink sink{b, q, near, virial, energy};
+            orientedPair<Energy>(r, r2, inverseOrZero(rlen), ni, nj, orientedPsi(r2, rlen, psiK), c, k, sink);
             count -= near;  // a true lane is -1
         }
         // Into the particles, in list order; a row's own force and torque summed first.

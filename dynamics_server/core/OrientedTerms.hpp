@@ -84,18 +84,17 @@ struct OrientedForces {
 
 // Co-normal E = |n_i - n_j|^2 psi and co-planar E = ((n_i.r)^2 + (n_j.r)^2) c psi with their
 // weights. r = p_j - p_i, r2 = |r|^2, invR = 1/|r| (0 at r = 0); ni, nj unit normals; c the
-// co-planar curvature weight (1 without a map). The energy only when Energy.
-template <bool Energy, class T>
-[[gnu::always_inline]] inline OrientedForces<T> orientedPair(const Xyz<T>& r, T r2, T invR, const Xyz<T>& ni,
-                                                             const Xyz<T>& nj, const Psi<T>& w, T c,
-                                                             const OrientedWeights<T>& k) {
+// co-planar curvature weight (1 without a map). Each result goes to `out` as soon as it is made
+// (out.fj, fi, ti, tj with an Xyz<T>, out.virial and, when Energy, out.energy with a T), so
+// that the vector loop stores each one before the next is made (fewer registers live).
+template <bool Energy, class T, class Sink>
+[[gnu::always_inline]] inline void orientedPair(const Xyz<T>& r, T r2, T invR, const Xyz<T>& ni, const Xyz<T>& nj,
+                                                const Psi<T>& w, T c, const OrientedWeights<T>& k, Sink& out) {
     // Co-normal: force on j -d2 dpsi r / |r|, torque 2 psi n_i x n_j on i and its opposite on j.
     const Xyz<T> d{ni.x - nj.x, ni.y - nj.y, ni.z - nj.z};
     const T d2 = dot(d, d);
     const T cn = -d2 * w.dpsi * invR;
-    const Xyz<T> nn = cross(ni, nj);
     const T p2 = 2.0 * w.psi;
-    const Xyz<T> cnT{p2 * nn.x, p2 * nn.y, p2 * nn.z};
     // Co-planar with A = n_i.r, B = n_j.r: force on j -2 c psi (A n_i + B n_j) - (A^2 + B^2) c dpsi
     // r / |r|; torques 2 A c psi r x n_i on i and 2 B c psi r x n_j on j.
     const T cpsi = c * w.psi, cdpsi = c * w.dpsi;
@@ -104,20 +103,39 @@ template <bool Energy, class T>
     const T cpN = -2.0 * cpsi, cpR = -ab2 * cdpsi * invR;
     const Xyz<T> cp{cpN * (A * ni.x + B * nj.x) + cpR * r.x, cpN * (A * ni.y + B * nj.y) + cpR * r.y,
                     cpN * (A * ni.z + B * nj.z) + cpR * r.z};
+    out.fj(Xyz<T>{k.cnFba * cn * r.x + k.cpFba * cp.x, k.cnFba * cn * r.y + k.cpFba * cp.y,
+                  k.cnFba * cn * r.z + k.cpFba * cp.z});
+    out.fi(Xyz<T>{-(k.cnFab * cn * r.x + k.cpFab * cp.x), -(k.cnFab * cn * r.y + k.cpFab * cp.y),
+                  -(k.cnFab * cn * r.z + k.cpFab * cp.z)});
+    const Xyz<T> nn = cross(ni, nj);
+    const Xyz<T> cnT{p2 * nn.x, p2 * nn.y, p2 * nn.z};
     const T ai = 2.0 * A * cpsi, bj = 2.0 * B * cpsi;
-    const Xyz<T> rni = cross(r, ni), rnj = cross(r, nj);
-    OrientedForces<T> o;
-    o.fj = {k.cnFba * cn * r.x + k.cpFba * cp.x, k.cnFba * cn * r.y + k.cpFba * cp.y,
-            k.cnFba * cn * r.z + k.cpFba * cp.z};
-    o.fi = {-(k.cnFab * cn * r.x + k.cpFab * cp.x), -(k.cnFab * cn * r.y + k.cpFab * cp.y),
-            -(k.cnFab * cn * r.z + k.cpFab * cp.z)};
-    o.ti = {k.cnTab * cnT.x + k.cpTab * ai * rni.x, k.cnTab * cnT.y + k.cpTab * ai * rni.y,
-            k.cnTab * cnT.z + k.cpTab * ai * rni.z};
-    o.tj = {-k.cnTba * cnT.x + k.cpTba * bj * rnj.x, -k.cnTba * cnT.y + k.cpTba * bj * rnj.y,
-            -k.cnTba * cnT.z + k.cpTba * bj * rnj.z};
-    o.virial = k.cnE * cn * r2 + k.cpE * dot(r, cp);
-    if constexpr (Energy) o.energy = k.cnE * d2 * w.psi + k.cpE * ab2 * cpsi;
-    return o;
+    const Xyz<T> rni = cross(r, ni);
+    out.ti(Xyz<T>{k.cnTab * cnT.x + k.cpTab * ai * rni.x, k.cnTab * cnT.y + k.cpTab * ai * rni.y,
+                  k.cnTab * cnT.z + k.cpTab * ai * rni.z});
+    const Xyz<T> rnj = cross(r, nj);
+    out.tj(Xyz<T>{-k.cnTba * cnT.x + k.cpTba * bj * rnj.x, -k.cnTba * cnT.y + k.cpTba * bj * rnj.y,
+                  -k.cnTba * cnT.z + k.cpTba * bj * rnj.z});
+    out.virial(k.cnE * cn * r2 + k.cpE * dot(r, cp));
+    if constexpr (Energy) out.energy(k.cnE * d2 * w.psi + k.cpE * ab2 * cpsi);
+}
+
+// The same, its results in one OrientedForces (the reference's form).
+template <bool Energy, class T>
+[[gnu::always_inline]] inline OrientedForces<T> orientedPair(const Xyz<T>& r, T r2, T invR, const Xyz<T>& ni,
+                                                             const Xyz<T>& nj, const Psi<T>& w, T c,
+                                                             const OrientedWeights<T>& k) {
+    struct Collect {
+        OrientedForces<T> o{};
+        void fj(const Xyz<T>& v) { o.fj = v; }
+        void fi(const Xyz<T>& v) { o.fi = v; }
+        void ti(const Xyz<T>& v) { o.ti = v; }
+        void tj(const Xyz<T>& v) { o.tj = v; }
+        void virial(T v) { o.virial = v; }
+        void energy(T v) { o.energy = v; }
+    } c2;
+    orientedPair<Energy>(r, r2, invR, ni, nj, w, c, k, c2);
+    return c2.o;
 }
 
 }  // namespace bop::core
