@@ -14,7 +14,7 @@ namespace bop::core {
 class MapForces {
 public:
     // Adds the map's forces and torques to particles.force and .torque, and its wall virial to
-    // stats. curvature: whether the pairs read curvatureWeights() (else left empty).
+    // stats. curvature: whether the pairs read curvatureWeights() (else not written).
     void add(const Model& model, Particles& particles, ForceStats& stats, bool curvature);
 
     // Keyframe blending: until set again, the forces are (1 - w) of the model's map plus w of

@@ -113,7 +113,7 @@ public:
     const Particles& particles() const { return p_; }
     Particles& particles() { return p_; }  // between steps (tests)
     const Halo& halo() const { return halo_; }
-    ProbeState& probe() { return params_.probe; }  // between steps, on one process (tests)
+    ProbeState& probe() { return params_.probe; }  // between steps, set alike on every process
     Construction& construction() { return construction_; }
     const Construction& construction() const { return construction_; }
     const StepStats& stats() const { return stats_; }
