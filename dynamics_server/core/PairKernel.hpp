@@ -127,13 +127,12 @@ public:
         const OrientedWeights<double> k{cnF_[ab], cnF_[ba], cnT_[ab], cnT_[ba], cnE_[ab],
                                         cpF_[ab], cpF_[ba], cpT_[ab], cpT_[ba], cpE_[ab]};
         const double c = useCurvature_ ? 0.5 * (double(wi) + double(wj)) : 1.0;
-        const OrientedForces<double> o = orientedPair<true>(Xyz<double>{r.x(), r.y(), r.z()}, r2, inverseOrZero(rlen),
-                                                            Xyz<double>{ni.x(), ni.y(), ni.z()},
-                                                            Xyz<double>{nj.x(), nj.y(), nj.z()}, {psi, dpsi}, c, k);
-        f[j] += Eigen::Vector3d(o.fj.x, o.fj.y, o.fj.z);
-        f[i] += Eigen::Vector3d(o.fi.x, o.fi.y, o.fi.z);
-        t[i] += Eigen::Vector3d(o.ti.x, o.ti.y, o.ti.z);
-        t[j] += Eigen::Vector3d(o.tj.x, o.tj.y, o.tj.z);
+        const OrientedForces<double> o =
+            orientedPair<true>(xyzOf(r), r2, inverseOrZero(rlen), xyzOf(ni), xyzOf(nj), {psi, dpsi}, c, k);
+        f[j] += vectorOf(o.fj);
+        f[i] += vectorOf(o.fi);
+        t[i] += vectorOf(o.ti);
+        t[j] += vectorOf(o.tj);
         s.energy += o.energy;
         s.virial += o.virial;
     }

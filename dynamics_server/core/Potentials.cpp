@@ -102,23 +102,16 @@ OrientedWeight::OrientedWeight(const OrientedParams& p) : params_(p) {
 
 namespace {
 
-Xyz<double> xyz(const Eigen::Vector3d& v) {
-    return {v.x(), v.y(), v.z()};
-}
-Eigen::Vector3d vec(const Xyz<double>& v) {
-    return {v.x, v.y, v.z};
-}
-
 // One term of orientedPair with weight 1 (and the other 0), as an OrientedPair.
 void oneTerm(bool normal, const Eigen::Vector3d& r, double rlen, const Eigen::Vector3d& ni, const Eigen::Vector3d& nj,
              double psi, double dpsi, OrientedPair& out) {
     const double cn = normal ? 1.0 : 0.0, cp = 1.0 - cn;
     const OrientedWeights<double> k{cn, cn, cn, cn, cn, cp, cp, cp, cp, cp};
-    const OrientedForces<double> o =
-        orientedPair<true>(xyz(r), rlen * rlen, inverseOrZero(rlen), xyz(ni), xyz(nj), Psi<double>{psi, dpsi}, 1.0, k);
-    out.fj = vec(o.fj);
-    out.taui = vec(o.ti);
-    out.tauj = vec(o.tj);
+    const OrientedForces<double> o = orientedPair<true>(xyzOf(r), rlen * rlen, inverseOrZero(rlen), xyzOf(ni),
+                                                        xyzOf(nj), Psi<double>{psi, dpsi}, 1.0, k);
+    out.fj = vectorOf(o.fj);
+    out.taui = vectorOf(o.ti);
+    out.tauj = vectorOf(o.tj);
     out.energy = o.energy;
 }
 

@@ -165,6 +165,14 @@ private:
     double invS2_ = 0.0;     // 1 / sigma^2, 1/length^2
 };
 
+// A vector as OrientedTerms.hpp's evaluator takes and gives it, and back.
+inline Xyz<double> xyzOf(const Eigen::Vector3d& v) {
+    return {v.x(), v.y(), v.z()};
+}
+inline Eigen::Vector3d vectorOf(const Xyz<double>& v) {
+    return {v.x, v.y, v.z};
+}
+
 struct OrientedPair {
     Eigen::Vector3d fj;    // force on j (energy/length); F_i = -fj
     Eigen::Vector3d taui;  // torque on i (energy)

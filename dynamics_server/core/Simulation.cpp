@@ -28,8 +28,7 @@ Simulation::Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::s
       ex_(exchange ? exchange : ownExchange_.get()),
       model_(std::move(model)),
       params_(options.params ? *options.params : Params(*model_)),
-      region_(model_->box),
-      local_(model_),
+      region_(ex_->region(model_->box)),
       field_(*model_, params_),
       drag_(*model_, params_),
       construction_(options.construction ? *options.construction : Construction({}, {}, model_->speciesCount())),
@@ -37,7 +36,6 @@ Simulation::Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::s
     stats_.step = options.firstStep;
     stats_.time = double(options.firstStep) * model_->integration.dt;
     range_ = field_.pairs().listRange();
-    region_ = ex_->region(model_->box);
     placeMaps();
     placeLocal();
     field_ =
@@ -61,17 +59,17 @@ Simulation::Simulation(Simulation&&) noexcept = default;
 
 void Simulation::submit(const Command& command) {
     if (ex_->rank() != 0) throw std::logic_error("commands are submitted on rank 0");
-    Params trial = paramsAhead();
+    Params next = paramsAhead();
     if (command.kind == Command::Kind::Probe || command.kind == Command::Kind::Drag ||
-        command.kind == Command::Kind::Weight) {  // refused here, before any process sees it
-        trial.apply(command);
-        if (PairForces::listRange(*local_, trial) != range_)
-            throw std::invalid_argument(
-                "weight command: it would change the interaction range (oriented terms on or "
-                "off); give the scene a nonzero weight of that kind to start with");
-    }
+        command.kind == Command::Kind::Weight)  // refused here, before any process sees it
+        next.apply(command);
+    // Only weights can switch the oriented terms on or off (one PairForces built to tell).
+    if (command.kind == Command::Kind::Weight && PairForces::listRange(*local_, next) != range_)
+        throw std::invalid_argument(
+            "weight command: it would change the interaction range (oriented terms on or "
+            "off); give the scene a nonzero weight of that kind to start with");
     commands_.push_back(command);
-    queued_ = std::move(trial);
+    queued_ = std::move(next);
 }
 
 void Simulation::apply(const Command& c) {
