@@ -11,7 +11,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git clang-format
   # libraries (see README "Dependencies")
   libeigen3-dev libspdlog-dev libtomlplusplus-dev libcli11-dev libstb-dev
-  libtinyobjloader-dev libnifti2-dev libniftiio-dev libznz-dev zlib1g-dev
+  libassimp-dev libnifti2-dev libniftiio-dev libznz-dev zlib1g-dev
   # the decomposed run (dynamics_server/parallel/)
   libopenmpi-dev openmpi-bin
   # the wire protocol and network front (protocol/)

@@ -1,25 +1,44 @@
 #include "FileSources.hpp"
 
+#include "MeshRepair.hpp"
 #include "MeshVoxelizer.hpp"
 #include "TriangleMesh.hpp"
+#include "WindingNumber.hpp"
+#include "bop/common/Error.hpp"
 
 #include <algorithm>
+#include <optional>
+#include <sstream>
 
 namespace bop::shape {
 namespace {
 
 class MeshSource final : public ModelSource {
 public:
-    MeshSource(TriangleMesh mesh, std::string path) : mesh_(std::move(mesh)), path_(std::move(path)) {}
+    MeshSource(TriangleMesh mesh, const MeshRepair& repair, std::string path)
+        : mesh_(std::move(mesh)), repair_(repair), path_(std::move(path)) {
+        if (!repair_.closed) winding_.emplace(mesh_);
+    }
     Eigen::AlignedBox3d boundsMm(int) const override { return meshBounds(mesh_); }
-    void rasterize(int, const VoxelGrid& g, Mask& out) const override { voxelizeMesh(mesh_, g, out); }
+    void rasterize(int, const VoxelGrid& g, Mask& out) const override {
+        if (winding_)
+            voxelizeByWindingNumber(*winding_, g, out);
+        else
+            voxelizeMesh(mesh_, g, out);
+    }
     std::string describe() const override {
         return "mesh " + path_ + " (" + std::to_string(mesh_.triangles.size()) + " triangles)";
+    }
+    std::string warning() const override {
+        const std::string s = repair_.summary();
+        return s.empty() ? s : "mesh " + path_ + ": " + s;
     }
 
 private:
     TriangleMesh mesh_;
+    MeshRepair repair_;
     std::string path_;
+    std::optional<WindingNumber> winding_;  // meshes that are not closed
 };
 
 class ImageSource final : public ModelSource {
@@ -42,11 +61,27 @@ private:
 
 }  // namespace
 
-std::unique_ptr<ModelSource> makeMeshSource(const std::string& path, double scaleMm, const Eigen::Vector3d& offsetMm) {
+std::unique_ptr<ModelSource> makeMeshSource(const std::string& path, const MeshPlacement& placement) {
     TriangleMesh mesh = loadMesh(path);
-    requireClosed(mesh, path);
-    for (auto& v : mesh.vertices) v = v * scaleMm + offsetMm;
-    return std::make_unique<MeshSource>(std::move(mesh), path);
+    const MeshRepair repair = repairMesh(mesh);
+    const Eigen::Vector3d sides = meshBounds(mesh).sizes();  // file units
+    if (repair.triangles == 0 || !(sides.minCoeff() > 1e-6 * sides.maxCoeff())) {
+        std::ostringstream os;
+        os << "mesh is flat: its bounds measure " << sides.x() << " x " << sides.y() << " x " << sides.z()
+           << " file units" << (repair.triangles == 0 ? " and every triangle has zero area" : "")
+           << "; a surface around a solid is expected";
+        throw Error(path, os.str());
+    }
+    if (repair.closed && !(repair.volume > 1e-9 * sides.prod())) {
+        std::ostringstream os;
+        os << "mesh encloses no volume (" << repair.volume << " cubic file units inside bounds of " << sides.x()
+           << " x " << sides.y() << " x " << sides.z() << "); a surface around a solid is expected";
+        throw Error(path, os.str());
+    }
+    const double scale = placement.fitVoxels > 0 ? placement.fitVoxels * placement.voxelMm / sides.maxCoeff()
+                                                 : placement.scaleMm;  // mm per file unit
+    for (auto& v : mesh.vertices) v = v * scale + placement.offsetMm;
+    return std::make_unique<MeshSource>(std::move(mesh), repair, path);
 }
 
 std::unique_ptr<ModelSource> makeImageSource(std::vector<ScalarImage> frames, const ImageSelect& sel,

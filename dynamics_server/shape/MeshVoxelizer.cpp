@@ -24,6 +24,7 @@ struct RayAxis {
 struct Crossing {
     std::size_t row;  // row index iu + nu * iv
     double at;        // coordinate of the crossing along the ray axis, mm
+    int sign;         // +1 where the ray leaves the solid (outward normal along the ray), -1 where it enters
 };
 
 // Twice the signed area of (from, to, p) in the projected (u, v) plane, mm^2. Evaluated from the
@@ -79,9 +80,10 @@ void collectCrossings(const TriangleMesh& mesh, const VoxelGrid& grid, const std
                 if (edgeSign(w1, mesh, tri[2], tri[0], u, v) != s0 || edgeSign(w2, mesh, tri[0], tri[1], u, v) != s0)
                     continue;
                 const double sum = w0 + w1 + w2;
-                if (sum == 0.0) continue;  // degenerate in projection
+                if (sum == 0.0) continue;                            // degenerate in projection
+                const double normalA = (p1 - p0).cross(p2 - p0)[a];  // the normal's component along the ray
                 crossings.push_back({std::size_t(iu) + std::size_t(n[u]) * std::size_t(iv),
-                                     (w0 * p0[a] + w1 * p1[a] + w2 * p2[a]) / sum});
+                                     (w0 * p0[a] + w1 * p1[a] + w2 * p2[a]) / sum, normalA > 0 ? 1 : -1});
             }
         }
     }
@@ -121,8 +123,8 @@ void voxelizeMesh(const TriangleMesh& mesh, const VoxelGrid& grid, Mask& out) {
     const std::array<int, 3> n{d.nx, d.ny, d.nz};  // voxels per axis
     const std::array<std::size_t, 3> stride{1, std::size_t(d.nx), std::size_t(d.nx) * std::size_t(d.ny)};
     std::vector<Crossing> crossings;
-    std::vector<std::size_t> rowStart, cursor;  // per row: first crossing in `sorted`, next free slot
-    std::vector<double> sorted;                 // crossing coordinates grouped by row, mm
+    std::vector<std::size_t> rowStart, cursor;   // per row: first crossing in `sorted`, next free slot
+    std::vector<std::pair<double, int>> sorted;  // (coordinate mm, sign) of the crossings grouped by row
     for (const RayAxis axis : {RayAxis{0, 1, 2}, RayAxis{1, 0, 2}, RayAxis{2, 0, 1}}) {
         crossings.clear();
         collectCrossings(mesh, grid, n, axis, crossings);
@@ -134,7 +136,7 @@ void voxelizeMesh(const TriangleMesh& mesh, const VoxelGrid& grid, Mask& out) {
         std::partial_sum(rowStart.begin(), rowStart.end(), rowStart.begin());
         cursor.assign(rowStart.begin(), rowStart.end() - 1);
         sorted.resize(crossings.size());
-        for (const Crossing& c : crossings) sorted[cursor[c.row]++] = c.at;
+        for (const Crossing& c : crossings) sorted[cursor[c.row]++] = {c.at, c.sign};
 
         const double origin = grid.originMm[axis.a];  // mm
         const std::size_t step = stride[std::size_t(axis.a)];
@@ -145,12 +147,19 @@ void voxelizeMesh(const TriangleMesh& mesh, const VoxelGrid& grid, Mask& out) {
             std::sort(begin, end);
             std::uint8_t* base =
                 out.data.data() + (row % nu) * stride[std::size_t(axis.u)] + (row / nu) * stride[std::size_t(axis.v)];
-            // Inside between crossings 2m and 2m+1; an unpaired last crossing (open mesh) is ignored.
-            for (auto c = begin; c + 1 < end; c += 2) {
-                const int from = firstCentreAtOrAbove(*c, origin, grid.voxelMm, n[axis.a]);
-                const int to = firstCentreAtOrAbove(*(c + 1), origin, grid.voxelMm, n[axis.a]);
-                for (int i = from; i < to; ++i) ++base[std::size_t(i) * step];
+            // The winding number of a centre is the sum of the signs of the crossings ahead of it
+            // (at > centre); inside where it is 1 or more (self-overlapping parts count once).
+            int winding = 0, above = n[axis.a];
+            for (auto c = end; c != begin;) {
+                --c;
+                const int from = firstCentreAtOrAbove(c->first, origin, grid.voxelMm, n[axis.a]);
+                if (winding >= 1)
+                    for (int i = from; i < above; ++i) ++base[std::size_t(i) * step];
+                winding += c->second;
+                above = from;
             }
+            if (winding >= 1)
+                for (int i = 0; i < above; ++i) ++base[std::size_t(i) * step];
         }
     }
     for (std::uint8_t& votes : out.data) votes = votes >= 2 ? 1 : 0;

@@ -1,6 +1,6 @@
 #pragma once
 // A model source turns one bag's description into object voxels on a grid: analytic shapes
-// (superellipsoid, torus), triangle meshes (OBJ, STL) and segmented images (NIfTI, raw).
+// (superellipsoid, torus), triangle meshes (OBJ, STL, PLY, glTF, ...) and segmented images (NIfTI, raw).
 // A source may hold several time frames (image sequences); analytic and mesh sources hold one.
 #include "bop/common/Volume.hpp"
 
@@ -22,6 +22,8 @@ public:
     // Isotropic voxel size the data suggests, mm (images: their finest spacing); 0 = none.
     virtual double naturalVoxelMm() const { return 0.0; }
     virtual std::string describe() const = 0;
+    // What the source found and mended in its input, for a warning; "" when nothing.
+    virtual std::string warning() const { return {}; }
 };
 
 // Superellipsoid (Barr): ((|x/a|^(2/e2) + |y/b|^(2/e2))^(e2/e1) + |z/c|^(2/e1)) <= 1.

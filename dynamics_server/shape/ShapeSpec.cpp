@@ -56,7 +56,7 @@ std::vector<std::string> imageFiles(const ConfigTable& t) {
     return names;
 }
 
-std::shared_ptr<ModelSource> readSource(const ConfigTable& t, std::string& stamps) {
+std::shared_ptr<ModelSource> readSource(const ConfigTable& t, double voxelMm, std::string& stamps) {
     const std::string kind = t.choice("source", {"superellipsoid", "sphere", "torus", "mesh", "nifti", "raw"}, "");
     const Eigen::Vector3d centre = t.vec3("center_mm", Eigen::Vector3d::Zero());
     auto stamp = [&](const std::string& f) {
@@ -89,8 +89,18 @@ std::shared_ptr<ModelSource> readSource(const ConfigTable& t, std::string& stamp
     if (kind == "mesh") {
         const std::string file = resolve(t, "file", t.string("file"));
         stamp(file);
-        const double scale = positive(t, "scale_mm", t.number("scale_mm", 1.0));
-        return makeMeshSource(file, scale, centre);
+        MeshPlacement placement;
+        placement.offsetMm = centre;
+        if (t.has("fit_voxels")) {
+            if (t.has("scale_mm")) t.fail("fit_voxels", "give either 'scale_mm' or 'fit_voxels', not both");
+            placement.fitVoxels = int(t.integer("fit_voxels"));
+            if (placement.fitVoxels < 1) t.fail("fit_voxels", "must be at least 1 voxel");
+            if (!(voxelMm > 0)) t.fail("fit_voxels", "needs the voxel size: set [grid] voxel_size_mm");
+            placement.voxelMm = voxelMm;
+        } else {
+            placement.scaleMm = positive(t, "scale_mm", t.number("scale_mm", 1.0));
+        }
+        return makeMeshSource(file, placement);
     }
     const std::vector<std::string> files = imageFiles(t);
     const ImageSelect sel = readSelect(t);
@@ -167,7 +177,8 @@ ShapeSpec readShapeSpec(const ConfigTable& root) {
         BagSpec bag;
         bag.key = bags[b].prefix();
         bag.name = bags[b].string("name", "bag" + std::to_string(b + 1));
-        bag.source = readSource(bags[b], stamps);
+        bag.source = readSource(bags[b], s.grid.voxelMm, stamps);
+        if (const std::string w = bag.source->warning(); !w.empty()) s.warnings.push_back(bag.key + ": " + w);
         bags[b].finish();
         s.bags.push_back(std::move(bag));
     }

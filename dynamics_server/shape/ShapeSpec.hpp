@@ -32,7 +32,8 @@ struct ShapeSpec {
     std::vector<BagSpec> bags;  // outer to inner
     SurfaceGeometryParams geometry;
     core::Interpolation interpolation = core::Interpolation::Mixed;
-    std::string canonical;  // the shape tables as TOML text (for the cache key)
+    std::string canonical;              // the shape tables as TOML text (for the cache key)
+    std::vector<std::string> warnings;  // what the sources found and mended, one line each
 };
 
 // Reads [grid] and [shape] of a scene (other top-level tables are left to their readers) and

@@ -1,6 +1,6 @@
 #pragma once
-// Triangle surface meshes loaded from OBJ or STL files, with the topology check that
-// voxelization by ray parity relies on (a closed, consistently oriented surface).
+// Triangle surface meshes read from the files users bring (OBJ, STL, PLY, OFF, glTF/GLB and the
+// other formats of Debian's Assimp), welded into one indexed triangle list.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -11,25 +11,23 @@
 namespace bop::shape {
 
 struct TriangleMesh {
-    std::vector<Eigen::Vector3d> vertices;      // vertex positions, mm
+    std::vector<Eigen::Vector3d> vertices;      // vertex positions, file units (mm once scaled)
     std::vector<std::array<int, 3>> triangles;  // vertex indices (0-based), counter-clockwise seen from outside
 };
 
-// Loads a mesh, choosing the format by extension (case-insensitive):
-//   .obj  Wavefront OBJ (polygons are triangulated; coordinates read as single precision),
-//   .stl  binary or ASCII STL (identical vertex coordinates are welded into one vertex).
-// path: file path; coordinates are taken as millimetres.
-// Throws bop::Error(path, ...) for a missing or unreadable file, an unknown extension,
-// a parse error, a mesh without triangles or a vertex index out of range.
+// Loads every triangle of every mesh in a file through Assimp (polygons triangulated, node
+// transforms applied, points and lines left out) and welds corners with identical coordinates
+// into one vertex, so that the topology can be checked. Coordinates are single precision as
+// Assimp reads them. path: the file; its extension picks the format (case-insensitive).
+// Throws bop::Error(path, ...) for a missing or unreadable file, a format Assimp does not read
+// (naming the accepted extensions), a parse error (with Assimp's reason), an OBJ vertex line
+// without three finite numbers (naming its line), a non-finite coordinate or no triangles.
 TriangleMesh loadMesh(const std::string& path);
 
-// Requires a closed (watertight) surface: every undirected edge of a non-degenerate
-// triangle is used by exactly two triangles, once in each direction (consistent
-// orientation). Zero-area triangles are ignored. path: named in the error message only.
-// Throws bop::Error(path, "mesh is not closed: ...") otherwise.
-void requireClosed(const TriangleMesh& mesh, const std::string& path);
-
-// Axis-aligned bounds of the vertices used by triangles, mm (empty box if none).
+// Axis-aligned bounds of the vertices used by triangles (empty box if none), vertex units.
 Eigen::AlignedBox3d meshBounds(const TriangleMesh& mesh);
+
+// The extensions loadMesh reads, as Assimp lists them ("*.3ds;*.obj;...").
+std::string meshExtensions();
 
 }  // namespace bop::shape

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 
 using namespace bop;
 using namespace bop::shape;
@@ -45,6 +46,42 @@ TEST_CASE("the voxelised torus mesh agrees with the analytic torus", "[shape][sc
     CHECK(double(differ) < 0.01 * double(objectVoxels(b)));
     CHECK(double(objectVoxels(a)) == Approx(exact).epsilon(0.02));
     CHECK(double(objectVoxels(b)) == Approx(exact).epsilon(0.02));
+}
+
+TEST_CASE("an open mesh in file units: fit_voxels scales it, the scene warns what was mended", "[shape][scene]") {
+    // The torus in metres (1/1000 of its mm coordinates) with a hole: fit_voxels = 42 spans its
+    // 84 mm across 42 voxels of 2 mm, i.e. the same solid as scale_mm = 1000.
+    test::TempDir dir("fit");
+    std::ifstream in(test::sourceDir() + "/config/models/torus.obj");
+    std::ofstream out(dir.file("metres.obj"));
+    std::string line;
+    int faces = 0;
+    while (std::getline(in, line)) {
+        if (line.rfind("v ", 0) == 0) {
+            std::istringstream f(line.substr(2));
+            double x, y, z;
+            f >> x >> y >> z;
+            out << "v " << x / 1000 << ' ' << y / 1000 << ' ' << z / 1000 << '\n';
+        } else if (line.rfind("f ", 0) != 0 || ++faces != 500) {
+            out << line << '\n';  // face 500 left out: a hole
+        }
+    }
+    out.close();
+    const std::string grid =
+        "[grid]\nvoxel_size_mm = 2.0\n[shape]\n[[shape.bag]]\nsource = 'mesh'\nfile = 'metres.obj'\n";
+    const ShapeSpec fitted = loadShapeSpec(test::writeText(dir.file("fit.toml"), grid + "fit_voxels = 42\n"));
+    REQUIRE(fitted.warnings.size() == 1);
+    CHECK_THAT(fitted.warnings[0], Catch::Contains("shape.bag[0]") && Catch::Contains("metres.obj") &&
+                                       Catch::Contains("3 boundary edges") && Catch::Contains("winding number"));
+    const Eigen::Vector3d sides = fitted.bags[0].source->boundsMm(0).sizes();
+    CHECK(sides.maxCoeff() == Approx(84.0).epsilon(1e-6));
+    const ShapeSpec scaled = loadShapeSpec(test::writeText(dir.file("scaled.toml"), grid + "scale_mm = 1000.0\n"));
+    const GradientMap a = buildShape(fitted).frames[0], b = buildShape(scaled).frames[0];
+    const double exact = 2 * M_PI * M_PI * 30.0 * 12.0 * 12.0 / 8.0;  // voxels of 8 mm^3
+    INFO("fitted " << objectVoxels(a) << ", scaled " << objectVoxels(b) << ", analytic " << exact);
+    CHECK(double(objectVoxels(a)) == Approx(exact).epsilon(0.03));
+    // Float rounding of 84 mm decides whether the grid is 42 or 43 voxels wide (half a voxel of shift).
+    CHECK(double(objectVoxels(a)) == Approx(double(objectVoxels(b))).epsilon(0.01));
 }
 
 TEST_CASE("superellipsoid voxel volumes match the analytic volume", "[shape][scene]") {

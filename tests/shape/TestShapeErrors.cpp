@@ -1,6 +1,6 @@
 // Every malformed shape input gives a bop::Error that names the file and the key and says
-// what was expected (issue 2: missing file, non-closed mesh, empty bitmap, unknown key, wrong
-// unit or type).
+// what was expected (issue 2: missing file, flat mesh, empty bitmap, unknown key, wrong unit or
+// type).
 #include "ShapeTestUtil.hpp"
 #include "shape/ScalarImage.hpp"
 
@@ -46,12 +46,20 @@ TEST_CASE("shape input errors name the file and key", "[shape][errors]") {
         CHECK_THAT(errorOf(s),
                    Contains(s) && Contains("shape.bag[0].file") && Contains("absent.obj") && Contains("not found"));
     }
-    SECTION("non-closed mesh") {
-        const auto obj = test::writeText(
-            dir.file("open.obj"),
-            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n");  // a tetrahedron missing a face
-        const auto s = scene("open.toml", kGrid + "[[shape.bag]]\nsource = 'mesh'\nfile = 'open.obj'\n");
-        CHECK_THAT(errorOf(s), Contains(obj) && Contains("not closed"));
+    SECTION("flat mesh") {
+        const auto obj =
+            test::writeText(dir.file("flat.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4\nf 1 4 3\n");
+        const auto s = scene("flat.toml", kGrid + "[[shape.bag]]\nsource = 'mesh'\nfile = 'flat.obj'\n");
+        CHECK_THAT(errorOf(s), Contains(obj) && Contains("flat"));
+    }
+    SECTION("fit_voxels beside scale_mm, or without a voxel size") {
+        test::writeText(dir.file("tet.obj"),
+                        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n");
+        const std::string bag = "[[shape.bag]]\nsource = 'mesh'\nfile = 'tet.obj'\nfit_voxels = 20\n";
+        const auto both = scene("both.toml", kGrid + bag + "scale_mm = 2.0\n");
+        CHECK_THAT(errorOf(both), Contains(both) && Contains("shape.bag[0].fit_voxels") && Contains("scale_mm"));
+        const auto noSize = scene("nosize.toml", "[grid]\n[shape]\n" + bag);
+        CHECK_THAT(errorOf(noSize), Contains(noSize) && Contains("fit_voxels") && Contains("voxel_size_mm"));
     }
     SECTION("empty bitmap: a threshold that selects nothing") {
         ScalarImage img;

@@ -113,6 +113,8 @@ int run(int argc, char** argv) {
                  ranks == 1 ? "" : "s", core::threadCount(), core::threadCount() == 1 ? "" : "s", onNode,
                  onNode == 1 ? "" : "s", std::thread::hardware_concurrency());
     app::Scene scene = app::loadScene(scenePath);
+    if (scene.shape)
+        for (const std::string& w : scene.shape->warnings) spdlog::warn("{}", w);
     if (outDir.empty()) outDir = "out/" + fs::path(scenePath).stem().string();
     if (cache.empty()) cache = outDir + "/gradient-map.bopgm";
     fs::create_directories(outDir);

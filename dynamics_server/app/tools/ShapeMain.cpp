@@ -63,6 +63,7 @@ int run(int argc, char** argv) {
     spdlog::set_pattern("[bop-shape] %v");
     const auto t0 = std::chrono::steady_clock::now();
     const bop::shape::ShapeSpec spec = bop::shape::loadShapeSpec(scene);
+    for (const std::string& w : spec.warnings) spdlog::warn("{}", w);
     const bop::shape::ShapeBuild build = bop::shape::loadOrBuildShape(
         spec, noCache ? "" : cache, rebuild, [](const std::string& m) { spdlog::info("{}", m); }, threads);
     bop::app::printShapeReport(std::cout, spec, build);
