@@ -16,8 +16,9 @@ namespace {
 class MeshSource final : public ModelSource {
 public:
     MeshSource(TriangleMesh mesh, const MeshRepair& repair, std::string path)
-        : mesh_(std::move(mesh)), repair_(repair), path_(std::move(path)) {
-        if (!repair_.closed) winding_.emplace(mesh_);
+        : mesh_(std::move(mesh)), path_(std::move(path)) {
+        if (!repair.closed) winding_.emplace(mesh_);
+        if (const std::string s = repair.summary(); !s.empty()) setWarning("mesh " + path_ + ": " + s);
     }
     Eigen::AlignedBox3d boundsMm(int) const override { return meshBounds(mesh_); }
     void rasterize(int, const VoxelGrid& g, Mask& out) const override {
@@ -29,14 +30,9 @@ public:
     std::string describe() const override {
         return "mesh " + path_ + " (" + std::to_string(mesh_.triangles.size()) + " triangles)";
     }
-    std::string warning() const override {
-        const std::string s = repair_.summary();
-        return s.empty() ? s : "mesh " + path_ + ": " + s;
-    }
 
 private:
     TriangleMesh mesh_;
-    MeshRepair repair_;
     std::string path_;
     std::optional<WindingNumber> winding_;  // meshes that are not closed
 };

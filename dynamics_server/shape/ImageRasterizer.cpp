@@ -24,7 +24,8 @@ std::vector<int> axisLookup(int gridCount, double gridOrigin, double voxelMm, in
 }  // namespace
 
 bool isSelected(float value, const ImageSelect& sel) {
-    if (sel.mode == ImageSelect::Mode::Label) return value == float(sel.label);
+    if (sel.mode == ImageSelect::Mode::Label)
+        return std::any_of(sel.labels.begin(), sel.labels.end(), [&](double l) { return value == float(l); });
     return double(value) >= sel.threshold;
 }
 

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <vector>
 
 namespace bop::shape {
 
@@ -16,7 +17,8 @@ namespace bop::shape {
 struct ImageSelect {
     enum class Mode { Threshold, Label } mode = Mode::Threshold;  // test applied to each value
     double threshold = 0.5;  // object where value >= threshold (image units); Threshold mode
-    double label = 1;        // object where value == label (image units, compared as float); Label mode
+    std::vector<double> labels{
+        1};  // object where value equals one of them (image units, compared as float); Label mode
 };
 
 // True when `value` belongs to the object under `sel` (NaN never does).

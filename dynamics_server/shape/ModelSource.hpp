@@ -23,7 +23,11 @@ public:
     virtual double naturalVoxelMm() const { return 0.0; }
     virtual std::string describe() const = 0;
     // What the source found and mended in its input, for a warning; "" when nothing.
-    virtual std::string warning() const { return {}; }
+    virtual std::string warning() const { return warning_; }
+    void setWarning(std::string w) { warning_ = std::move(w); }
+
+private:
+    std::string warning_;
 };
 
 // Superellipsoid (Barr): ((|x/a|^(2/e2) + |y/b|^(2/e2))^(e2/e1) + |z/c|^(2/e1)) <= 1.

@@ -86,26 +86,50 @@ void visitDtype(int code, Fn&& fn) {
 }
 
 // Splits `nFrames` consecutive volumes of `dims` samples (native byte order) into ScalarImages,
-// value = slope * sample + inter.
+// value = slope * sample + inter. With `keep`, every frame is cut to the box of the voxels whose
+// value it accepts in any frame (the origin moves to the box's corner), so that a small organ of a
+// large scan costs its own size; an image where it accepts none is returned whole.
 std::vector<ScalarImage> splitFrames(const DtypeInfo& d, const unsigned char* data, Dims dims,
-                                     const Eigen::Vector3d& spacingMm, int nFrames, double slope, double inter) {
+                                     const Eigen::Vector3d& spacingMm, int nFrames, double slope, double inter,
+                                     const KeepFn& keep) {
     const std::size_t n = dims.count();
+    const auto valueAt = [&](std::size_t i) {  // i: sample index over all frames
+        float out = 0;
+        visitDtype(d.niftiCode, [&](auto tag) {
+            using T = decltype(tag);
+            T v;
+            std::memcpy(&v, data + i * sizeof(T), sizeof(T));
+            out = float(slope * double(v) + inter);
+        });
+        return out;
+    };
+    Eigen::Vector3i lo(0, 0, 0), hi(dims.nx, dims.ny, dims.nz);  // box kept, voxels [lo, hi)
+    if (keep) {
+        Eigen::Vector3i first(dims.nx, dims.ny, dims.nz), last(-1, -1, -1);
+        for (int f = 0; f < nFrames; ++f)
+            for (int k = 0; k < dims.nz; ++k)
+                for (int j = 0; j < dims.ny; ++j)
+                    for (int i = 0; i < dims.nx; ++i)
+                        if (keep(valueAt(std::size_t(f) * n + dims.index(i, j, k)))) {
+                            const Eigen::Vector3i at(i, j, k);
+                            first = first.cwiseMin(at);
+                            last = last.cwiseMax(at);
+                        }
+        if (last.x() >= 0) lo = first, hi = last + Eigen::Vector3i::Ones();
+    }
+    const Dims kept{hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z()};
     std::vector<ScalarImage> out(static_cast<std::size_t>(nFrames));
     for (int f = 0; f < nFrames; ++f) {
         ScalarImage& img = out[std::size_t(f)];
-        img.dims = dims;
+        img.dims = kept;
         img.spacingMm = spacingMm;
-        img.originMm = Eigen::Vector3d::Zero();
-        img.values.resize(n);
-        const unsigned char* src = data + std::size_t(f) * n * d.bytes;
-        visitDtype(d.niftiCode, [&](auto tag) {
-            using T = decltype(tag);
-            for (std::size_t i = 0; i < n; ++i) {
-                T v;
-                std::memcpy(&v, src + i * sizeof(T), sizeof(T));
-                img.values[i] = float(slope * double(v) + inter);
-            }
-        });
+        img.originMm = lo.cast<double>().cwiseProduct(spacingMm);
+        img.values.resize(kept.count());
+        std::size_t o = 0;
+        for (int k = lo.z(); k < hi.z(); ++k)
+            for (int j = lo.y(); j < hi.y(); ++j)
+                for (int i = lo.x(); i < hi.x(); ++i)
+                    img.values[o++] = valueAt(std::size_t(f) * n + dims.index(i, j, k));
     }
     return out;
 }
@@ -231,7 +255,7 @@ void writeFrames(const std::string& path, std::span<const ScalarImage> frames, c
 
 }  // namespace
 
-std::vector<ScalarImage> loadNifti(const std::string& path) {
+std::vector<ScalarImage> loadNifti(const std::string& path, const KeepFn& keep) {
     requireReadable(path);
     if (is_nifti_file(path.c_str()) < 0)
         throw Error(path, "not a NIfTI-1 file (no valid 348-byte header; NIfTI-2 is not supported)");
@@ -294,10 +318,10 @@ std::vector<ScalarImage> loadNifti(const std::string& path) {
         slope = nim->scl_slope;
         inter = std::isfinite(nim->scl_inter) ? double(nim->scl_inter) : 0.0;
     }
-    return splitFrames(*d, data.data(), dims, spacing, nFrames, slope, inter);
+    return splitFrames(*d, data.data(), dims, spacing, nFrames, slope, inter, keep);
 }
 
-std::vector<ScalarImage> loadRaw(const std::string& path, const RawLayout& layout) {
+std::vector<ScalarImage> loadRaw(const std::string& path, const RawLayout& layout, const KeepFn& keep) {
     const DtypeInfo& d = dtypeByName(path, layout.dtype);
     if (layout.dims.nx <= 0 || layout.dims.ny <= 0 || layout.dims.nz <= 0)
         throw Error(path, "raw layout dims must be positive, got " + dimsText(layout.dims));
@@ -329,7 +353,7 @@ std::vector<ScalarImage> loadRaw(const std::string& path, const RawLayout& layou
     if (d.bytes > 1 && layout.bigEndian != hostBig)
         for (std::size_t i = 0; i < buf.size(); i += d.bytes) std::reverse(buf.begin() + i, buf.begin() + i + d.bytes);
 
-    return splitFrames(d, buf.data(), layout.dims, layout.spacingMm, layout.frames, 1.0, 0.0);
+    return splitFrames(d, buf.data(), layout.dims, layout.spacingMm, layout.frames, 1.0, 0.0, keep);
 }
 
 void writeNifti(const std::string& path, const ScalarImage& img, const std::string& dtype) {

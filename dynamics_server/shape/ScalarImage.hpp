@@ -16,15 +16,19 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace bop::shape {
 
+// Which values a reader keeps the box of (ShapeSpec: the bag's selection); empty = the whole image.
+using KeepFn = std::function<bool(float)>;
+
 struct ScalarImage {
     Dims dims;                  // voxels per axis
     Eigen::Vector3d spacingMm;  // voxel spacing per axis, mm
-    Eigen::Vector3d originMm;   // corner of voxel (0,0,0), mm; 0 for loaded images
+    Eigen::Vector3d originMm;   // corner of voxel (0,0,0), mm; for loaded images 0, or the kept box's corner
     std::vector<float> values;  // one value per voxel (image units), x fastest, dims.count() long
 };
 
@@ -36,7 +40,11 @@ struct ScalarImage {
 // Throws bop::Error(path, ...) for a missing/unreadable file, a file that is not NIfTI-1,
 // unreadable image data, an unsupported datatype, more than 4 dimensions, a zero dimension
 // or non-positive spacing.
-std::vector<ScalarImage> loadNifti(const std::string& path);
+// keep: when given, every frame is cut to the box of the voxels whose value it accepts in any
+// frame, originMm set to the box's corner (only the box is converted to float: a 56k-voxel organ
+// of a 32 M-voxel scan costs the file's samples and the box); an image where it accepts none is
+// returned whole.
+std::vector<ScalarImage> loadNifti(const std::string& path, const KeepFn& keep = {});
 
 // Layout of a headerless raw file: optional header bytes, then `frames` volumes stored one
 // after another, each x fastest.
@@ -52,7 +60,8 @@ struct RawLayout {
 // Reads a raw file; its size must be exactly headerBytes + frames * dims.count() * sizeof(dtype).
 // Throws bop::Error(path, ...) for a missing file, a size mismatch (naming both byte counts),
 // an unknown dtype (naming the accepted ones), non-positive dims, frames or spacing.
-std::vector<ScalarImage> loadRaw(const std::string& path, const RawLayout& layout);
+// keep: as for loadNifti.
+std::vector<ScalarImage> loadRaw(const std::string& path, const RawLayout& layout, const KeepFn& keep = {});
 
 // Writes one 3D image as NIfTI-1; .nii or .nii.gz chosen by the extension of path.
 // pixdim[1..3] = spacingMm, units mm, no qform/sform. Integer dtypes round each value to the

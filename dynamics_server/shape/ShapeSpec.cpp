@@ -1,8 +1,10 @@
 #include "ShapeSpec.hpp"
 
+#include "Components.hpp"
 #include "FileSources.hpp"
 
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 namespace bop::shape {
@@ -26,7 +28,9 @@ ImageSelect readSelect(const ConfigTable& t) {
     if (t.has("label") && t.has("threshold")) t.fail("label", "give either 'label' or 'threshold', not both");
     if (t.has("label")) {
         s.mode = ImageSelect::Mode::Label;
-        s.label = t.number("label");
+        const toml::node* node = t.raw().get("label");
+        s.labels = node && node->is_array() ? t.numbers("label") : std::vector<double>{t.number("label")};
+        if (s.labels.empty()) t.fail("label", "expected a label value or a non-empty list of them");
     } else {
         s.threshold = t.number("threshold", 0.5);
     }
@@ -40,12 +44,58 @@ void requireSelected(const ConfigTable& t, const std::vector<ScalarImage>& frame
         if (countSelected(frames[f], s) > 0) continue;
         const auto [lo, hi] = std::minmax_element(frames[f].values.begin(), frames[f].values.end());
         std::ostringstream os;
+        std::string labels;
+        for (const double l : s.labels) labels += (labels.empty() ? "" : ", ") + std::to_string(l);
         os << "file '" << file << "' frame " << f << ": the "
-           << (s.mode == ImageSelect::Mode::Label ? "label " + std::to_string(s.label)
-                                                  : "threshold " + std::to_string(s.threshold))
+           << (s.mode == ImageSelect::Mode::Label ? "label(s) " + labels : "threshold " + std::to_string(s.threshold))
            << " selects no voxels (values range from " << *lo << " to " << *hi << "); expected a non-empty object";
         t.fail(s.mode == ImageSelect::Mode::Label ? "label" : "threshold", os.str());
     }
+}
+
+// Frames cut to their own selection's boxes (one file each) put back on the box around them all,
+// NaN (never selected) where a frame had no sample; frames of one spacing.
+void onOneBox(std::vector<ScalarImage>& frames) {
+    const Eigen::Vector3d h = frames.front().spacingMm;
+    Eigen::Vector3i lo = Eigen::Vector3i::Constant(std::numeric_limits<int>::max()), hi = -lo;
+    const auto corner = [&](const ScalarImage& img) {
+        return Eigen::Vector3i((img.originMm.cwiseQuotient(h)).array().round().cast<int>());
+    };
+    for (const auto& img : frames) {
+        lo = lo.cwiseMin(corner(img));
+        hi = hi.cwiseMax(corner(img) + Eigen::Vector3i(img.dims.nx, img.dims.ny, img.dims.nz));
+    }
+    const Dims all{hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z()};
+    for (auto& img : frames) {
+        if (img.dims == all && corner(img) == lo) continue;
+        ScalarImage out{all, h, lo.cast<double>().cwiseProduct(h),
+                        std::vector<float>(all.count(), std::numeric_limits<float>::quiet_NaN())};
+        const Eigen::Vector3i shift = corner(img) - lo;
+        for (int k = 0; k < img.dims.nz; ++k)
+            for (int j = 0; j < img.dims.ny; ++j)
+                for (int i = 0; i < img.dims.nx; ++i)
+                    out.values[all.index(i + shift.x(), j + shift.y(), k + shift.z())] =
+                        img.values[img.dims.index(i, j, k)];
+        img = std::move(out);
+    }
+}
+
+// Leaves only the largest face-connected piece of the selection in each frame (the others become
+// NaN, which no selection takes); returns the dropped pieces' sizes for a warning, "" if none.
+std::string keepLargestComponent(std::vector<ScalarImage>& frames, const ImageSelect& sel) {
+    std::ostringstream os;
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+        ScalarImage& img = frames[f];
+        const Components c = findComponents(img.dims, [&](std::size_t v) { return isSelected(img.values[v], sel); });
+        if (c.sizes.size() < 2) continue;
+        for (std::size_t v = 0; v < img.values.size(); ++v)
+            if (c.label[v] > 1) img.values[v] = std::numeric_limits<float>::quiet_NaN();
+        os << (os.tellp() > 0 ? "; " : "") << (frames.size() > 1 ? "frame " + std::to_string(f) + ": " : "")
+           << c.sizes.size() - 1 << " piece(s) of";
+        for (std::size_t p = 1; p < c.sizes.size() && p <= 20; ++p) os << (p > 1 ? "," : "") << ' ' << c.sizes[p];
+        os << (c.sizes.size() > 21 ? ", ..." : "") << " image voxels beside the kept " << c.sizes[0];
+    }
+    return os.str();
 }
 
 std::vector<std::string> imageFiles(const ConfigTable& t) {
@@ -104,11 +154,13 @@ std::shared_ptr<ModelSource> readSource(const ConfigTable& t, double voxelMm, st
     }
     const std::vector<std::string> files = imageFiles(t);
     const ImageSelect sel = readSelect(t);
+    const bool largest = t.choice("components", {"all", "largest"}, "all") == "largest";
+    const KeepFn keep = [sel](float v) { return isSelected(v, sel); };  // each file cut to the selection's box
     std::vector<ScalarImage> frames;
     if (kind == "nifti") {
         for (const auto& f : files) {
             stamp(f);
-            for (auto& img : loadNifti(f)) frames.push_back(std::move(img));
+            for (auto& img : loadNifti(f, keep)) frames.push_back(std::move(img));
         }
     } else {
         RawLayout layout;
@@ -125,19 +177,23 @@ std::shared_ptr<ModelSource> readSource(const ConfigTable& t, double voxelMm, st
         layout.frames = int(t.integer("frames", 1));
         for (const auto& f : files) {
             stamp(f);
-            for (auto& img : loadRaw(f, layout)) frames.push_back(std::move(img));
+            for (auto& img : loadRaw(f, layout, keep)) frames.push_back(std::move(img));
         }
     }
-    for (auto& img : frames) img.originMm += centre;
     for (std::size_t f = 1; f < frames.size(); ++f)
-        if (!(frames[f].dims == frames[0].dims) || frames[f].spacingMm != frames[0].spacingMm)
-            t.fail(t.has("files") ? "files" : "file",
-                   "every frame of a sequence must share one grid (size and spacing)");
+        if (frames[f].spacingMm != frames[0].spacingMm)
+            t.fail(t.has("files") ? "files" : "file", "every frame of a sequence must share one voxel spacing");
+    onOneBox(frames);
+    for (auto& img : frames) img.originMm += centre;
     requireSelected(t, frames, sel, files.front());
     std::string what =
         kind + " " + files.front() + (files.size() > 1 ? " (+" + std::to_string(files.size() - 1) + " files)" : "");
     what += ", " + std::to_string(frames.size()) + " frame(s)";
-    return makeImageSource(std::move(frames), sel, what);
+    std::string dropped;  // components = "largest": the sizes left out
+    if (largest) dropped = keepLargestComponent(frames, sel);
+    auto source = makeImageSource(std::move(frames), sel, what);
+    if (!dropped.empty()) source->setWarning("components = \"largest\" kept the largest piece; dropped " + dropped);
+    return source;
 }
 
 }  // namespace

@@ -204,10 +204,10 @@ TEST_CASE("raw big-endian uint16 with a header loads equal", "[shape][images]") 
 
 TEST_CASE("label and threshold selection rasterize onto aligned grids", "[shape][images]") {
     const ScalarImage aniso = labelledImage();
-    const ImageSelect label2{ImageSelect::Mode::Label, 0.5, 2};
-    const ImageSelect label1{ImageSelect::Mode::Label, 0.5, 1};
-    const ImageSelect over05{ImageSelect::Mode::Threshold, 0.5, 1};
-    const ImageSelect over15{ImageSelect::Mode::Threshold, 1.5, 1};
+    const ImageSelect label2{ImageSelect::Mode::Label, 0.5, {2}};
+    const ImageSelect label1{ImageSelect::Mode::Label, 0.5, {1}};
+    const ImageSelect over05{ImageSelect::Mode::Threshold, 0.5, {1}};
+    const ImageSelect over15{ImageSelect::Mode::Threshold, 1.5, {1}};
     REQUIRE(countSelected(aniso, label2) == kInnerBox);
     REQUIRE(countSelected(aniso, label1) == kOuterBox - kInnerBox);
     REQUIRE(countSelected(aniso, over05) == kOuterBox);

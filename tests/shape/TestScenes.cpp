@@ -128,8 +128,15 @@ TEST_CASE("image sequences give one map per frame on one grid", "[shape][scene][
         loadShapeSpec(test::writeText(dir.file("four.toml"), body + "source = 'nifti'\nfile = 'lv4d.nii'\n")));
     REQUIRE(series.frames.size() == 3);
     REQUIRE(four.frames.size() == 3);
+    // The grid is the box of the label in every frame (the largest sphere, radius 10 voxels: 20
+    // voxels across) plus 2 voxels each side, not the 32 x 30 x 28 image.
+    Eigen::Vector3i lo = Eigen::Vector3i::Constant(1000), hi = -lo;
+    for (const auto& img : frames)
+        for (std::size_t v = 0; v < img.dims.count(); ++v)
+            if (img.values[v] == 3.f) lo = lo.cwiseMin(img.dims.coords(v)), hi = hi.cwiseMax(img.dims.coords(v));
+    REQUIRE(hi - lo == Eigen::Vector3i::Constant(19));
     for (int f = 0; f < 3; ++f) {
-        CHECK(series.frames[f].dims() == (Dims{36, 34, 32}));  // image grid plus 2 voxels each side
+        CHECK(series.frames[f].dims() == (Dims{24, 24, 24}));
         CHECK(series.frames[f].grid.voxelMm == 1.5);           // from the image spacing
         CHECK(series.frames[f].occ == four.frames[f].occ);
         std::size_t inImage = 0;
