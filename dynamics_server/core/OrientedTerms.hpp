@@ -82,22 +82,43 @@ struct OrientedForces {
     T energy;       // |n_i - n_j|^2 psi + ((n_i.r)^2 + (n_j.r)^2) c psi, weighted (energy)
 };
 
+// The same-sheet gate g(c) of a pair, c = n_i.n_j: 1 while the normals are within 60 degrees
+// (c >= 1/2), 0 from 120 degrees apart on (c <= -1/2), the quintic smootherstep between (its
+// first and second derivatives vanish at both ends, so the dynamics meets no kink; a narrower
+// band made an undamped cluster's energy drift past 1e-3); dg = dg/dc.
+// Particles on opposite faces of a part thinner than the weight's reach, or across a narrow gap,
+// face opposite ways and are not bent toward one another (docs/physics.md §1.1).
+template <class T>
+struct SheetGate {
+    T g, dg;
+};
+template <class T>
+[[gnu::always_inline]] inline SheetGate<T> sheetGate(T c) {
+    const T t = atMost(atLeast(c + 0.5, 0.0), 1.0);
+    const T u = 1.0 - t;
+    return {t * t * t * (10.0 - 15.0 * t + 6.0 * t * t), 30.0 * t * t * u * u};
+}
+
 // Co-normal E = |n_i - n_j|^2 psi and co-planar E = ((n_i.r)^2 + (n_j.r)^2) c psi with their
-// weights. r = p_j - p_i, r2 = |r|^2, invR = 1/|r| (0 at r = 0); ni, nj unit normals; c the
-// co-planar curvature weight (1 without a map). Each result goes to `out` as soon as it is made
-// (out.fj, fi, ti, tj with an Xyz<T>, out.virial and, when Energy, out.energy with a T), so
-// that the vector loop stores each one before the next is made (fewer registers live).
+// weights, both times the same-sheet gate g(n_i.n_j). r = p_j - p_i, r2 = |r|^2, invR = 1/|r|
+// (0 at r = 0); ni, nj unit normals; c the co-planar curvature weight (1 without a map). Each
+// result goes to `out` as soon as it is made (out.fj, fi, ti, tj with an Xyz<T>, out.virial and,
+// when Energy, out.energy with a T), so that the vector loop stores each one before the next is
+// made (fewer registers live).
 template <bool Energy, class T, class Sink>
 [[gnu::always_inline]] inline void orientedPair(const Xyz<T>& r, T r2, T invR, const Xyz<T>& ni, const Xyz<T>& nj,
                                                 const Psi<T>& w, T c, const OrientedWeights<T>& k, Sink& out) {
+    // The gate scales psi and its derivative; its own torque, -n_i x dg/dn_i E = -dg E n_i x n_j
+    // on i and its opposite on j, is added to the co-normal torques below.
+    const SheetGate<T> gate = sheetGate(dot(ni, nj));
+    const T psi = gate.g * w.psi, dpsi = gate.g * w.dpsi;
     // Co-normal: force on j -d2 dpsi r / |r|, torque 2 psi n_i x n_j on i and its opposite on j.
     const Xyz<T> d{ni.x - nj.x, ni.y - nj.y, ni.z - nj.z};
     const T d2 = dot(d, d);
-    const T cn = -d2 * w.dpsi * invR;
-    const T p2 = 2.0 * w.psi;
+    const T cn = -d2 * dpsi * invR;
     // Co-planar with A = n_i.r, B = n_j.r: force on j -2 c psi (A n_i + B n_j) - (A^2 + B^2) c dpsi
     // r / |r|; torques 2 A c psi r x n_i on i and 2 B c psi r x n_j on j.
-    const T cpsi = c * w.psi, cdpsi = c * w.dpsi;
+    const T cpsi = c * psi, cdpsi = c * dpsi;
     const T A = dot(ni, r), B = dot(nj, r);
     const T ab2 = A * A + B * B;
     const T cpN = -2.0 * cpsi, cpR = -ab2 * cdpsi * invR;
@@ -107,17 +128,21 @@ template <bool Energy, class T, class Sink>
                   k.cnFba * cn * r.z + k.cpFba * cp.z});
     out.fi(Xyz<T>{-(k.cnFab * cn * r.x + k.cpFab * cp.x), -(k.cnFab * cn * r.y + k.cpFab * cp.y),
                   -(k.cnFab * cn * r.z + k.cpFab * cp.z)});
+    // Around n_i x n_j: the co-normal torque 2 psi and the gate's -dg (E_CN + E_CP) of each side.
     const Xyz<T> nn = cross(ni, nj);
-    const Xyz<T> cnT{p2 * nn.x, p2 * nn.y, p2 * nn.z};
+    const T eCn = d2 * w.psi, eCp = ab2 * c * w.psi;  // ungated energies of the two terms
+    const T p2 = 2.0 * psi;
+    const T si = k.cnTab * (p2 - gate.dg * eCn) - k.cpTab * gate.dg * eCp;
+    const T sj = k.cnTba * (p2 - gate.dg * eCn) - k.cpTba * gate.dg * eCp;
     const T ai = 2.0 * A * cpsi, bj = 2.0 * B * cpsi;
     const Xyz<T> rni = cross(r, ni);
-    out.ti(Xyz<T>{k.cnTab * cnT.x + k.cpTab * ai * rni.x, k.cnTab * cnT.y + k.cpTab * ai * rni.y,
-                  k.cnTab * cnT.z + k.cpTab * ai * rni.z});
+    out.ti(
+        Xyz<T>{si * nn.x + k.cpTab * ai * rni.x, si * nn.y + k.cpTab * ai * rni.y, si * nn.z + k.cpTab * ai * rni.z});
     const Xyz<T> rnj = cross(r, nj);
-    out.tj(Xyz<T>{-k.cnTba * cnT.x + k.cpTba * bj * rnj.x, -k.cnTba * cnT.y + k.cpTba * bj * rnj.y,
-                  -k.cnTba * cnT.z + k.cpTba * bj * rnj.z});
+    out.tj(Xyz<T>{-sj * nn.x + k.cpTba * bj * rnj.x, -sj * nn.y + k.cpTba * bj * rnj.y,
+                  -sj * nn.z + k.cpTba * bj * rnj.z});
     out.virial(k.cnE * cn * r2 + k.cpE * dot(r, cp));
-    if constexpr (Energy) out.energy(k.cnE * d2 * w.psi + k.cpE * ab2 * cpsi);
+    if constexpr (Energy) out.energy(k.cnE * d2 * psi + k.cpE * ab2 * cpsi);
 }
 
 // The same, its results in one OrientedForces (the reference's form).

@@ -268,6 +268,27 @@ TEST_CASE("Co-planar force and torques match the energy", "[core][potentials]") 
     CHECK(p.taui.norm() == 0.0);
 }
 
+TEST_CASE("The same-sheet gate: opposite faces of a thin part feel no oriented pair", "[core][potentials]") {
+    // Two particles 1.2 r0 apart across a plate, normals facing away from each other (the plate's
+    // two faces), then the same pair on one face (normals alike) and at 100 degrees (partly gated).
+    const OrientedWeight w;
+    const Vector3d pi(0, 0, 0), pj(0, 0, 1.2 * kR0);
+    for (OrientedFn fn : {&coNormal, &coPlanar}) {
+        const OrientedPair across = orientedPair(fn, w, pi, pj, -Vector3d::UnitZ(), Vector3d::UnitZ());
+        CHECK(across.energy == 0.0);
+        CHECK(across.fj.norm() == 0.0);
+        CHECK(across.taui.norm() == 0.0);
+        CHECK(across.tauj.norm() == 0.0);
+        const Vector3d tilted(std::sin(1.2), 0, std::cos(1.2));               // 69 degrees from z
+        const Vector3d apart(std::sin(1.2 + 0.55), 0, std::cos(1.2 + 0.55));  // 100 degrees from z
+        const OrientedPair near = orientedPair(fn, w, pi, pj + Vector3d(0.3, 0, 0), Vector3d::UnitZ(), tilted);
+        const OrientedPair far = orientedPair(fn, w, pi, pj + Vector3d(0.3, 0, 0), Vector3d::UnitZ(), apart);
+        CHECK(near.energy > 0.0);
+        CHECK(far.energy > 0.0);  // c = cos(100 deg) = -0.17: g = 0.21
+        CHECK(far.energy < near.energy);
+    }
+}
+
 TEST_CASE("Probe force is minus the energy gradient and scales with k0, k1", "[core][potentials]") {
     const ProbeParams pp{1.7, 2.3};
     for (const LjParams& c : {LjParams{}, LjParams{LjCutoff::Truncated, 1.2, 3.0}}) {
