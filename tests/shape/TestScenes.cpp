@@ -137,7 +137,7 @@ TEST_CASE("image sequences give one map per frame on one grid", "[shape][scene][
     REQUIRE(hi - lo == Eigen::Vector3i::Constant(19));
     for (int f = 0; f < 3; ++f) {
         CHECK(series.frames[f].dims() == (Dims{24, 24, 24}));
-        CHECK(series.frames[f].grid.voxelMm == 1.5);           // from the image spacing
+        CHECK(series.frames[f].grid.voxelMm == 1.5);  // from the image spacing
         CHECK(series.frames[f].occ == four.frames[f].occ);
         std::size_t inImage = 0;
         for (float x : frames[f].values) inImage += x == 3.f;
