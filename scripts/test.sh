@@ -47,7 +47,7 @@ if [[ $sanitize -eq 1 ]]; then
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
     -DBOP_SANITIZE=ON -DBOP_WERROR=ON >/dev/null
   cmake --build build-asan -j "$jobs" --target bop_unit_tests bop_mpi_tests bop-deadline
-  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=$PWD/tests/lsan-suppressions.txt \
     ctest --test-dir build-asan -L unit -j "$jobs" --output-on-failure
   # Open MPI keeps its allocations until exit by design: leak checks off for the MPI tests only.
   # Under the sanitizers at 2 ranks (halo, migration, gathers); 1 to 4 ranks run in the Release
