@@ -1,5 +1,7 @@
 #include "TestUtil.hpp"
 
+#include "bop/common/Error.hpp"
+
 #include <atomic>
 #include <fstream>
 
@@ -27,6 +29,15 @@ std::string writeText(const std::string& path, const std::string& text) {
 
 std::string sourceDir() {
     return BOP_SOURCE_DIR;
+}
+
+std::string errorMessage(const std::function<void()>& action) {
+    try {
+        action();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "(no bop::Error thrown)";
 }
 
 }  // namespace bop::test

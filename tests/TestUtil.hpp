@@ -1,6 +1,7 @@
 #pragma once
 // Helpers for every test: temporary folders, files written on the fly, the repository root.
 #include <filesystem>
+#include <functional>
 #include <string>
 
 namespace bop::test {
@@ -21,5 +22,8 @@ std::string writeText(const std::string& path, const std::string& text);
 
 // The repository root (for config/ files).
 std::string sourceDir();
+
+// The message of the bop::Error that action throws, or "(no bop::Error thrown)".
+std::string errorMessage(const std::function<void()>& action);
 
 }  // namespace bop::test

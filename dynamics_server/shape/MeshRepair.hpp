@@ -23,7 +23,6 @@ struct MeshRepair {
     double volume = 0;    // signed volume enclosed after the repair, vertex units^3 (open meshes: up to the holes)
     double area = 0;      // surface area, vertex units^2
 
-    bool repaired() const { return degenerate || flipped || turnedOut; }
     // One line for a warning: what was found and what was done, "" for a closed, clean mesh.
     std::string summary() const;
 };

@@ -23,7 +23,7 @@ public:
     virtual double naturalVoxelMm() const { return 0.0; }
     virtual std::string describe() const = 0;
     // What the source found and mended in its input, for a warning; "" when nothing.
-    virtual std::string warning() const { return warning_; }
+    const std::string& warning() const { return warning_; }
     void setWarning(std::string w) { warning_ = std::move(w); }
 
 private:

@@ -85,13 +85,14 @@ void checkBinaryStlSize(const std::string& path) {
                                               std::to_string(84 + 50 * std::uintmax_t(count)) + " bytes"));
 }
 
-}  // namespace
-
+// The extensions loadMesh reads, as Assimp lists them ("*.3ds;*.obj;...").
 std::string meshExtensions() {
     std::string list;
     Assimp::Importer().GetExtensionList(list);
     return list;
 }
+
+}  // namespace
 
 TriangleMesh loadMesh(const std::string& path) {
     requireReadableFile(path);

@@ -27,7 +27,4 @@ TriangleMesh loadMesh(const std::string& path);
 // Axis-aligned bounds of the vertices used by triangles (empty box if none), vertex units.
 Eigen::AlignedBox3d meshBounds(const TriangleMesh& mesh);
 
-// The extensions loadMesh reads, as Assimp lists them ("*.3ds;*.obj;...").
-std::string meshExtensions();
-
 }  // namespace bop::shape

@@ -103,15 +103,6 @@ TriangleMesh boxMesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
     return mesh;
 }
 
-std::string errorMessage(const std::function<void()>& action) {
-    try {
-        action();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no bop::Error thrown)";
-}
-
 TriangleMesh sphereMesh(const Eigen::Vector3d& centre, double radius, int rings) {
     TriangleMesh mesh;
     const int around = 2 * rings;

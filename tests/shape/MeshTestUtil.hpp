@@ -5,7 +5,6 @@
 #include "bop/common/Volume.hpp"
 #include "shape/TriangleMesh.hpp"
 
-#include <functional>
 #include <string>
 
 namespace bop::test {
@@ -36,8 +35,5 @@ void writeAsciiStl(const shape::TriangleMesh& mesh, const std::string& path);
 void writeBinaryStl(const shape::TriangleMesh& mesh, const std::string& path);
 void writeAsciiPly(const shape::TriangleMesh& mesh, const std::string& path);
 void writeOff(const shape::TriangleMesh& mesh, const std::string& path);
-
-// The message of the bop::Error that action throws, or "(no bop::Error thrown)".
-std::string errorMessage(const std::function<void()>& action);
 
 }  // namespace bop::test
