@@ -1,7 +1,5 @@
 #include "MeshTestUtil.hpp"
 
-#include "bop/common/Error.hpp"
-
 #include <bit>
 #include <cmath>
 #include <cstdint>
