@@ -151,7 +151,7 @@ def sheet(d, png):
         return
     cols = 4
     rows = (len(cases) + cols - 1) // cols
-    fig, axes = plt.subplots(rows, cols, figsize=(4 * cols, 3.6 * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(4 * cols, 4.2 * rows), squeeze=False)
     for ax in axes.flat:
         ax.axis("off")
     for ax, c in zip(axes.flat, cases):
