@@ -2,7 +2,8 @@
 """Helpers of scripts/bench/shapes-gallery.sh: synthetic shapes, scene files, one CSV row, the contact sheet.
 
   shapes-gallery.py synth DIR                         a thin plate, a frame (a hole), two balls (two pieces)
-  shapes-gallery.py scene FILE SIZE STEPS DIR         DIR/scene.toml (torus settings) and DIR/fine.toml (2x resolution)
+  shapes-gallery.py scene FILE SIZE STEPS DIR         DIR/scene.toml (torus settings; placed, or the torus
+                                                      timeline when BOP_GALLERY_METHOD=birth) and DIR/fine.toml
   shapes-gallery.py row NAME SIZE DIR SECONDS NOTE FILE   one CSV row from DIR's logs and map
   shapes-gallery.py sheet DIR PNG                     every DIR/*/picture.png on one labelled sheet
 """
@@ -108,11 +109,36 @@ def scene(path, size, steps, d):
     body = re.sub(r'source = "mesh"\nfile = [^\n]*\nscale_mm = [^\n]*\n', "\n".join(source_lines(path, size, voxel)) + "\n", torus)
     body = body.replace("voxel_size_mm = 2.25", f"voxel_size_mm = {voxel!r}").replace("steps = 4000", f"steps = {steps}")
     body = body.replace('name = "torus"', f'name = "{os.path.basename(path).split(".")[0]}"')
+    if os.environ.get("BOP_GALLERY_METHOD", "place") == "place":
+        # No timeline: the bag is placed on its map and the run ends once it has settled.
+        body = re.sub(r"# Build the bag.*?(?=# Oriented-particle)", "", body, flags=re.S)
+        body = re.sub(r"\[run\]\nsteps = \d+\n", "", body)
     assert "fit_voxels" in body or "nifti" in body, "could not set the source in the torus scene"
     open(f"{d}/scene.toml", "w").write(body)
     fine = "\n".join(["[grid]", f"voxel_size_mm = {voxel / 2!r}", "r0_voxels = 4.0", "[shape]", "[[shape.bag]]"]
                      + source_lines(path, 2 * size, voxel / 2)) + "\n"
     open(f"{d}/fine.toml", "w").write(fine)
+
+
+def surface_area(obj):
+    """Area of a voxel object's boundary, voxel^2: each face between object and outside counts
+    1 / (|n_x| + |n_y| + |n_z|), n the unit gradient of the object smoothed by a Gaussian of 1
+    voxels (a plane of normal n shows |n_x| + |n_y| + |n_z| faces per unit of area)."""
+    from scipy import ndimage
+    padded = np.pad(obj.astype(np.float64), 2)
+    g = np.gradient(ndimage.gaussian_filter(padded, 1.0))
+    norm = np.sqrt(g[0] ** 2 + g[1] ** 2 + g[2] ** 2) + 1e-12
+    l1 = (np.abs(g[0]) + np.abs(g[1]) + np.abs(g[2])) / norm
+    area = 0.0
+    for a in range(3):
+        lo = [slice(None)] * 3
+        hi = [slice(None)] * 3
+        lo[a], hi[a] = slice(0, -1), slice(1, None)
+        lo, hi = tuple(lo), tuple(hi)
+        face = padded[lo] != padded[hi]
+        weight = 0.5 * (l1[lo] + l1[hi])  # the normal at the face, between its two voxels
+        area += float(np.sum(1.0 / np.maximum(weight[face], 1.0)))
+    return area
 
 
 def row(name, size, d, seconds, note, path):
@@ -130,9 +156,7 @@ def row(name, size, d, seconds, note, path):
     so_far = [(int(b), int(dd)) for b, dd in re.findall(r"construction so far: (\d+) births, (\d+) deaths", run)]
     late = (so_far[-1][0] - so_far[-2][0]) + (so_far[-1][1] - so_far[-2][1]) if len(so_far) >= 2 else 0
     labels = np.load(f"{d}/map/labels.npy")
-    obj = labels > 0
-    faces = sum(int(np.count_nonzero(np.diff(obj.astype(np.int8), axis=a))) for a in range(3))
-    area = 2.0 / 3.0 * faces  # voxel^2 (mean |n_x| + |n_y| + |n_z| over directions is 3/2)
+    area = surface_area(labels > 0)
     surface_ideal = area / (math.sqrt(3) / 2 * R0_VOXELS ** 2)
     volume_ideal = np.count_nonzero(labels == 2) / (R0_VOXELS ** 3 / math.sqrt(2))
     print(",".join(str(x) for x in [

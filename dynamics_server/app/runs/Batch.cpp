@@ -133,7 +133,8 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
     std::optional<CardiacRun> cardiac;
     if (scene.pressure && header) cardiac.emplace(scene, *header, run.frameVolumes());
     long long done = 0;
-    bool stopped = false;
+    bool stopped = false, settled = false;
+    int calmChecks = 0;  // settle checks in a row at or below the kinetic energy
     if (o.steps == 0) takeCheckpoint(false);  // nothing to step: the start itself is the checkpoint
     installBatchSignals();                    // from here a signal ends the run with a checkpoint
     const auto t0 = std::chrono::steady_clock::now();
@@ -158,12 +159,27 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
         }
         // Rank 0's signal decides for every rank (mpirun passes SIGTERM to them all, not at once).
         stopped = run.agree({batchStopRequested() ? 1 : 0}).stop != 0;
-        const bool last = stopped || s == o.steps;
+        if (!settled && o.untilSettled && step % o.settleEvery == 0) {
+            const core::Totals t = run.totals();  // the same on every process
+            const double perParticle = t.kinetic / std::max(1.0, t.particles);
+            calmChecks = perParticle <= o.settleKinetic ? calmChecks + 1 : 0;
+            settled = calmChecks >= 2;
+            if (settled && root)
+                std::cout << "settled at step " << step << ": kinetic energy " << std::scientific
+                          << std::setprecision(2) << perParticle
+                          << " per particle (at most " << o.settleKinetic << " at two checks " << o.settleEvery
+                          << " steps apart)" << std::defaultfloat << std::setprecision(6) << std::endl;
+        }
+        const bool last = stopped || settled || s == o.steps;
         if ((o.checkpointEvery > 0 && step % o.checkpointEvery == 0) || last) takeCheckpoint(!last);
         if (last) break;
     }
+    if (o.untilSettled && !settled && !stopped && root)
+        std::cout << "not settled after " << done << " steps (the run's cap): the kinetic energy per particle "
+                  << "stayed above " << std::scientific << std::setprecision(2) << o.settleKinetic
+                  << std::defaultfloat << std::setprecision(6) << std::endl;
+    if (stopped || settled) run.refreshForces();  // the summary's energies of this state
     if (stopped) {
-        run.refreshForces();  // the summary's energies of this state
         if (root)
             std::cout << "stopped by a signal after step " << run.stepNumber() << "; checkpoint: " << checkpoint
                       << std::endl;

@@ -17,6 +17,9 @@ struct BatchOptions {
     long long checkpointEvery = 0;  // steps between checkpoints (0: only on SIGINT/SIGTERM)
     std::string outDir;             // final.xyz and trajectory.xyz go here
     std::string cache;              // the gradient-map cache (rank 0 reads the map in force from it at the end)
+    bool untilSettled = false;      // end once settled (Scene's RunSettings), `steps` the cap
+    double settleKinetic = 1e-4;    // mean kinetic energy per particle, epsilon
+    long long settleEvery = 50;     // steps between settle checks
 };
 
 // Collective: every process calls it with the same scene and start, and the exchanges of its

@@ -10,6 +10,9 @@
 namespace bop::app {
 namespace {
 
+// The most steps a placed bag runs to settle when [run] steps is not given.
+constexpr long long kPlacedStepsCap = 20000;
+
 using core::kR0;
 
 std::array<float, 3> defaultColour(int species) {
@@ -127,6 +130,25 @@ void readDynamics(const ConfigTable& root, core::Model& m, std::uint64_t& seed) 
 void readConstruction(const ConfigTable& root, Scene& s) {
     s.construction.seed = s.seed;
     const auto t = root.optionalTable("construction");
+    // No timeline: the bag is placed on its map and settles (docs/scene-format.md).
+    const bool events = t && t->has("event");
+    const std::string method =
+        t ? t->choice("method", {"place", "birth"}, events ? "birth" : "place") : std::string(s.shape ? "place" : "birth");
+    if (method == "place" && s.shape) {
+        if (events) t->fail("method", "\"place\" sets every particle at the start; drop the [[construction.event]] list");
+        core::PlacementParams p;
+        p.seed = s.seed;
+        if (t) p.gapR0 = t->number("gap_r0", p.gapR0);
+        if (!(p.gapR0 >= 0)) t->fail("gap_r0", "expected a distance of 0 or more, in r0");
+        s.placement = p;
+        s.run.untilSettled = t ? t->boolean("until_settled", true) : true;
+        if (t) s.run.settleKinetic = t->number("settle_kinetic", s.run.settleKinetic);
+        if (!(s.run.settleKinetic > 0)) t->fail("settle_kinetic", "expected a positive energy per particle");
+        if (t) s.run.settleEverySteps = t->integer("settle_every_steps", s.run.settleEverySteps);
+        if (s.run.settleEverySteps < 1) t->fail("settle_every_steps", "expected at least 1 step");
+    } else if (method == "place") {
+        t->fail("method", "\"place\" sets particles on a [shape]'s map; the scene has none");
+    }
     if (!t) return;
     auto& c = s.construction;
     c.everySteps = int(t->integer("every_steps", c.everySteps));
@@ -135,7 +157,7 @@ void readConstruction(const ConfigTable& root, Scene& s) {
     c.anyR0 = t->number("any_r0", c.anyR0);
     c.frontR0 = t->number("front_r0", c.frontR0);
     c.capFraction = t->number("cap_fraction", c.capFraction);
-    if (t->has("event"))
+    if (events)
         for (const ConfigTable& e : t->tableArray("event")) {
             core::ConstructionEvent ev;
             ev.step = e.integer("step");
@@ -250,6 +272,7 @@ Scene loadScene(const std::string& path) {
     readDynamics(root, m, s.seed);
     if (s.bulk && m.hasSurfaceSpecies()) root.fail("species", "a bulk [box] holds volume particles only");
     readConstruction(root, s);
+    if (s.placement) s.run.steps = kPlacedStepsCap;
     if (const auto t = root.optionalTable("probe")) {
         s.probe.active = t->boolean("active", false);
         if (t->has("position_voxels")) s.probePositionVoxels = t->vec3("position_voxels");
@@ -282,7 +305,7 @@ Scene loadScene(const std::string& path) {
         s.pressure = p;
     }
     if (const auto t = root.optionalTable("run")) {
-        s.run.steps = t->integer("steps", 0);
+        s.run.steps = t->integer("steps", s.run.steps);
         s.run.snapshotEverySteps = t->integer("snapshot_every_steps", 0);
         s.run.reportEverySteps = t->integer("report_every_steps", 0);
         t->finish();

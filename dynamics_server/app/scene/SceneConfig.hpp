@@ -4,6 +4,7 @@
 // settings. See docs/scene-format.md for every key and its unit.
 #include "core/Construction.hpp"
 #include "core/ForceField.hpp"
+#include "core/Placement.hpp"
 #include "core/Model.hpp"
 #include "shape/ShapeSpec.hpp"
 
@@ -25,6 +26,12 @@ struct RunSettings {
     long long steps = 0;               // default for --steps
     long long snapshotEverySteps = 0;  // extended XYZ snapshot period, steps (0 = none)
     long long reportEverySteps = 0;    // progress line period, steps (0 = about 10 per run)
+    // A bag built by placement ends its run once settled: the mean kinetic energy per particle,
+    // checked every settleEverySteps steps, at or below settleKinetic twice in a row (steps then
+    // caps the run). docs/scene-format.md [construction].
+    bool untilSettled = false;
+    double settleKinetic = 1e-4;      // energy units (epsilon) per particle
+    long long settleEverySteps = 50;  // steps between checks
 };
 
 // The ventricle's blood-pressure curve and volumes (paper §5.2; app/CardiacSeries.hpp).
@@ -43,6 +50,7 @@ struct Scene {
     std::shared_ptr<core::Model> model;  // without its map: the server builds or loads it
     core::ConstructionParams construction;
     std::vector<core::ConstructionEvent> timeline;
+    std::optional<core::PlacementParams> placement;  // method = "place": particles set on the map at the start
     core::ProbeState probe;
     std::optional<Eigen::Vector3d> probePositionVoxels;
     RunSettings run;

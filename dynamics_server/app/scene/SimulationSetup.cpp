@@ -10,6 +10,7 @@
 #include <cmath>
 #include <iomanip>
 #include <ostream>
+#include <sstream>
 
 namespace bop::app {
 
@@ -78,9 +79,30 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
     }
     core::Construction construction({}, {}, scene.model->speciesCount());
     s.particles = initialParticles(scene, restart, s.firstStep, construction);
+    if (scene.placement && restart.empty()) {
+        // Every process places on the whole map alike and keeps what it owns (core::Run).
+        const GradientMap header = s.options.map->header;
+        core::Model whole = *scene.model;
+        whole.map = std::make_shared<GradientMap>(s.options.map->crop(
+            0, bop::VoxelWindow{Eigen::Vector3i::Zero(), Eigen::Vector3i(header.wholeDims().nx, header.wholeDims().ny,
+                                                                          header.wholeDims().nz)}));
+        core::Placement placed = core::placeParticles(whole, *scene.placement);
+        if (root && progress) progress(placementReport(*scene.model, placed.species));
+        s.particles = std::move(placed.particles);
+    }
     s.options.firstStep = s.firstStep;
     s.options.construction = std::move(construction);
     return s;
+}
+
+std::string placementReport(const core::Model& model, const std::vector<core::PlacedSpecies>& placed) {
+    std::ostringstream out;
+    out << "placed on the map:";
+    for (const auto& p : placed)
+        out << (&p == placed.data() ? " " : "; ") << model.species[std::size_t(p.species)].name << " " << p.placed
+            << " (" << std::fixed << std::setprecision(2) << double(p.placed) / std::max(1.0, p.ideal)
+            << std::defaultfloat << " of the " << std::llround(p.ideal) << " at r0 spacing)";
+    return out.str();
 }
 
 void printFidelity(std::ostream& out, const Fidelity& f) {

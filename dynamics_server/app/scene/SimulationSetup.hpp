@@ -31,6 +31,9 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
 core::Particles initialParticles(const Scene& scene, const std::string& restart, long long& firstStep,
                                  core::Construction& construction);
 
+// "placed on the map: ..." with each species' count against its ideal at r0 spacing.
+std::string placementReport(const core::Model& model, const std::vector<core::PlacedSpecies>& placed);
+
 // Species names by number (index 0 unused), as snapshots write them.
 std::vector<std::string> speciesNames(const core::Model& model);
 

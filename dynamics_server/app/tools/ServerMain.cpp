@@ -143,7 +143,10 @@ int run(int argc, char** argv) {
         if (!replayInputs.empty()) serve.replay = protocol::readSession(replayInputs);
         return app::runServed(scene, std::move(start), serve, std::move(exchanges));
     }
-    const app::BatchOptions batch{steps, snapshotEvery, reportEvery, checkpointEvery, outDir, cache};
+    app::BatchOptions batch{steps, snapshotEvery, reportEvery, checkpointEvery, outDir, cache};
+    batch.untilSettled = scene.run.untilSettled;  // a placed bag: `steps` is then the cap
+    batch.settleKinetic = scene.run.settleKinetic;
+    batch.settleEvery = scene.run.settleEverySteps;
     return app::runBatch(scene, std::move(start), batch, std::move(exchanges));
 }
 

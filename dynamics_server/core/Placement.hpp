@@ -1,0 +1,44 @@
+#pragma once
+// Building a bag by placement (docs/physics.md §7.5), beside the paper's birth and death: every
+// species' particles are set directly on its voxels of the whole gradient map at r0 spacing, and
+// the run's damped dynamics relaxes them.
+//  - A surface species gets a sheet: its voxels' centres, each moved by a hashed jitter, taken in
+//    hash order when no taken one lies within a spacing d (random sequential adsorption). d is
+//    bisected so that the count matches a hexagonal sheet at r0 over the species' surface area,
+//    A = sum over the shell's outer voxel faces of h^2 / |n|_1 (n: the map's normal; exact for a
+//    plane, where a unit of area shows |n_x| + |n_y| + |n_z| faces).
+//  - A volume species gets an fcc lattice at nearest-neighbour distance r0 (a hashed offset),
+//    the sites that fall in its voxels and lie at least `gapR0` from every surface particle.
+// Every connected piece of every species is filled (there are no seeds to grow from). Ids count
+// from 1 in placement order. Deterministic: the same map, parameters and seed give the same
+// particles on every process, in the same order.
+#include "Model.hpp"
+#include "Particles.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace bop::core {
+
+struct PlacementParams {
+    double gapR0 = 0.5;      // least distance from a volume site to a surface particle, r0 (death_r0)
+    std::uint64_t seed = 1;  // jitter, order and lattice offset
+};
+
+struct PlacedSpecies {
+    int species = 0;
+    std::size_t placed = 0;  // particles set
+    double ideal = 0;        // the count at r0 spacing: hexagonal sheet over the area, fcc over the volume
+    double areaOrVolume = 0;  // surface: area, length^2; volume: voxel volume, length^3 (simulation units)
+};
+
+struct Placement {
+    Particles particles;
+    std::vector<PlacedSpecies> species;  // every species with voxels, by number
+};
+
+// `model.map` must be the whole map (window origin 0, every voxel); std::invalid_argument if it
+// has none.
+Placement placeParticles(const Model& model, const PlacementParams& params);
+
+}  // namespace bop::core
