@@ -5,6 +5,7 @@
 #include "bop/common/GradientMapFile.hpp"
 #include "core/SoundState.hpp"
 #include "shape/GradientMapFileView.hpp"
+#include "shape/Thickness.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -79,16 +80,25 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
     }
     core::Construction construction({}, {}, scene.model->speciesCount());
     s.particles = initialParticles(scene, restart, s.firstStep, construction);
-    if (scene.placement && restart.empty()) {
-        // Every process places on the whole map alike and keeps what it owns (core::Run).
+    const bool place = scene.placement && restart.empty();
+    if (scene.shape && (place || (root && progress))) {
         const GradientMap header = s.options.map->header;
         core::Model whole = *scene.model;
         whole.map = std::make_shared<GradientMap>(s.options.map->crop(
             0, bop::VoxelWindow{Eigen::Vector3i::Zero(), Eigen::Vector3i(header.wholeDims().nx, header.wholeDims().ny,
                                                                           header.wholeDims().nz)}));
-        core::Placement placed = core::placeParticles(whole, *scene.placement);
-        if (root && progress) progress(placementReport(*scene.model, placed.species));
-        s.particles = std::move(placed.particles);
+        if (root && progress)  // before the bag is built: parts it cannot hold
+            for (std::size_t b = 0; b < scene.shape->bags.size(); ++b) {
+                const double r0 = whole.map->r0Voxels;
+                const std::string w = shape::thinPartsWarning(
+                    scene.shape->bags[b].name, shape::findThinParts(*whole.map, int(b) + 1, 2 * r0), r0);
+                if (!w.empty()) progress("warning: " + w);
+            }
+        if (place) {  // every process places on the whole map alike and keeps what it owns (core::Run)
+            core::Placement placed = core::placeParticles(whole, *scene.placement);
+            if (root && progress) progress(placementReport(*scene.model, placed.species));
+            s.particles = std::move(placed.particles);
+        }
     }
     s.options.firstStep = s.firstStep;
     s.options.construction = std::move(construction);

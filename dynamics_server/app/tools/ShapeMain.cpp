@@ -4,6 +4,7 @@
 #include "bop/common/Error.hpp"
 #include "bop/common/ToolMain.hpp"
 #include "shape/ShapeBuilder.hpp"
+#include "shape/Thickness.hpp"
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -66,6 +67,12 @@ int run(int argc, char** argv) {
     for (const std::string& w : spec.warnings) spdlog::warn("{}", w);
     const bop::shape::ShapeBuild build = bop::shape::loadOrBuildShape(
         spec, noCache ? "" : cache, rebuild, [](const std::string& m) { spdlog::info("{}", m); }, threads);
+    for (std::size_t b = 0; b < spec.bags.size(); ++b) {  // parts too thin for the bag, before it is built
+        const bop::GradientMap& map = build.frames.front();
+        const std::string w = bop::shape::thinPartsWarning(
+            spec.bags[b].name, bop::shape::findThinParts(map, int(b) + 1, 2 * map.r0Voxels), map.r0Voxels);
+        if (!w.empty()) spdlog::warn("{}", w);
+    }
     bop::app::printShapeReport(std::cout, spec, build);
     bop::app::printTimings(std::cout, build.timings);
     if (!timingsCsv.empty()) bop::app::writeTimingsCsv(timingsCsv, build.frames.front(), build.timings);
