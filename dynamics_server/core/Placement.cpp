@@ -10,6 +10,8 @@
 namespace bop::core {
 namespace {
 
+constexpr int kLatticeOffsets = 8;  // shifts of a volume's lattice tried
+
 double unit(std::uint64_t h) {
     return double(h >> 11) * 0x1.0p-53;
 }  // [0, 1)
@@ -59,6 +61,25 @@ private:
     std::vector<Eigen::Vector3d> pts_;
 };
 
+// Whether voxel c lies outside the bag whose surface species is s (beyond the grid too).
+bool outsideBag(const GradientMap& m, int s, const Eigen::Vector3i& c) {
+    const Dims& d = m.dims();
+    return !d.contains(c.x(), c.y(), c.z()) || m.occ[d.index(c.x(), c.y(), c.z())] < s;
+}
+
+// Whether the face of bag voxel c towards `step` along axis a lies in a flat patch of such
+// faces (its 8 neighbours in the plane are faces too): a plane along the axes, whose faces count
+// whole, where the smoothed normal would tilt near an edge.
+bool flatFace(const GradientMap& m, int s, const Eigen::Vector3i& c, int a, int step) {
+    const int b = (a + 1) % 3, e = (a + 2) % 3;
+    for (int i = -1; i <= 1; ++i)
+        for (int j = -1; j <= 1; ++j) {
+            const Eigen::Vector3i w = c + i * Eigen::Vector3i::Unit(b) + j * Eigen::Vector3i::Unit(e);
+            if (outsideBag(m, s, w) || !outsideBag(m, s, w + step * Eigen::Vector3i::Unit(a))) return false;
+        }
+    return true;
+}
+
 struct Candidate {
     std::uint64_t key;
     Eigen::Vector3d pos;
@@ -100,14 +121,10 @@ Placement placeParticles(const Model& model, const PlacementParams& params) {
             if (m.occ[v] != s) continue;
             const Eigen::Vector3i c = dims.coords(v);
             const Eigen::Vector3d n = m.nearestSurface(v).normal.cast<double>();
-            const double faceArea = h * h / std::max(1.0, n.lpNorm<1>());
             for (int a = 0; a < 3; ++a)
-                for (int step : {-1, 1}) {
-                    Eigen::Vector3i k = c;
-                    k[a] += step;
-                    const bool outside = !dims.contains(k.x(), k.y(), k.z()) || m.occ[dims.index(k.x(), k.y(), k.z())] < s;
-                    if (outside) area += faceArea;
-                }
+                for (int step : {-1, 1})
+                    if (outsideBag(m, s, c + step * Eigen::Vector3i::Unit(a)))
+                        area += h * h * (flatFace(m, s, c, a, step) ? 1.0 : 1.0 / std::max(1.0, n.lpNorm<1>()));
             const std::uint64_t key = mixHash(params.seed, 0x91aceULL, std::uint64_t(s), std::uint64_t(v));
             const Eigen::Vector3d jitter(unit(mixHash(key, 1)) - 0.5, unit(mixHash(key, 2)) - 0.5,
                                          unit(mixHash(key, 3)) - 0.5);
@@ -152,24 +169,35 @@ Placement placeParticles(const Model& model, const PlacementParams& params) {
             ++voxels;
         }
         if (voxels == 0) continue;
-        const std::uint64_t key = mixHash(params.seed, 0xfccULL, std::uint64_t(s));
-        const Eigen::Vector3d offset(unit(mixHash(key, 1)), unit(mixHash(key, 2)), unit(mixHash(key, 3)));
         const Eigen::Vector3i c0 = (vlo.cast<double>() * h / a).array().floor().cast<int>().matrix() -
                                    Eigen::Vector3i::Ones();
-        const Eigen::Vector3i c1 = ((vhi.cast<double>() + Eigen::Vector3d::Ones()) * h / a).array().ceil().cast<int>().matrix();
-        std::size_t placed = 0;
-        for (int k = c0.z(); k <= c1.z(); ++k)
-            for (int j = c0.y(); j <= c1.y(); ++j)
-                for (int i = c0.x(); i <= c1.x(); ++i)
-                    for (const auto& b : basis) {
-                        const Eigen::Vector3d x = (Eigen::Vector3d(i + b[0], j + b[1], k + b[2]) + offset) * a;
-                        const Eigen::Vector3i c = (x / h).array().floor().cast<int>().matrix();
-                        if (!dims.contains(c.x(), c.y(), c.z()) || m.occ[dims.index(c.x(), c.y(), c.z())] != s)
-                            continue;
-                        if (surfaceGrid.anyWithin(x, params.gapR0 * kR0)) continue;
-                        out.particles.add(x, s, nextId++);
-                        ++placed;
-                    }
+        const Eigen::Vector3i c1 =
+            ((vhi.cast<double>() + Eigen::Vector3d::Ones()) * h / a).array().ceil().cast<int>().matrix();
+        // The sites of the lattice shifted by `offset` (cube edges) that the species may hold.
+        const auto sites = [&](const Eigen::Vector3d& offset) {
+            std::vector<Eigen::Vector3d> out;
+            for (int k = c0.z(); k <= c1.z(); ++k)
+                for (int j = c0.y(); j <= c1.y(); ++j)
+                    for (int i = c0.x(); i <= c1.x(); ++i)
+                        for (const auto& b : basis) {
+                            const Eigen::Vector3d x = (Eigen::Vector3d(i + b[0], j + b[1], k + b[2]) + offset) * a;
+                            const Eigen::Vector3i c = (x / h).array().floor().cast<int>().matrix();
+                            if (!dims.contains(c.x(), c.y(), c.z()) || m.occ[dims.index(c.x(), c.y(), c.z())] != s)
+                                continue;
+                            if (!surfaceGrid.anyWithin(x, params.gapR0 * kR0)) out.push_back(x);
+                        }
+            return out;
+        };
+        // Of kLatticeOffsets hashed shifts, the one that holds the most sites (the first of equals).
+        std::vector<Eigen::Vector3d> best;
+        for (int t = 0; t < kLatticeOffsets; ++t) {
+            const std::uint64_t key = mixHash(params.seed, 0xfccULL, std::uint64_t(s), std::uint64_t(t));
+            std::vector<Eigen::Vector3d> x =
+                sites(Eigen::Vector3d(unit(mixHash(key, 1)), unit(mixHash(key, 2)), unit(mixHash(key, 3))));
+            if (x.size() > best.size()) best = std::move(x);
+        }
+        for (const Eigen::Vector3d& x : best) out.particles.add(x, s, nextId++);
+        const std::size_t placed = best.size();
         const double volume = double(voxels) * h * h * h;
         out.species.push_back({s, placed, volume / (kR0 * kR0 * kR0 / std::sqrt(2.0)), volume});
     }

@@ -6,9 +6,11 @@
 //    hash order when no taken one lies within a spacing d (random sequential adsorption). d is
 //    bisected so that the count matches a hexagonal sheet at r0 over the species' surface area,
 //    A = sum over the shell's outer voxel faces of h^2 / |n|_1 (n: the map's normal; exact for a
-//    plane, where a unit of area shows |n_x| + |n_y| + |n_z| faces).
-//  - A volume species gets an fcc lattice at nearest-neighbour distance r0 (a hashed offset),
-//    the sites that fall in its voxels and lie at least `gapR0` from every surface particle.
+//    plane, where a unit of area shows |n_x| + |n_y| + |n_z| faces), or h^2 for a face amid a
+//    flat patch of faces (3 x 3), where the smoothed normal tilts near a sharp edge.
+//  - A volume species gets an fcc lattice at nearest-neighbour distance r0, the sites that fall
+//    in its voxels and lie at least `gapR0` from every surface particle; of 8 hashed shifts of
+//    the lattice, the one with the most such sites.
 // Every connected piece of every species is filled (there are no seeds to grow from). Ids count
 // from 1 in placement order. Deterministic: the same map, parameters and seed give the same
 // particles on every process, in the same order.

@@ -1,0 +1,109 @@
+// Bags placed on their maps and relaxed until settled (core/Placement.hpp, scene without a
+// construction timeline): a plate a tenth as thick as it is wide and a label of two separate
+// balls, each within the real-shapes targets: >= 95% of surface particles in surface voxels,
+// >= 98% of volume particles in volume voxels, median normal angle <= 10 deg, counts within 10%
+// of a hexagonal sheet at r0 over the analytic area and of an fcc lattice at r0 over the volume
+// voxels, and settled (kinetic energy per particle <= 1e-4 at two checks 50 steps apart).
+#include "OneProcessRun.hpp"
+#include "TestUtil.hpp"
+#include "app/scene/SimulationSetup.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <regex>
+
+using namespace bop;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Shape {
+    const char* name;
+    Eigen::Vector3i size;                                // voxels of 1 mm
+    std::function<bool(const Eigen::Vector3d&)> inside;  // at a voxel centre, voxel units
+    double area;                                         // analytic, voxel^2
+    std::function<int(const Eigen::Vector3d&)> piece;    // which piece a point belongs to (0, 1, ...)
+};
+
+// The torus scene's settings with the shape swapped for a raw image of `s`, no timeline.
+std::string writeScene(const test::TempDir& dir, const Shape& s) {
+    std::vector<std::uint8_t> voxels;
+    for (int z = 0; z < s.size.z(); ++z)
+        for (int y = 0; y < s.size.y(); ++y)
+            for (int x = 0; x < s.size.x(); ++x) voxels.push_back(s.inside(Eigen::Vector3d(x + 0.5, y + 0.5, z + 0.5)));
+    std::ofstream(dir.file(std::string(s.name) + ".raw"), std::ios::binary)
+        .write(reinterpret_cast<const char*>(voxels.data()), std::streamsize(voxels.size()));
+    std::ifstream in(test::sourceDir() + "/config/scenes/torus.toml");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string source = "source = \"raw\"\nfile = \"" + std::string(s.name) + ".raw\"\nsize_voxels = [" +
+                               std::to_string(s.size.x()) + ", " + std::to_string(s.size.y()) + ", " +
+                               std::to_string(s.size.z()) + "]\ndtype = \"uint8\"\nspacing_mm = [1, 1, 1]\nlabel = 1\n";
+    text = std::regex_replace(text, std::regex("source = \"mesh\"\nfile = [^\n]*\nscale_mm = [^\n]*\n"), source);
+    text = std::regex_replace(text, std::regex("voxel_size_mm = 2.25"), "voxel_size_mm = 1.0");
+    const std::size_t from = text.find("# Build the bag"), to = text.find("# Oriented-particle");
+    REQUIRE((from != std::string::npos && to != std::string::npos));
+    text.erase(from, to - from);
+    text.erase(text.find("[run]"));
+    return test::writeText(dir.file(std::string(s.name) + ".toml"), text);
+}
+
+}  // namespace
+
+TEST_CASE("a thin plate and two balls placed and settled within the targets", "[physics][placement]") {
+    const Eigen::Vector3d ca(18, 17, 17), cb(48, 17, 17);
+    const std::vector<Shape> shapes = {
+        {"plate", {52, 52, 20},
+         [](const Eigen::Vector3d& x) {
+             return x.x() > 6 && x.x() < 46 && x.y() > 6 && x.y() < 46 && x.z() > 6 && x.z() < 14;
+         },
+         2 * 40 * 40 + 4 * 40 * 8, [](const Eigen::Vector3d&) { return 0; }},
+        {"two-balls", {66, 34, 34},
+         [&](const Eigen::Vector3d& x) { return (x - ca).norm() < 12 || (x - cb).norm() < 9; },
+         4 * kPi * (12 * 12 + 9 * 9), [&](const Eigen::Vector3d& x) { return (x - ca).norm() < 14 ? 0 : 1; }},
+    };
+    for (const Shape& s : shapes) {
+        test::TempDir dir("placed-bags");
+        app::Scene scene = app::loadScene(writeScene(dir, s));
+        REQUIRE(scene.placement);
+        REQUIRE(scene.run.untilSettled);
+        test::OneProcessRun run(scene);
+        long long steps = 0;
+        int calm = 0;
+        while (calm < 2 && steps < scene.run.steps) {
+            run.run().run(50);
+            steps += 50;
+            const core::Totals t = run.run().totals();
+            calm = t.kinetic / t.particles <= scene.run.settleKinetic ? calm + 1 : 0;
+        }
+        const core::Particles& p = run->particles();
+        const GradientMap map = run.wholeMap();
+        core::Model whole = *scene.model;
+        whole.map = std::make_shared<GradientMap>(map);
+        const app::Fidelity f = app::measureFidelity(whole, p);
+        const double h = voxelLength(map.r0Voxels);
+        const double surfaceIdeal = s.area / (std::sqrt(3.0) / 2 * map.r0Voxels * map.r0Voxels);
+        const double volumeIdeal = double(std::count(map.occ.begin(), map.occ.end(), 2)) /
+                                   std::pow(map.r0Voxels, 3) * std::sqrt(2.0);
+        std::size_t perPiece[2][3] = {};
+        for (std::size_t i = 0; i < p.size(); ++i) perPiece[s.piece(p.pos[i] / h)][p.species[i]] += 1;
+        INFO(s.name << ": settled after " << steps << " steps; " << f.surface << " surface (ideal " << surfaceIdeal
+                    << "), " << f.volume << " volume (ideal " << volumeIdeal << "); " << 100 * f.surfaceInOwnVoxels
+                    << "% / " << 100 * f.volumeInOwnVoxels << "% in their voxels, median normal angle "
+                    << f.medianNormalAngleDeg << " deg");
+        CHECK(calm == 2);
+        CHECK(f.surfaceInOwnVoxels >= 0.95);
+        CHECK(f.volumeInOwnVoxels >= 0.98);
+        CHECK(f.medianNormalAngleDeg <= 10.0);
+        CHECK(double(f.surface) == Approx(surfaceIdeal).epsilon(0.10));
+        CHECK(double(f.volume) == Approx(volumeIdeal).epsilon(0.10));
+        if (std::string(s.name) == "two-balls")
+            for (int piece = 0; piece < 2; ++piece) {
+                CHECK(perPiece[piece][1] > 100);  // every piece has its sheet and its volume
+                CHECK(perPiece[piece][2] > 100);
+            }
+    }
+}
