@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# A bag placed on its map (the torus scene without its construction timeline): the batch run ends
+# by itself once settled, well before its cap, with the placement's counts and the shape's
+# fidelity in its log; 1 and 2 ranks place the same particles and settle at the same step; a thin
+# shape is named before it is built.
+# Usage: bop_server_place_cli.sh PATH/TO/bop-server PATH/TO/mpiexec SOURCE_DIR
+set -u
+exe=$1
+mpi=$2
+src=$3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/cli-checks.sh"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+# The torus scene, its timeline and its [run] table left out, its mesh found from here.
+awk '/^# Build the bag/ {skip = 1} /^# Oriented-particle/ {skip = 0} /^\[run\]/ {skip = 1} !skip' \
+  "$src/config/scenes/torus.toml" | sed "s|\"../models/torus.obj\"|\"$src/config/models/torus.obj\"|" >"$work/placed.toml"
+check "the scene has no construction events left" "! grep -q 'construction.event' '$work/placed.toml'"
+
+bounded 150 "$work/p1.log" "$exe" "$work/placed.toml" --no-listen --cache "$work/map.bopgm" -o "$work/p1"
+rc1=$?
+bounded 150 "$work/p2.log" "$mpi" --oversubscribe -np 2 "$exe" "$work/placed.toml" --no-listen \
+  --cache "$work/map.bopgm" -o "$work/p2"
+rc2=$?
+tail -4 "$work/p1.log"
+check "both runs end with exit code 0 (got $rc1 and $rc2)" "[ $rc1 -eq 0 ] && [ $rc2 -eq 0 ]"
+settled1=$(sed -n 's/^settled at step \([0-9]*\):.*/\1/p' "$work/p1.log")
+settled2=$(sed -n 's/^settled at step \([0-9]*\):.*/\1/p' "$work/p2.log")
+check "the run ends by itself once settled, before the cap of 20000 steps (step ${settled1:-none})" \
+  "[ -n '$settled1' ] && [ '$settled1' -lt 20000 ] && grep -q \"Step=$settled1 \" '$work/p1/final.xyz'"
+check "the log gives the counts placed against the ideal" \
+  "grep -q 'placed on the map: torus-surface [0-9]* (1.0[0-9] of the' '$work/p1.log'"
+check "no births or deaths: the bag was full from the start" "grep -q '^births 0, deaths 0' '$work/p1.log'"
+check "the shape's fidelity: at least 95% of surface and 98% of volume particles in their voxels" \
+  "awk '/^shape fidelity/ {s = \$3 + 0; v = \$11 + 0} END {exit !(s >= 95 && v >= 98)}' '$work/p1.log'"
+check "2 ranks settle at the same step (${settled2:-none}) with the same particles" \
+  "[ '$settled1' = '$settled2' ] && [ \$(head -1 '$work/p1/final.xyz') = \$(head -1 '$work/p2/final.xyz') ] && \
+   diff -q <(awk 'NR > 2 {print \$(NF - 1)}' '$work/p1/final.xyz' | sort) \
+           <(awk 'NR > 2 {print \$(NF - 1)}' '$work/p2/final.xyz' | sort) >/dev/null"
+
+# A torus whose tube is 3 voxels across at r0 = 2 voxels: named before it is built.
+sed -e 's|^source = "mesh"|source = "torus"\nmajor_radius_mm = 20.0\nminor_radius_mm = 3.4|' \
+    -e '/^file = /d' -e '/^scale_mm = /d' "$work/placed.toml" >"$work/thin.toml"
+bounded 150 "$work/thin.log" "$exe" "$work/thin.toml" --no-listen --steps 10 --cache "$work/thin.bopgm" -o "$work/thin"
+check "a part thinner than 2 r0 is named before the bag is built, with the r0_voxels that would hold it" \
+  "grep -q \"warning: bag 'torus': .* lie in parts thinner than 2 r0 (4 voxels).*r0_voxels = \" '$work/thin.log'"
+exit $fail
