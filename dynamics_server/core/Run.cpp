@@ -107,6 +107,32 @@ double Run::surfaceParticles() const {  // for reports: not in totals(), which a
     for (const double n : impl_->ex->allGather(std::vector{mine})) sum += n;
     return sum;
 }
+ShapeCounts Run::shapeCounts() const {
+    const Simulation& s = *impl_->sim;
+    const Model& m = s.model();
+    std::vector<double> mine(4, 0.0);  // surface, surface in own voxels, volume, volume in own voxels
+    if (m.map) {
+        const GradientMap& g = *m.map;
+        const double h = voxelLength(g.r0Voxels);
+        const Particles& p = s.particles();
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const Eigen::Vector3i c = (p.pos[i] / h).array().floor().cast<int>().matrix() - g.origin;
+            const bool own = g.dims().contains(c.x(), c.y(), c.z()) && g.occ[g.dims().index(c.x(), c.y(), c.z())] == p.species[i];
+            const std::size_t k = m.isSurface(p.species[i]) ? 0 : 2;
+            mine[k] += 1;
+            mine[k + 1] += own ? 1 : 0;
+        }
+    }
+    ShapeCounts out;
+    const std::vector<double> all = impl_->ex->allGather(mine);
+    for (std::size_t k = 0; k < all.size(); k += 4) {
+        out.surface += all[k];
+        out.surfaceInOwn += all[k + 1];
+        out.volume += all[k + 2];
+        out.volumeInOwn += all[k + 3];
+    }
+    return out;
+}
 const std::vector<MapVolume>& Run::frameVolumes() const {
     return impl_->sim->frameVolumes();
 }

@@ -42,6 +42,12 @@ struct RunCounters {                // summed over processes, identical on every
 using ExchangeMaker = std::function<std::unique_ptr<Exchange>(const Box& whole, double reach)>;
 ExchangeMaker oneProcess();  // the base Exchange: nothing to exchange
 
+// Particles in the voxels of their own species, over every process (progress reports; the final
+// fidelity is app::measureFidelity's on the whole map).
+struct ShapeCounts {
+    double surface = 0, surfaceInOwn = 0, volume = 0, volumeInOwn = 0;
+};
+
 class Run {
 public:
     // `all`: every particle of the scene, the same on every process.
@@ -75,6 +81,7 @@ public:
     long long stepNumber() const;  // steps so far, counted from the scene's first step
     Totals totals() const;
     double surfaceParticles() const;                     // over every process (the rest are volume particles)
+    ShapeCounts shapeCounts() const;                     // over every process, against the map windows in force
     const std::vector<MapVolume>& frameVolumes() const;  // of every keyframe's whole map
     RunCounters counters() const;
     Particles gather() const;  // every particle sorted by id, on every process

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Real shapes in, bags out: builds a bag from every mesh of ../shared/data/meshes (when present) and
 # from synthetic shapes with a thin part, a hole and two separate pieces, at 64 and 128 voxels
-# across, with the torus scene's settings (config/scenes/torus.toml: r0 = 2 voxels, its
-# construction timeline), and prints one row per case:
+# across, with the torus scene's settings (config/scenes/torus.toml: r0 = 2 voxels), each bag
+# placed on its map and run until settled (BOP_GALLERY_METHOD=birth: grown on the torus scene's
+# construction timeline instead), and prints one row per case:
 #   accepted or refused (and why); the voxel volume against the solid (closed meshes: their own
 #   volume; others: the same source voxelized at twice the resolution); surface and volume
-#   particles against the ideal count at r0 spacing (hexagonal sheet over the area, 2/3 of the
-#   faces between object and outside voxels times h^2; fcc over the volume voxels); surface and
+#   particles against the ideal count at r0 spacing (hexagonal sheet over the area, the faces
+#   between object and outside voxels each counted 1 / |n|_1 with n the smoothed mask's
+#   gradient; fcc over the volume voxels); surface and
 #   volume fidelity and the median normal angle (bop-server's last line); births + deaths over the
 #   last 10% of construction against the particles; the build's wall time.
 # Each built bag is then served for a moment and drawn by bop-viewer --headless; the pictures
