@@ -141,7 +141,8 @@ Placement placeParticles(const Model& model, const PlacementParams& params) {
         for (int it = 0; it < 14; ++it) {
             const double d = 0.5 * (lo + up);
             std::vector<std::size_t> taken = adsorb(cand, d, hi);
-            const double miss = std::abs(double(taken.size()) - ideal), bestMiss = std::abs(double(best.size()) - ideal);
+            const double miss = std::abs(double(taken.size()) - ideal),
+                         bestMiss = std::abs(double(best.size()) - ideal);
             if (miss < bestMiss) best = taken;
             (double(taken.size()) > ideal ? lo : up) = d;
             if (miss <= 0.002 * ideal) break;
@@ -159,7 +160,8 @@ Placement placeParticles(const Model& model, const PlacementParams& params) {
     static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
     for (int s = 1; s <= model.speciesCount(); ++s) {
         if (model.isSurface(s)) continue;
-        Eigen::Vector3i vlo = Eigen::Vector3i::Constant(dims.nx + dims.ny + dims.nz), vhi = Eigen::Vector3i::Constant(-1);
+        Eigen::Vector3i vlo = Eigen::Vector3i::Constant(dims.nx + dims.ny + dims.nz),
+                        vhi = Eigen::Vector3i::Constant(-1);
         std::size_t voxels = 0;
         for (std::size_t v = 0; v < m.occ.size(); ++v) {
             if (m.occ[v] != s) continue;
@@ -169,8 +171,8 @@ Placement placeParticles(const Model& model, const PlacementParams& params) {
             ++voxels;
         }
         if (voxels == 0) continue;
-        const Eigen::Vector3i c0 = (vlo.cast<double>() * h / a).array().floor().cast<int>().matrix() -
-                                   Eigen::Vector3i::Ones();
+        const Eigen::Vector3i c0 =
+            (vlo.cast<double>() * h / a).array().floor().cast<int>().matrix() - Eigen::Vector3i::Ones();
         const Eigen::Vector3i c1 =
             ((vhi.cast<double>() + Eigen::Vector3d::Ones()) * h / a).array().ceil().cast<int>().matrix();
         // The sites of the lattice shifted by `offset` (cube edges) that the species may hold.

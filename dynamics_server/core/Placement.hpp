@@ -29,8 +29,8 @@ struct PlacementParams {
 
 struct PlacedSpecies {
     int species = 0;
-    std::size_t placed = 0;  // particles set
-    double ideal = 0;        // the count at r0 spacing: hexagonal sheet over the area, fcc over the volume
+    std::size_t placed = 0;   // particles set
+    double ideal = 0;         // the count at r0 spacing: hexagonal sheet over the area, fcc over the volume
     double areaOrVolume = 0;  // surface: area, length^2; volume: voxel volume, length^3 (simulation units)
 };
 

@@ -117,7 +117,8 @@ ShapeCounts Run::shapeCounts() const {
         const Particles& p = s.particles();
         for (std::size_t i = 0; i < p.size(); ++i) {
             const Eigen::Vector3i c = (p.pos[i] / h).array().floor().cast<int>().matrix() - g.origin;
-            const bool own = g.dims().contains(c.x(), c.y(), c.z()) && g.occ[g.dims().index(c.x(), c.y(), c.z())] == p.species[i];
+            const bool own =
+                g.dims().contains(c.x(), c.y(), c.z()) && g.occ[g.dims().index(c.x(), c.y(), c.z())] == p.species[i];
             const std::size_t k = m.isSurface(p.species[i]) ? 0 : 2;
             mine[k] += 1;
             mine[k + 1] += own ? 1 : 0;

@@ -12,9 +12,9 @@
 namespace bop::shape {
 
 struct ThinParts {
-    double thinnestVoxels = 0;  // the thinnest part across, voxels (0: the bag has no voxels)
-    std::size_t thinVoxels = 0;    // the bag's voxels inside parts under the minimum
-    std::size_t bagVoxels = 0;     // every voxel of the bag (its surface, volume and the bags inside it)
+    double thinnestVoxels = 0;   // the thinnest part across, voxels (0: the bag has no voxels)
+    std::size_t thinVoxels = 0;  // the bag's voxels inside parts under the minimum
+    std::size_t bagVoxels = 0;   // every voxel of the bag (its surface, volume and the bags inside it)
 };
 
 // Bag number `bag` (1 = outermost) of the whole map `map`; `minimumVoxels` across.

@@ -34,8 +34,8 @@ TEST_CASE("placement fills both of two balls at the counts r0 spacing gives", "[
     const double ra = 10.3, rb = 7.6;
     const Dims d{58, 32, 32};
     const GradientMap map = test::mapFrom(
-        test::depthFrom(d, {[&](const Eigen::Vector3d& x) { return (x - a).norm() < ra || (x - b).norm() < rb; }}),
-        2.0, 1.5);
+        test::depthFrom(d, {[&](const Eigen::Vector3d& x) { return (x - a).norm() < ra || (x - b).norm() < rb; }}), 2.0,
+        1.5);
     const Model model = bagModel(map);
     const Placement placed = placeParticles(model, {});
     const Particles& p = placed.particles;
@@ -45,8 +45,8 @@ TEST_CASE("placement fills both of two balls at the counts r0 spacing gives", "[
     // The surface: its area against the analytic spheres', its count against a hexagonal sheet's.
     const PlacedSpecies& sheet = placed.species[0];
     const double area = 4 * kPi * (ra * ra + rb * rb) * h * h;
-    INFO("surface " << sheet.placed << " of " << sheet.ideal << ", area " << sheet.areaOrVolume << " against "
-                    << area << "; volume " << placed.species[1].placed << " of " << placed.species[1].ideal);
+    INFO("surface " << sheet.placed << " of " << sheet.ideal << ", area " << sheet.areaOrVolume << " against " << area
+                    << "; volume " << placed.species[1].placed << " of " << placed.species[1].ideal);
     CHECK(sheet.areaOrVolume == Approx(area).epsilon(0.05));
     CHECK(double(sheet.placed) == Approx(area / (std::sqrt(3.0) / 2 * kR0 * kR0)).epsilon(0.06));
     CHECK(double(placed.species[1].placed) >= 0.8 * placed.species[1].ideal);

@@ -56,14 +56,18 @@ std::string writeScene(const test::TempDir& dir, const Shape& s) {
 TEST_CASE("a thin plate and two balls placed and settled within the targets", "[physics][placement]") {
     const Eigen::Vector3d ca(18, 17, 17), cb(48, 17, 17);
     const std::vector<Shape> shapes = {
-        {"plate", {52, 52, 20},
+        {"plate",
+         {52, 52, 20},
          [](const Eigen::Vector3d& x) {
              return x.x() > 6 && x.x() < 46 && x.y() > 6 && x.y() < 46 && x.z() > 6 && x.z() < 14;
          },
-         2 * 40 * 40 + 4 * 40 * 8, [](const Eigen::Vector3d&) { return 0; }},
-        {"two-balls", {66, 34, 34},
+         2 * 40 * 40 + 4 * 40 * 8,
+         [](const Eigen::Vector3d&) { return 0; }},
+        {"two-balls",
+         {66, 34, 34},
          [&](const Eigen::Vector3d& x) { return (x - ca).norm() < 12 || (x - cb).norm() < 9; },
-         4 * kPi * (12 * 12 + 9 * 9), [&](const Eigen::Vector3d& x) { return (x - ca).norm() < 14 ? 0 : 1; }},
+         4 * kPi * (12 * 12 + 9 * 9),
+         [&](const Eigen::Vector3d& x) { return (x - ca).norm() < 14 ? 0 : 1; }},
     };
     for (const Shape& s : shapes) {
         test::TempDir dir("placed-bags");
@@ -86,8 +90,8 @@ TEST_CASE("a thin plate and two balls placed and settled within the targets", "[
         const app::Fidelity f = app::measureFidelity(whole, p);
         const double h = voxelLength(map.r0Voxels);
         const double surfaceIdeal = s.area / (std::sqrt(3.0) / 2 * map.r0Voxels * map.r0Voxels);
-        const double volumeIdeal = double(std::count(map.occ.begin(), map.occ.end(), 2)) /
-                                   std::pow(map.r0Voxels, 3) * std::sqrt(2.0);
+        const double volumeIdeal =
+            double(std::count(map.occ.begin(), map.occ.end(), 2)) / std::pow(map.r0Voxels, 3) * std::sqrt(2.0);
         std::size_t perPiece[2][3] = {};
         for (std::size_t i = 0; i < p.size(); ++i) perPiece[s.piece(p.pos[i] / h)][p.species[i]] += 1;
         INFO(s.name << ": settled after " << steps << " steps; " << f.surface << " surface (ideal " << surfaceIdeal

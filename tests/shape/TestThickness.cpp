@@ -24,8 +24,8 @@ TEST_CASE("the plate is found thin and the ball is not", "[shape][thickness]") {
             }
     REQUIRE(plateVoxels == 24 * 24 * 3);
 
-    const GradientMap both = test::mapFrom(
-        test::depthFrom(d, {[&](const Eigen::Vector3d& x) { return plate(x) || ball(x); }}), 2.0, 1.5);
+    const GradientMap both =
+        test::mapFrom(test::depthFrom(d, {[&](const Eigen::Vector3d& x) { return plate(x) || ball(x); }}), 2.0, 1.5);
     const shape::ThinParts t = shape::findThinParts(both, 1, 2 * both.r0Voxels);
     INFO(t.thinVoxels << " thin of " << t.bagVoxels << "; the thinnest " << t.thinnestVoxels << " voxels across");
     CHECK(t.bagVoxels == plateVoxels + ballVoxels);

@@ -134,7 +134,7 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
     if (scene.pressure && header) cardiac.emplace(scene, *header, run.frameVolumes());
     long long done = 0;
     bool stopped = false, settled = false;
-    int calmChecks = 0;  // settle checks in a row at or below the kinetic energy
+    int calmChecks = 0;                       // settle checks in a row at or below the kinetic energy
     if (o.steps == 0) takeCheckpoint(false);  // nothing to step: the start itself is the checkpoint
     installBatchSignals();                    // from here a signal ends the run with a checkpoint
     const auto t0 = std::chrono::steady_clock::now();
@@ -166,9 +166,9 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
             settled = calmChecks >= 2;
             if (settled && root)
                 std::cout << "settled at step " << step << ": kinetic energy " << std::scientific
-                          << std::setprecision(2) << perParticle
-                          << " per particle (at most " << o.settleKinetic << " at two checks " << o.settleEvery
-                          << " steps apart)" << std::defaultfloat << std::setprecision(6) << std::endl;
+                          << std::setprecision(2) << perParticle << " per particle (at most " << o.settleKinetic
+                          << " at two checks " << o.settleEvery << " steps apart)" << std::defaultfloat
+                          << std::setprecision(6) << std::endl;
         }
         const bool last = stopped || settled || s == o.steps;
         if ((o.checkpointEvery > 0 && step % o.checkpointEvery == 0) || last) takeCheckpoint(!last);
@@ -176,8 +176,8 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
     }
     if (o.untilSettled && !settled && !stopped && root)
         std::cout << "not settled after " << done << " steps (the run's cap): the kinetic energy per particle "
-                  << "stayed above " << std::scientific << std::setprecision(2) << o.settleKinetic
-                  << std::defaultfloat << std::setprecision(6) << std::endl;
+                  << "stayed above " << std::scientific << std::setprecision(2) << o.settleKinetic << std::defaultfloat
+                  << std::setprecision(6) << std::endl;
     if (stopped || settled) run.refreshForces();  // the summary's energies of this state
     if (stopped) {
         if (root)

@@ -21,8 +21,9 @@ void BatchReport::progress(long long done, long long total, std::chrono::steady_
         os_ << "  construction so far: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths, "
             << std::setprecision(1) << (c.births + c.deaths) / std::max(seconds, 1e-9) << " per second\n";
     if (shape.surface + shape.volume > 0)
-        os_ << "  in their own voxels: " << std::setprecision(1) << 100 * shape.surfaceInOwn / std::max(1.0, shape.surface)
-            << "% of surface, " << 100 * shape.volumeInOwn / std::max(1.0, shape.volume) << "% of volume particles\n";
+        os_ << "  in their own voxels: " << std::setprecision(1)
+            << 100 * shape.surfaceInOwn / std::max(1.0, shape.surface) << "% of surface, "
+            << 100 * shape.volumeInOwn / std::max(1.0, shape.volume) << "% of volume particles\n";
 }
 
 void BatchReport::phases(long long steps) {

@@ -132,10 +132,11 @@ void readConstruction(const ConfigTable& root, Scene& s) {
     const auto t = root.optionalTable("construction");
     // No timeline: the bag is placed on its map and settles (docs/scene-format.md).
     const bool events = t && t->has("event");
-    const std::string method =
-        t ? t->choice("method", {"place", "birth"}, events ? "birth" : "place") : std::string(s.shape ? "place" : "birth");
+    const std::string method = t ? t->choice("method", {"place", "birth"}, events ? "birth" : "place")
+                                 : std::string(s.shape ? "place" : "birth");
     if (method == "place" && s.shape) {
-        if (events) t->fail("method", "\"place\" sets every particle at the start; drop the [[construction.event]] list");
+        if (events)
+            t->fail("method", "\"place\" sets every particle at the start; drop the [[construction.event]] list");
         core::PlacementParams p;
         p.seed = s.seed;
         if (t) p.gapR0 = t->number("gap_r0", p.gapR0);

@@ -4,8 +4,8 @@
 // settings. See docs/scene-format.md for every key and its unit.
 #include "core/Construction.hpp"
 #include "core/ForceField.hpp"
-#include "core/Placement.hpp"
 #include "core/Model.hpp"
+#include "core/Placement.hpp"
 #include "shape/ShapeSpec.hpp"
 
 #include <memory>

@@ -85,13 +85,13 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
         const GradientMap header = s.options.map->header;
         core::Model whole = *scene.model;
         whole.map = std::make_shared<GradientMap>(s.options.map->crop(
-            0, bop::VoxelWindow{Eigen::Vector3i::Zero(), Eigen::Vector3i(header.wholeDims().nx, header.wholeDims().ny,
-                                                                          header.wholeDims().nz)}));
+            0, bop::VoxelWindow{Eigen::Vector3i::Zero(),
+                                Eigen::Vector3i(header.wholeDims().nx, header.wholeDims().ny, header.wholeDims().nz)}));
         if (root && progress)  // before the bag is built: parts it cannot hold
             for (std::size_t b = 0; b < scene.shape->bags.size(); ++b) {
                 const double r0 = whole.map->r0Voxels;
-                const std::string w = shape::thinPartsWarning(
-                    scene.shape->bags[b].name, shape::findThinParts(*whole.map, int(b) + 1, 2 * r0), r0);
+                const std::string w = shape::thinPartsWarning(scene.shape->bags[b].name,
+                                                              shape::findThinParts(*whole.map, int(b) + 1, 2 * r0), r0);
                 if (!w.empty()) progress("warning: " + w);
             }
         if (place) {  // every process places on the whole map alike and keeps what it owns (core::Run)
