@@ -84,6 +84,8 @@ drag_v = 0.0
 lj = [[0.0, 0.0], [0.0, 0.0]]
 co_normal = [[0.0, 0.0], [0.0, 0.0]]
 co_planar = [[0.0, 0.0], [0.0, 0.0]]
+[construction]
+method = "birth"  # no timeline: the gas below is all there is
 )");
     app::Scene scene = app::loadScene(path);
     test::OneProcessRun sim(scene);

@@ -45,7 +45,10 @@ std::string writeKeyframeScene(const std::string& dir, double frameDuration, boo
     std::ostringstream s;
     s << "[grid]\nr0_voxels = 2.0\nsize_voxels = [24, 24, 24]\n[shape]\n[[shape.bag]]\nsource = 'nifti'\nfile = "
          "'ball.nii'\n"
-      << "label = 1\n[keyframes]\nframe_duration = " << frameDuration << "\nblend = " << (blend ? "true" : "false")
+      << "label = 1\n"
+      // Without a timeline of its own the bag starts empty (a scene with none is otherwise placed).
+      << (extra.find("[construction]") == std::string::npos ? "[construction]\nmethod = 'birth'\n" : "")
+      << "[keyframes]\nframe_duration = " << frameDuration << "\nblend = " << (blend ? "true" : "false")
       << "\n"
       << extra;
     return writeText(dir + "/keyframes.toml", s.str());

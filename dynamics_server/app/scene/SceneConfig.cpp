@@ -132,8 +132,8 @@ void readConstruction(const ConfigTable& root, Scene& s) {
     const auto t = root.optionalTable("construction");
     // No timeline: the bag is placed on its map and settles (docs/scene-format.md).
     const bool events = t && t->has("event");
-    const std::string method = t ? t->choice("method", {"place", "birth"}, events ? "birth" : "place")
-                                 : std::string(s.shape ? "place" : "birth");
+    const std::string fallback = events || !s.shape ? "birth" : "place";
+    const std::string method = t ? t->choice("method", {"place", "birth"}, fallback) : fallback;
     if (method == "place" && s.shape) {
         if (events)
             t->fail("method", "\"place\" sets every particle at the start; drop the [[construction.event]] list");
