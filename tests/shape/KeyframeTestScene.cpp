@@ -48,8 +48,7 @@ std::string writeKeyframeScene(const std::string& dir, double frameDuration, boo
       << "label = 1\n"
       // Without a timeline of its own the bag starts empty (a scene with none is otherwise placed).
       << (extra.find("[construction]") == std::string::npos ? "[construction]\nmethod = 'birth'\n" : "")
-      << "[keyframes]\nframe_duration = " << frameDuration << "\nblend = " << (blend ? "true" : "false")
-      << "\n"
+      << "[keyframes]\nframe_duration = " << frameDuration << "\nblend = " << (blend ? "true" : "false") << "\n"
       << extra;
     return writeText(dir + "/keyframes.toml", s.str());
 }
