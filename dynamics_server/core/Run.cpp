@@ -111,18 +111,14 @@ ShapeCounts Run::shapeCounts() const {
     const Simulation& s = *impl_->sim;
     const Model& m = s.model();
     std::vector<double> mine(4, 0.0);  // surface, surface in own voxels, volume, volume in own voxels
-    if (m.map) {
-        const GradientMap& g = *m.map;
-        const double h = voxelLength(g.r0Voxels);
-        const Particles& p = s.particles();
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            const Eigen::Vector3i c = (p.pos[i] / h).array().floor().cast<int>().matrix() - g.origin;
-            const bool own =
-                g.dims().contains(c.x(), c.y(), c.z()) && g.occ[g.dims().index(c.x(), c.y(), c.z())] == p.species[i];
-            const std::size_t k = m.isSurface(p.species[i]) ? 0 : 2;
-            mine[k] += 1;
-            mine[k + 1] += own ? 1 : 0;
-        }
+    const Particles& p = s.particles();
+    const double h = m.map ? voxelLength(m.map->r0Voxels) : 1.0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const std::size_t k = m.isSurface(p.species[i]) ? 0 : 2;
+        mine[k] += 1;
+        if (!m.map) continue;
+        const std::int64_t v = m.map->voxelHolding(p.pos[i] / h);
+        mine[k + 1] += v >= 0 && m.map->occ[std::size_t(v)] == p.species[i] ? 1 : 0;
     }
     ShapeCounts out;
     const std::vector<double> all = impl_->ex->allGather(mine);

@@ -42,8 +42,9 @@ struct RunCounters {                // summed over processes, identical on every
 using ExchangeMaker = std::function<std::unique_ptr<Exchange>(const Box& whole, double reach)>;
 ExchangeMaker oneProcess();  // the base Exchange: nothing to exchange
 
-// Particles in the voxels of their own species, over every process (progress reports; the final
-// fidelity is app::measureFidelity's on the whole map).
+// Surface and volume particles, and those in the voxels of their own species (0 without a map),
+// over every process (progress reports; the final fidelity is app::measureFidelity's on the
+// whole map).
 struct ShapeCounts {
     double surface = 0, surfaceInOwn = 0, volume = 0, volumeInOwn = 0;
 };

@@ -34,6 +34,12 @@ struct ShapeSpec {
     core::Interpolation interpolation = core::Interpolation::Mixed;
     std::string canonical;              // the shape tables as TOML text (for the cache key)
     std::vector<std::string> warnings;  // what the sources found and mended, one line each
+
+    std::vector<std::string> bagNames() const {  // outer to inner
+        std::vector<std::string> names;
+        for (const BagSpec& b : bags) names.push_back(b.name);
+        return names;
+    }
 };
 
 // Reads [grid] and [shape] of a scene (other top-level tables are left to their readers) and

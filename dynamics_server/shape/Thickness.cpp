@@ -67,4 +67,13 @@ std::string thinPartsWarning(const std::string& bagName, const ThinParts& t, dou
     return text;
 }
 
+std::vector<std::string> thinPartsWarnings(const GradientMap& map, const std::vector<std::string>& bagNames) {
+    std::vector<std::string> out;
+    for (std::size_t b = 0; b < bagNames.size(); ++b) {
+        std::string w = thinPartsWarning(bagNames[b], findThinParts(map, int(b) + 1, 2 * map.r0Voxels), map.r0Voxels);
+        if (!w.empty()) out.push_back(std::move(w));
+    }
+    return out;
+}
+
 }  // namespace bop::shape

@@ -8,6 +8,7 @@
 #include "bop/common/GradientMap.hpp"
 
 #include <string>
+#include <vector>
 
 namespace bop::shape {
 
@@ -23,5 +24,9 @@ ThinParts findThinParts(const GradientMap& map, int bag, double minimumVoxels);
 // A warning for a bag with thin parts ("" when it has none), in r0 and voxels: the share of its
 // voxels in them, the thinnest, and the r0_voxels that would hold it (two r0 across).
 std::string thinPartsWarning(const std::string& bagName, const ThinParts& t, double r0Voxels);
+
+// The warnings of every bag of the whole map `map` (bag k + 1 named bagNames[k]) that has parts
+// under 2 r0 across, as bop-shape and bop-server print them before a bag is built.
+std::vector<std::string> thinPartsWarnings(const GradientMap& map, const std::vector<std::string>& bagNames);
 
 }  // namespace bop::shape

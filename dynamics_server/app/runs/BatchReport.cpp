@@ -7,9 +7,9 @@ namespace bop::app {
 
 void BatchReport::progress(long long done, long long total, std::chrono::steady_clock::time_point start) {
     const core::Totals t = run_.totals();
-    const double surface = run_.surfaceParticles();
     const core::RunCounters c = run_.counters();
     const core::ShapeCounts shape = run_.shapeCounts();
+    const double surface = shape.surface;
     if (run_.rank() != 0) return;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     os_ << std::fixed << std::setprecision(0) << "step " << run_.stepNumber() << " (" << std::setprecision(1)
@@ -20,7 +20,7 @@ void BatchReport::progress(long long done, long long total, std::chrono::steady_
     if (c.births > 0 || c.deaths > 0)
         os_ << "  construction so far: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths, "
             << std::setprecision(1) << (c.births + c.deaths) / std::max(seconds, 1e-9) << " per second\n";
-    if (shape.surface + shape.volume > 0)
+    if (run_.simulation().model().map)
         os_ << "  in their own voxels: " << std::setprecision(1)
             << 100 * shape.surfaceInOwn / std::max(1.0, shape.surface) << "% of surface, "
             << 100 * shape.volumeInOwn / std::max(1.0, shape.volume) << "% of volume particles\n";

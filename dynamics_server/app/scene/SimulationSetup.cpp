@@ -80,20 +80,18 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
     }
     core::Construction construction({}, {}, scene.model->speciesCount());
     s.particles = initialParticles(scene, restart, s.firstStep, construction);
-    const bool place = scene.placement && restart.empty();
-    if (scene.shape && (place || (root && progress))) {
+    // A bag to build (not one a restart brings): its thin parts said first, then placed if the
+    // scene places it.
+    const bool place = scene.placement && restart.empty(), warn = root && progress && restart.empty();
+    if (scene.shape && (place || warn)) {
         const GradientMap header = s.options.map->header;
         core::Model whole = *scene.model;
         whole.map = std::make_shared<GradientMap>(s.options.map->crop(
             0, bop::VoxelWindow{Eigen::Vector3i::Zero(),
                                 Eigen::Vector3i(header.wholeDims().nx, header.wholeDims().ny, header.wholeDims().nz)}));
-        if (root && progress)  // before the bag is built: parts it cannot hold
-            for (std::size_t b = 0; b < scene.shape->bags.size(); ++b) {
-                const double r0 = whole.map->r0Voxels;
-                const std::string w = shape::thinPartsWarning(scene.shape->bags[b].name,
-                                                              shape::findThinParts(*whole.map, int(b) + 1, 2 * r0), r0);
-                if (!w.empty()) progress("warning: " + w);
-            }
+        if (warn)
+            for (const std::string& w : shape::thinPartsWarnings(*whole.map, scene.shape->bagNames()))
+                progress("warning: " + w);
         if (place) {  // every process places on the whole map alike and keeps what it owns (core::Run)
             core::Placement placed = core::placeParticles(whole, *scene.placement);
             if (root && progress) progress(placementReport(*scene.model, placed.species));
@@ -127,15 +125,13 @@ Fidelity measureFidelity(const core::Model& model, const core::Particles& p) {
     Fidelity f;
     if (!model.map) return f;
     const GradientMap& m = *model.map;
-    const Dims& d = m.dims();
     const double h = voxelLength(m.r0Voxels);
     std::size_t surfaceIn = 0, volumeIn = 0;
     std::vector<double> angles;
     for (std::size_t i = 0; i < p.size(); ++i) {
-        const Eigen::Vector3d v = p.pos[i] / h;
-        const Eigen::Vector3i c = v.array().floor().cast<int>().matrix();
-        const bool inGrid = d.contains(c.x(), c.y(), c.z());
-        const std::size_t idx = inGrid ? d.index(c.x(), c.y(), c.z()) : 0;
+        const std::int64_t voxel = m.voxelHolding(p.pos[i] / h);
+        const bool inGrid = voxel >= 0;
+        const std::size_t idx = inGrid ? std::size_t(voxel) : 0;
         const bool own = inGrid && m.occ[idx] == p.species[i];
         if (model.isSurface(p.species[i])) {
             ++f.surface;

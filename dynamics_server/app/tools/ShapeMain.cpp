@@ -67,12 +67,9 @@ int run(int argc, char** argv) {
     for (const std::string& w : spec.warnings) spdlog::warn("{}", w);
     const bop::shape::ShapeBuild build = bop::shape::loadOrBuildShape(
         spec, noCache ? "" : cache, rebuild, [](const std::string& m) { spdlog::info("{}", m); }, threads);
-    for (std::size_t b = 0; b < spec.bags.size(); ++b) {  // parts too thin for the bag, before it is built
-        const bop::GradientMap& map = build.frames.front();
-        const std::string w = bop::shape::thinPartsWarning(
-            spec.bags[b].name, bop::shape::findThinParts(map, int(b) + 1, 2 * map.r0Voxels), map.r0Voxels);
-        if (!w.empty()) spdlog::warn("{}", w);
-    }
+    // Parts too thin for their bag, before it is built.
+    for (const std::string& w : bop::shape::thinPartsWarnings(build.frames.front(), spec.bagNames()))
+        spdlog::warn("{}", w);
     bop::app::printShapeReport(std::cout, spec, build);
     bop::app::printTimings(std::cout, build.timings);
     if (!timingsCsv.empty()) bop::app::writeTimingsCsv(timingsCsv, build.frames.front(), build.timings);

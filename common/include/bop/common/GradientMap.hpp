@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -61,6 +62,14 @@ struct GradientMap {
         const Dims& d = dims();
         const Eigen::Vector3i l = (c - origin).cwiseMax(0).cwiseMin(Eigen::Vector3i(d.nx - 1, d.ny - 1, d.nz - 1));
         return d.index(l.x(), l.y(), l.z());
+    }
+
+    // This map's voxel holding the point x (whole-map voxel coordinates), or -1 when x lies
+    // outside this map (its window).
+    std::int64_t voxelHolding(const Eigen::Vector3d& x) const {
+        const Eigen::Vector3i c =
+            Eigen::Vector3i(int(std::floor(x.x())), int(std::floor(x.y())), int(std::floor(x.z()))) - origin;
+        return dims().contains(c.x(), c.y(), c.z()) ? std::int64_t(dims().index(c.x(), c.y(), c.z())) : -1;
     }
 
     // d(v): vector from the centre of v to the centre of its nearest surface voxel, voxels.
