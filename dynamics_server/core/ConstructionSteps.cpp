@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace bop::core {
 namespace {
@@ -44,6 +46,15 @@ struct PointGrid {
 
 Eigen::Vector3d voxelCentre(const GradientMap& m, std::size_t v) {
     return (m.wholeCoords(v).cast<double>() + Eigen::Vector3d::Constant(0.5)) * voxelLength(m.r0Voxels);
+}
+
+// Which voxel seeds a species (the smaller key wins). Surface species: a surface voxel chosen by
+// the hash. Volume species: the deepest voxel (farthest from any surface), so the seed does not
+// die next to a surface particle.
+std::pair<long long, std::uint64_t> seedKey(const ConstructionParams& params, const GradientMap& m, bool surface,
+                                            int species, std::size_t v) {
+    return {surface ? 0 : -m.delta(v).squaredNorm(),
+            mixHash(params.seed, 0x5eedULL, std::uint64_t(species), m.wholeIndex(v))};
 }
 
 }  // namespace
@@ -181,8 +192,6 @@ void addBirth(const Model& model, Particles& p, int species, const BirthCandidat
 std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Model& model, int species,
                                       const std::function<bool(const Eigen::Vector3d&)>& mine) {
     const GradientMap& m = *model.map;
-    // Surface species: a surface voxel chosen by the hash. Volume species: the deepest voxel
-    // (farthest from any surface), so the seed does not die next to a surface particle.
     // Per fixed block of voxels on the threads (the first smallest key of each), then the blocks
     // in voxel order: the same choice as one pass, at any thread count.
     const bool surface = model.isSurface(species);
@@ -191,9 +200,7 @@ std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Mo
         std::optional<SeedChoice>& best = bestOf[b];
         for (std::size_t v = v0; v < v1; ++v) {
             if (m.occ[v] != species) continue;
-            const std::pair<long long, std::uint64_t> key{
-                surface ? 0 : -m.delta(v).squaredNorm(),
-                mixHash(params.seed, 0x5eedULL, std::uint64_t(species), m.wholeIndex(v))};
+            const std::pair<long long, std::uint64_t> key = seedKey(params, m, surface, species, v);
             if (best && !(key < best->key)) continue;
             const Eigen::Vector3d c = voxelCentre(m, v);
             if (mine(c)) best = SeedChoice{key, c};
@@ -203,6 +210,23 @@ std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Mo
     std::optional<SeedChoice> best;
     for (const auto& c : bestOf)
         if (c && (!best || c->key < best->key)) best = c;
+    return best;
+}
+
+std::vector<std::optional<SeedChoice>> seedsOfPieces(const ConstructionParams& params, const Model& model, int species,
+                                                     const std::vector<std::uint32_t>& piece, std::uint32_t pieces) {
+    const GradientMap& m = *model.map;
+    if (piece.size() != m.occ.size())
+        throw std::invalid_argument("pieces cover " + std::to_string(piece.size()) + " voxels, the map " +
+                                    std::to_string(m.occ.size()));
+    const bool surface = model.isSurface(species);
+    std::vector<std::optional<SeedChoice>> best(pieces);
+    for (std::size_t v = 0; v < m.occ.size(); ++v) {
+        if (m.occ[v] != species || piece[v] == 0 || piece[v] > pieces) continue;
+        std::optional<SeedChoice>& b = best[piece[v] - 1];
+        const auto key = seedKey(params, m, surface, species, v);
+        if (!b || key < b->key) b = SeedChoice{key, voxelCentre(m, v)};
+    }
     return best;
 }
 

@@ -71,5 +71,10 @@ struct SeedChoice {
 };
 std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Model& model, int species,
                                       const std::function<bool(const Eigen::Vector3d&)>& mine);
+// The same choice within each piece of the species' voxels: piece[v] numbers the piece of map
+// voxel v from 1 (0: in none); entry k - 1 is piece k's seed (none when it has no voxel of the
+// species). A piece holding every voxel of the species gets defaultSeed's voxel.
+std::vector<std::optional<SeedChoice>> seedsOfPieces(const ConstructionParams& params, const Model& model, int species,
+                                                     const std::vector<std::uint32_t>& piece, std::uint32_t pieces);
 
 }  // namespace bop::core

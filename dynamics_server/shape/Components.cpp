@@ -1,13 +1,21 @@
 #include "Components.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <numeric>
 
 namespace bop::shape {
 
-Components findComponents(const Dims& dims, const std::function<bool(std::size_t)>& in) {
+Components findComponents(const Dims& dims, const std::function<bool(std::size_t)>& in, Neighbours neighbours) {
     Components c;
     c.label.assign(dims.count(), 0);
+    std::vector<Eigen::Vector3i> steps;
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int reach = std::abs(dx) + std::abs(dy) + std::abs(dz);
+                if (reach == 1 || (reach > 1 && neighbours == Neighbours::All)) steps.emplace_back(dx, dy, dz);
+            }
     std::vector<std::size_t> queue;
     std::uint32_t pieces = 0;
     for (std::size_t start = 0; start < dims.count(); ++start) {
@@ -15,18 +23,16 @@ Components findComponents(const Dims& dims, const std::function<bool(std::size_t
         c.label[start] = ++pieces;
         queue.assign(1, start);
         for (std::size_t head = 0; head < queue.size(); ++head) {
-            const std::size_t v = queue[head];
-            const Eigen::Vector3i at = dims.coords(v);
-            const int n[3] = {dims.nx, dims.ny, dims.nz};
-            const std::size_t stride[3] = {1, std::size_t(dims.nx), std::size_t(dims.nx) * std::size_t(dims.ny)};
-            for (int a = 0; a < 3; ++a)
-                for (const int step : {-1, 1}) {
-                    if (at[a] + step < 0 || at[a] + step >= n[a]) continue;
-                    const std::size_t u = step < 0 ? v - stride[a] : v + stride[a];
-                    if (c.label[u] || !in(u)) continue;
-                    c.label[u] = pieces;
-                    queue.push_back(u);
-                }
+            const Eigen::Vector3i at = dims.coords(queue[head]);
+            for (const Eigen::Vector3i& step : steps) {
+                const Eigen::Vector3i n = at + step;
+                if (n.x() < 0 || n.y() < 0 || n.z() < 0 || n.x() >= dims.nx || n.y() >= dims.ny || n.z() >= dims.nz)
+                    continue;
+                const std::size_t u = dims.index(n.x(), n.y(), n.z());
+                if (c.label[u] || !in(u)) continue;
+                c.label[u] = pieces;
+                queue.push_back(u);
+            }
         }
         c.sizes.push_back(queue.size());
     }

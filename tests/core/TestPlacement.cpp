@@ -16,17 +16,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-Model bagModel(const GradientMap& map) {
-    Model m;
-    m.species.assign(3, Species{});
-    m.species[1].kind = ParticleKind::Surface;
-    m.species[2].kind = ParticleKind::Volume;
-    m.map = std::make_shared<GradientMap>(map);
-    const double h = voxelLength(map.r0Voxels);
-    m.box.hi = Eigen::Vector3d(map.dims().nx, map.dims().ny, map.dims().nz) * h;
-    return m;
-}
-
 }  // namespace
 
 TEST_CASE("placement fills both of two balls at the counts r0 spacing gives", "[core][placement]") {
@@ -36,7 +25,7 @@ TEST_CASE("placement fills both of two balls at the counts r0 spacing gives", "[
     const GradientMap map = test::mapFrom(
         test::depthFrom(d, {[&](const Eigen::Vector3d& x) { return (x - a).norm() < ra || (x - b).norm() < rb; }}), 2.0,
         1.5);
-    const Model model = bagModel(map);
+    const Model model = test::bagModel(map);
     const Placement placed = placeParticles(model, {});
     const Particles& p = placed.particles;
     const double h = voxelLength(map.r0Voxels);
@@ -91,10 +80,10 @@ TEST_CASE("placement needs the whole map", "[core][placement]") {
     const Dims d{20, 20, 20};
     GradientMap map = test::mapFrom(
         test::depthFrom(d, {[](const Eigen::Vector3d& x) { return (x - Eigen::Vector3d(10, 10, 10)).norm() < 6; }}));
-    Model none = bagModel(map);
+    Model none = test::bagModel(map);
     none.map.reset();
     CHECK_THROWS_AS(placeParticles(none, {}), std::invalid_argument);
     map.origin = Eigen::Vector3i(1, 0, 0);  // a window of a bigger map
     map.whole = Dims{21, 20, 20};
-    CHECK_THROWS_AS(placeParticles(bagModel(map), {}), std::invalid_argument);
+    CHECK_THROWS_AS(placeParticles(test::bagModel(map), {}), std::invalid_argument);
 }

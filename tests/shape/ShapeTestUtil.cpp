@@ -23,4 +23,14 @@ GradientMap mapFrom(const Volume<std::uint8_t>& depth, double r0Voxels, double s
     return shape::buildGradientMap(g, depth, r0Voxels, p);
 }
 
+core::Model bagModel(const GradientMap& map) {
+    core::Model m;
+    m.species.assign(3, core::Species{});
+    m.species[1].kind = core::ParticleKind::Surface;
+    m.species[2].kind = core::ParticleKind::Volume;
+    m.map = std::make_shared<GradientMap>(map);
+    m.box.hi = Eigen::Vector3d(map.dims().nx, map.dims().ny, map.dims().nz) * voxelLength(map.r0Voxels);
+    return m;
+}
+
 }  // namespace bop::test

@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the shape tests: analytic volumes on a grid and maps built from them.
 #include "TestUtil.hpp"
+#include "core/Model.hpp"
 #include "shape/ShapeBuilder.hpp"
 
 #include <functional>
@@ -13,5 +14,8 @@ Volume<std::uint8_t> depthFrom(const Dims& d, const std::vector<std::function<bo
 
 // A gradient map built from a depth volume on a grid of 1 mm voxels at the origin.
 GradientMap mapFrom(const Volume<std::uint8_t>& depth, double r0Voxels = 2.0, double sigma = 2.0);
+
+// One bag on `map`: species 1 its surface, 2 its volume; the box is the map's.
+core::Model bagModel(const GradientMap& map);
 
 }  // namespace bop::test

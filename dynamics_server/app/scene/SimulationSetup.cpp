@@ -1,6 +1,7 @@
 #include "app/scene/SimulationSetup.hpp"
 
 #include "app/files/ExtendedXyz.hpp"
+#include "app/scene/PieceSeeds.hpp"
 #include "bop/common/Error.hpp"
 #include "bop/common/GradientMapFile.hpp"
 #include "core/SoundState.hpp"
@@ -78,12 +79,10 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
         s.options.map = core::MapSource{
             shared->header(0), [shared](int f, const bop::VoxelWindow& w) { return shared->crop(f, w); }, frames};
     }
-    core::Construction construction({}, {}, scene.model->speciesCount());
-    s.particles = initialParticles(scene, restart, s.firstStep, construction);
     // A bag to build (not one a restart brings): its thin parts said first, then placed if the
-    // scene places it.
+    // scene places it, or seeded in every piece if it grows from seeds.
     const bool place = scene.placement && restart.empty(), warn = root && progress && restart.empty();
-    if (scene.shape && (place || warn)) {
+    if (scene.shape && (place || warn || hasDefaultSeed(scene.timeline))) {
         const GradientMap header = s.options.map->header;
         core::Model whole = *scene.model;
         whole.map = std::make_shared<GradientMap>(s.options.map->crop(
@@ -92,12 +91,19 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
         if (warn)
             for (const std::string& w : shape::thinPartsWarnings(*whole.map, scene.shape->bagNames()))
                 progress("warning: " + w);
+        PieceSeeding seeding = seedEveryPiece(whole, scene.construction, scene.timeline);
+        scene.timeline = std::move(seeding.timeline);  // every process alike, from the same map
+        if (warn && !place)
+            for (const std::string& n : seeding.notes) progress(n);
         if (place) {  // every process places on the whole map alike and keeps what it owns (core::Run)
             core::Placement placed = core::placeParticles(whole, *scene.placement);
             if (root && progress) progress(placementReport(*scene.model, placed.species));
             s.particles = std::move(placed.particles);
         }
     }
+    core::Construction construction({}, {}, scene.model->speciesCount());
+    core::Particles fromFile = initialParticles(scene, restart, s.firstStep, construction);
+    if (!place) s.particles = std::move(fromFile);
     s.options.firstStep = s.firstStep;
     s.options.construction = std::move(construction);
     return s;

@@ -1,9 +1,12 @@
-// Bags placed on their maps and relaxed until settled (core/Placement.hpp, scene without a
-// construction timeline): a plate a tenth as thick as it is wide and a label of two separate
-// balls, each within the real-shapes targets: >= 95% of surface particles in surface voxels,
+// Bags of shapes with thin parts and several pieces. Placed on their maps and relaxed until
+// settled (core/Placement.hpp, scene without a construction timeline): a plate a tenth as thick
+// as it is wide and a label of two separate balls, each within the real-shapes targets: >= 95% of surface particles in
+// surface voxels,
 // >= 98% of volume particles in volume voxels, median normal angle <= 10 deg, counts within 10%
 // of a hexagonal sheet at r0 over the analytic area and of an fcc lattice at r0 over the volume
-// voxels, and settled (kinetic energy per particle <= 1e-4 at two checks 50 steps apart).
+// voxels, and settled (kinetic energy per particle <= 1e-4 at two checks 50 steps apart). Built by
+// birth and death from the torus scene's timeline (app/scene/PieceSeeds.hpp): each ball grows
+// its sheet and its volume from seeds of its own.
 #include "OneProcessRun.hpp"
 #include "TestUtil.hpp"
 #include "app/scene/SimulationSetup.hpp"
@@ -29,8 +32,9 @@ struct Shape {
     std::function<int(const Eigen::Vector3d&)> piece;    // which piece a point belongs to (0, 1, ...)
 };
 
-// The torus scene's settings with the shape swapped for a raw image of `s`, no timeline.
-std::string writeScene(const test::TempDir& dir, const Shape& s) {
+// The torus scene's settings with the shape swapped for a raw image of `s`; its construction
+// timeline kept (birth) or removed (placement).
+std::string writeScene(const test::TempDir& dir, const Shape& s, bool birth = false) {
     std::vector<std::uint8_t> voxels;
     for (int z = 0; z < s.size.z(); ++z)
         for (int y = 0; y < s.size.y(); ++y)
@@ -46,15 +50,24 @@ std::string writeScene(const test::TempDir& dir, const Shape& s) {
     text = std::regex_replace(text, std::regex("voxel_size_mm = 2.25"), "voxel_size_mm = 1.0");
     const std::size_t from = text.find("# Build the bag"), to = text.find("# Oriented-particle");
     REQUIRE((from != std::string::npos && to != std::string::npos));
-    text.erase(from, to - from);
+    if (!birth) text.erase(from, to - from);
     text.erase(text.find("[run]"));
     return test::writeText(dir.file(std::string(s.name) + ".toml"), text);
+}
+
+const Eigen::Vector3d ca(18, 17, 17), cb(48, 17, 17);  // the two balls' centres, voxel units
+
+Shape twoBalls() {
+    return {"two-balls",
+            {66, 34, 34},
+            [](const Eigen::Vector3d& x) { return (x - ca).norm() < 12 || (x - cb).norm() < 9; },
+            4 * kPi * (12 * 12 + 9 * 9),
+            [](const Eigen::Vector3d& x) { return (x - ca).norm() < 14 ? 0 : 1; }};
 }
 
 }  // namespace
 
 TEST_CASE("a thin plate and two balls placed and settled within the targets", "[physics][placement]") {
-    const Eigen::Vector3d ca(18, 17, 17), cb(48, 17, 17);
     const std::vector<Shape> shapes = {
         {"plate",
          {52, 52, 20},
@@ -63,11 +76,7 @@ TEST_CASE("a thin plate and two balls placed and settled within the targets", "[
          },
          2 * 40 * 40 + 4 * 40 * 8,
          [](const Eigen::Vector3d&) { return 0; }},
-        {"two-balls",
-         {66, 34, 34},
-         [&](const Eigen::Vector3d& x) { return (x - ca).norm() < 12 || (x - cb).norm() < 9; },
-         4 * kPi * (12 * 12 + 9 * 9),
-         [&](const Eigen::Vector3d& x) { return (x - ca).norm() < 14 ? 0 : 1; }},
+        twoBalls(),
     };
     for (const Shape& s : shapes) {
         test::TempDir dir("placed-bags");
@@ -109,5 +118,27 @@ TEST_CASE("a thin plate and two balls placed and settled within the targets", "[
                 CHECK(perPiece[piece][1] > 100);  // every piece has its sheet and its volume
                 CHECK(perPiece[piece][2] > 100);
             }
+    }
+}
+
+TEST_CASE("two balls built by birth, each from seeds of its own", "[physics][construction]") {
+    const Shape s = twoBalls();
+    test::TempDir dir("birth-bags");
+    app::Scene scene = app::loadScene(writeScene(dir, s, true));
+    REQUIRE(!scene.placement);
+    test::OneProcessRun run(scene);  // its start seeds every piece (app::startRun)
+    run.run().run(4000);
+    const core::Particles& p = run->particles();
+    const double h = voxelLength(run.wholeMap().r0Voxels);
+    std::size_t perPiece[2][3] = {};
+    for (std::size_t i = 0; i < p.size(); ++i) perPiece[s.piece(p.pos[i] / h)][p.species[i]] += 1;
+    INFO("ball a: " << perPiece[0][1] << " surface, " << perPiece[0][2] << " volume; ball b: " << perPiece[1][1]
+                    << " surface, " << perPiece[1][2] << " volume");
+    // A sheet of the smaller ball (radius 9 voxels = 4.5 r0) holds about 4 pi 4.5^2 / (sqrt(3)/2)
+    // = 294 particles at r0 spacing, its volume about 4/3 pi 4.5^3 sqrt(2) = 540 less the sheet's
+    // layer: well over 100 of each in both balls when each grew from a seed of its own.
+    for (int piece = 0; piece < 2; ++piece) {
+        CHECK(perPiece[piece][1] > 100);
+        CHECK(perPiece[piece][2] > 100);
     }
 }
