@@ -32,6 +32,7 @@ GradientMap cropGradientMap(const GradientMap& whole, const VoxelWindow& window)
     out.grid.dims = cd;
     out.r0Voxels = whole.r0Voxels;
     out.bagCount = whole.bagCount;
+    out.bagParent = whole.bagParent;
     out.origin = window.lo;
     out.whole = d;
     out.occ.resize(cd.count());

@@ -4,11 +4,14 @@
 #include "bop/common/GradientMapFileFormat.hpp"
 #include "bop/common/Npy.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <stdexcept>
+#include <string>
 
 namespace bop {
 using namespace gmfile;
@@ -78,6 +81,9 @@ void writeGradientMaps(const std::string& path, const std::vector<GradientMap>& 
         w.put(m.grid.voxelMm);
         w.put(m.r0Voxels);
         w.put(std::int32_t(m.bagCount));
+        std::uint8_t parents[kParentBytes];
+        toParents(m, parents);
+        w.putBytes(reinterpret_cast<const char*>(parents), kParentBytes);
         w.put(std::uint64_t(m.surface.size()));
         w.putArray(m.occ);
         w.putArray(m.nearest);
@@ -107,7 +113,9 @@ std::optional<std::vector<GradientMap>> readGradientMaps(std::span<const std::ui
     if (buf.size() < 8 || std::memcmp(buf.data(), kMagic, 8) != 0)
         throw Error(path, "not a BoP gradient-map file (bad magic)");
     r.pos = 8;
-    if (const auto v = r.get<std::uint32_t>(); v != kVersion)
+    if (const auto v = r.get<std::uint32_t>(); v < kVersion)
+        return std::nullopt;  // made by an earlier BoP: stale
+    else if (v != kVersion)
         throw Error(path, "gradient-map file version " + std::to_string(v) + ", expected " + std::to_string(kVersion));
     if (r.get<std::uint64_t>() != key) return std::nullopt;
     if (buf.size() < 8 + 8) throw Error(path, "truncated gradient-map file");
@@ -126,6 +134,14 @@ std::optional<std::vector<GradientMap>> readGradientMaps(std::span<const std::ui
         m.grid.voxelMm = r.get<double>();
         m.r0Voxels = r.get<double>();
         m.bagCount = r.get<std::int32_t>();
+        if (m.bagCount < 1 || m.bagCount > kMaxBags) throw Error(path, "implausible bag count");
+        std::uint8_t parents[kParentBytes];
+        for (auto& b : parents) b = r.get<std::uint8_t>();
+        try {
+            fromParents(parents, m);
+        } catch (const std::invalid_argument& e) {
+            throw Error(path, e.what());
+        }
         const auto ns = r.get<std::uint64_t>();
         if (ns == 0 || ns > d.count()) throw Error(path, "implausible surface voxel count");
         r.getArray(m.occ, d.count());
@@ -147,4 +163,23 @@ std::optional<std::vector<GradientMap>> readGradientMaps(std::span<const std::ui
     return out;
 }
 
+namespace gmfile {
+
+void toParents(const GradientMap& m, std::uint8_t (&out)[kParentBytes]) {
+    std::fill(std::begin(out), std::end(out), std::uint8_t(0));
+    for (int b = 1; b <= m.bagCount && b < int(kParentBytes); ++b) out[b] = std::uint8_t(m.parentBag(b));
+}
+
+void fromParents(const std::uint8_t (&in)[kParentBytes], GradientMap& m) {
+    m.bagParent.assign(in, in + std::min<std::size_t>(std::size_t(m.bagCount) + 1, kParentBytes));
+    m.bagParent[0] = 0;
+    for (int b = 1; b <= m.bagCount; ++b) {
+        int a = b;
+        for (int steps = 0; a != 0; ++steps, a = m.bagParent[std::size_t(a)])
+            if (a > m.bagCount || steps > m.bagCount)
+                throw std::invalid_argument("bag " + std::to_string(b) + " has a parent that is no bag, or a cycle");
+    }
+}
+
+}  // namespace gmfile
 }  // namespace bop

@@ -31,19 +31,26 @@ Eigen::Vector3d GmField::rule(std::size_t v, const Eigen::Vector3i& c, ParticleK
     const int sigma = near.species;
     // d(v) of GradientMap::delta, from the surface voxel's coordinates kept at construction.
     const Eigen::Vector3d d = (surfaceAt_[k] - c - map_.origin).cast<double>();
+    // The bags of the voxel (0: outside every bag), of the nearest surface and of the particle.
+    const int bagO = bagOfSpecies(o), bagS = bagOfSpecies(sigma), bagP = bagOfSpecies(species);
     // Direction "inward with respect to the nearest surface" (docs/physics.md §4.6).
     auto inward = [&]() -> Eigen::Vector3d {
-        if (o < sigma) return d;
-        if (o > sigma) return -d;
-        return -near.normal.cast<double>();
+        if (o == sigma) return -near.normal.cast<double>();
+        return map_.bagWithin(bagO, bagS) ? -d : d;
     };
-    if (kind == ParticleKind::Surface) {
-        if (sigma == species) return d;
-        if (sigma < species) return inward();
+    if (!map_.bagWithin(bagP, bagS) && !map_.bagWithin(bagS, bagP)) {
+        // The nearest surface is another object's (side by side or touching): out of it, never
+        // towards it; outside every bag, nothing (its own bag lies beyond the map's knowledge here).
+        if (bagO == 0) return Eigen::Vector3d::Zero();
         return -inward();
     }
-    if (o < species) return inward();
-    return -inward();
+    if (kind == ParticleKind::Surface) {
+        if (sigma == surfaceSpeciesOfBag(bagP)) return d;
+        if (map_.bagWithin(bagP, bagS)) return inward();  // its surface lies inside the nearest one
+        return -inward();
+    }
+    if (bagO != bagP && map_.bagWithin(bagO, bagP)) return -inward();  // in a bag inside its own
+    return inward();
 }
 
 GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& position,

@@ -64,7 +64,7 @@ private:
 // Whether voxel c lies outside the bag whose surface species is s (beyond the grid too).
 bool outsideBag(const GradientMap& m, int s, const Eigen::Vector3i& c) {
     const Dims& d = m.dims();
-    return !d.contains(c.x(), c.y(), c.z()) || m.occ[d.index(c.x(), c.y(), c.z())] < s;
+    return !d.contains(c.x(), c.y(), c.z()) || !m.inBag(d.index(c.x(), c.y(), c.z()), bagOfSpecies(s));
 }
 
 // Whether the face of bag voxel c towards `step` along axis a lies in a flat patch of such

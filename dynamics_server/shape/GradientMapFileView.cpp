@@ -69,7 +69,9 @@ std::optional<GradientMapFileView> GradientMapFileView::open(const std::string& 
     char magic[8] = {};
     if (f.size() >= 8) f.read(0, magic, 8);
     if (std::memcmp(magic, kMagic, 8) != 0) throw Error(path, "not a BoP gradient-map file (bad magic)");
-    if (const auto v = f.get<std::uint32_t>(8); v != kVersion)
+    if (const auto v = f.get<std::uint32_t>(8); v < kVersion)
+        return std::nullopt;  // made by an earlier BoP: stale
+    else if (v != kVersion)
         throw Error(path, "gradient-map file version " + std::to_string(v) + ", expected " + std::to_string(kVersion));
     if (f.get<std::uint64_t>(12) != key) return std::nullopt;
 
@@ -104,6 +106,15 @@ std::optional<GradientMapFileView> GradientMapFileView::open(const std::string& 
         m.grid.voxelMm = load<double>(raw, at);
         m.r0Voxels = load<double>(raw, at);
         m.bagCount = load<std::int32_t>(raw, at);
+        if (m.bagCount < 1 || m.bagCount > kMaxBags) throw Error(path, "implausible bag count");
+        std::uint8_t parents[kParentBytes];
+        std::memcpy(parents, raw + at, kParentBytes);
+        at += kParentBytes;
+        try {
+            fromParents(parents, m);
+        } catch (const std::invalid_argument& e) {
+            throw Error(path, e.what());
+        }
         fr.surfaceCount = load<std::uint64_t>(raw, at);
         if (fr.surfaceCount == 0 || fr.surfaceCount > d.count()) throw Error(path, "implausible surface voxel count");
         fr.occAt = pos + kFrameHeaderBytes;

@@ -52,57 +52,23 @@ VoxelGrid planGrid(const ShapeSpec& spec) {
     return g;
 }
 
-Volume<std::uint8_t> nestBags(const ShapeSpec& spec, const std::vector<Mask>& masks, int frame) {
-    const Dims d = masks.front().dims;
-    Volume<std::uint8_t> depth(d, 0);
-    const std::string at = spec.bags.size() > 1 || frame > 0 ? " (frame " + std::to_string(frame) + ")" : "";
-    for (std::size_t b = 0; b < masks.size(); ++b) {
-        std::size_t count = 0, stray = 0;
-        for (std::size_t v = 0; v < d.count(); ++v) {
-            if (!masks[b].data[v]) continue;
-            ++count;
-            if (depth.data[v] != b)
-                ++stray;  // not inside every outer bag
-            else
-                depth.data[v] = std::uint8_t(b + 1);
-        }
-        const std::string where = spec.sceneFile;
-        if (count == 0)
-            throw Error(where, "key '" + spec.bags[b].key + "': bag '" + spec.bags[b].name + "' (" +
-                                   spec.bags[b].source->describe() + ") has no object voxels on the grid" + at +
-                                   "; expected a non-empty bitmap (check its size against voxel_size_mm)");
-        if (stray)
-            throw Error(where, "key '" + spec.bags[b].key + "': " + std::to_string(stray) + " voxels of bag '" +
-                                   spec.bags[b].name + "' lie outside bag '" + spec.bags[b - 1].name + "'" + at +
-                                   "; nested bags must be listed outer to inner, each inside the previous");
-    }
-    for (std::size_t b = 1; b < masks.size(); ++b) {
-        std::size_t touching = 0;
-        for (int k = 0; k < d.nz; ++k)
-            for (int j = 0; j < d.ny; ++j)
-                for (int i = 0; i < d.nx; ++i)
-                    if (depth(i, j, k) == b + 1 && touchesBelow(depth, i, j, k, int(b))) ++touching;
-        if (touching)
-            throw Error(spec.sceneFile, "key '" + spec.bags[b].key + "': bag '" + spec.bags[b].name +
-                                            "' touches the outside of bag '" + spec.bags[b - 1].name + "' at " +
-                                            std::to_string(touching) + " voxels" + at +
-                                            "; an inner bag must lie strictly inside the outer bag's surface");
-    }
-    return depth;
+GradientMap buildGradientMap(const VoxelGrid& grid, const Volume<std::uint8_t>& depth, double r0Voxels,
+                             const SurfaceGeometryParams& geometry, std::vector<StageTiming>* timings, int threads) {
+    return buildGradientMap(grid, BagLayout::nested(depth), r0Voxels, geometry, timings, threads);
 }
 
-GradientMap buildGradientMap(const VoxelGrid& grid, const Volume<std::uint8_t>& depth, double r0Voxels,
+GradientMap buildGradientMap(const VoxelGrid& grid, const BagLayout& bags, double r0Voxels,
                              const SurfaceGeometryParams& geometry, std::vector<StageTiming>* timings, int threads) {
     const Dims& d = grid.dims;
     GradientMap map;
     map.grid = grid;
     map.r0Voxels = r0Voxels;
-    int bags = 0;
-    for (auto x : depth.data) bags = std::max(bags, int(x));
-    map.bagCount = std::max(bags, 1);
+    map.bagCount = std::max(bags.count(), 1);
+    map.bagParent = bags.parent;
+    map.bagParent.resize(std::size_t(map.bagCount) + 1, 0);
 
     auto t0 = Clock::now();
-    map.occ = labelVoxels(depth);
+    map.occ = labelVoxels(bags);
     std::vector<std::int32_t> feature(d.count(), kNoSite);
     for (std::size_t v = 0; v < d.count(); ++v) {
         if (!isSurfaceSpecies(map.occ[v])) continue;
@@ -121,7 +87,7 @@ GradientMap buildGradientMap(const VoxelGrid& grid, const Volume<std::uint8_t>& 
     addTiming(timings, "distance", since(t0), d.count());
 
     t0 = Clock::now();
-    computeSurfaceGeometry(depth, geometry, map);
+    computeSurfaceGeometry(bags, geometry, map);
     addTiming(timings, "geometry", since(t0), map.surface.size());
     return map;
 }
@@ -152,10 +118,10 @@ ShapeBuild buildShape(const ShapeSpec& spec, const ProgressFn& progress, int thr
             const auto& src = *spec.bags[b].source;
             src.rasterize(src.frameCount() == 1 ? 0 : f, grid, masks[b]);
         }
-        const Volume<std::uint8_t> depth = nestBags(spec, masks, f);
+        const BagLayout bags = arrangeBags(spec, masks, f);
         const double tr = since(t0);
         addTiming(&out.timings, "rasterize", tr, grid.dims.count() * spec.bags.size());
-        out.frames.push_back(buildGradientMap(grid, depth, spec.grid.r0Voxels, spec.geometry, &out.timings, threads));
+        out.frames.push_back(buildGradientMap(grid, bags, spec.grid.r0Voxels, spec.geometry, &out.timings, threads));
         std::ostringstream os;
         os.precision(3);
         os << "frame " << f + 1 << "/" << frames << " done: " << out.frames.back().surface.size() << " surface voxels; "

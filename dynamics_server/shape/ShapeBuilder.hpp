@@ -1,6 +1,8 @@
 #pragma once
-// From a shape spec to gradient maps: plan the grid, rasterize each bag, nest the bags, label,
-// run the exact distance transform, and compute normals, curvature and co-planar weights.
+// From a shape spec to gradient maps: plan the grid, rasterize each bag, lay the bags out (side by
+// side, touching, nested), label, run the exact distance transform, and compute normals,
+// curvature and co-planar weights.
+#include "BagLayout.hpp"
 #include "ShapeSpec.hpp"
 #include "bop/common/GradientMap.hpp"
 
@@ -26,12 +28,11 @@ using ProgressFn = std::function<void(const std::string& message)>;
 // The grid that holds every bag of every frame, with the spec's padding or fixed size.
 VoxelGrid planGrid(const ShapeSpec& spec);
 
-// Combines per-bag masks (outer to inner) into depth(v) = number of bags containing v.
-// Throws bop::Error (naming spec.sceneFile and the bag's key) if a bag is empty, is not
-// inside the bag around it, or touches that bag's outside.
-Volume<std::uint8_t> nestBags(const ShapeSpec& spec, const std::vector<Mask>& masks, int frame);
-
-// Labels, exact distance transform and surface geometry for one depth volume.
+// Labels, exact distance transform and surface geometry for one layout of bags.
+GradientMap buildGradientMap(const VoxelGrid& grid, const BagLayout& bags, double r0Voxels,
+                             const SurfaceGeometryParams& geometry, std::vector<StageTiming>* timings = nullptr,
+                             int threads = 0);
+// The same for the paper's nested bags: depth(v) = number of bags holding v.
 GradientMap buildGradientMap(const VoxelGrid& grid, const Volume<std::uint8_t>& depth, double r0Voxels,
                              const SurfaceGeometryParams& geometry, std::vector<StageTiming>* timings = nullptr,
                              int threads = 0);

@@ -47,9 +47,9 @@ struct Derivatives {
     double fx, fy, fz, fxx, fyy, fzz, fxy, fxz, fyz;
 };
 
-// Gaussian derivatives of chi(u) = [depth(u) < level] at voxel (i, j, k); outside the grid
+// Gaussian derivatives of chi(u) = [u outside bag `level`] at voxel (i, j, k); outside the grid
 // chi = 1. Separable: reduce along x, then y, then z.
-Derivatives derivativesAt(const Volume<std::uint8_t>& depth, int level, int i, int j, int k, const Kernels& K,
+Derivatives derivativesAt(const BagLayout& bags, int level, int i, int j, int k, const Kernels& K,
                           std::vector<double>& scratch) {
     const int R = K.radius, W = 2 * R + 1;
     scratch.assign(std::size_t(3) * W * W + std::size_t(6) * W, 0.0);
@@ -57,7 +57,7 @@ Derivatives derivativesAt(const Volume<std::uint8_t>& depth, int level, int i, i
     double* xd = xg + W * W;
     double* xdd = xd + W * W;
     double* yz = xdd + W * W;  // 6 combos [c][z]
-    const Dims& dm = depth.dims;
+    const Dims& dm = bags.bag.dims;
     for (int c = -R; c <= R; ++c)
         for (int b = -R; b <= R; ++b) {
             double sg = 0, sd = 0, sdd = 0;
@@ -66,7 +66,7 @@ Derivatives derivativesAt(const Volume<std::uint8_t>& depth, int level, int i, i
             for (int a = -R; a <= R; ++a) {
                 const int x = i + a;
                 const bool in = rowIn && x >= 0 && x < dm.nx;
-                const double chi = (!in || depth(x, y, z) < level) ? 1.0 : 0.0;
+                const double chi = (!in || !bags.within(bags.bag(x, y, z), level)) ? 1.0 : 0.0;
                 if (chi == 0.0) continue;
                 sg += K.g[a + R];
                 sd += K.d[a + R];
@@ -108,12 +108,13 @@ Derivatives derivativesAt(const Volume<std::uint8_t>& depth, int level, int i, i
 }
 
 // Fallback normal where the smoothed gradient vanishes: mean direction to "outside" neighbours.
-Eigen::Vector3f faceNormal(const Volume<std::uint8_t>& depth, int level, int i, int j, int k) {
+Eigen::Vector3f faceNormal(const BagLayout& bags, int level, int i, int j, int k) {
     static constexpr int kOff[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
     Eigen::Vector3f n = Eigen::Vector3f::Zero();
     for (const auto& o : kOff) {
         const int a = i + o[0], b = j + o[1], c = k + o[2];
-        if (!depth.dims.contains(a, b, c) || depth(a, b, c) < level) n += Eigen::Vector3f(o[0], o[1], o[2]);
+        if (!bags.bag.dims.contains(a, b, c) || !bags.within(bags.bag(a, b, c), level))
+            n += Eigen::Vector3f(o[0], o[1], o[2]);
     }
     return n.norm() > 0 ? Eigen::Vector3f(n.normalized()) : Eigen::Vector3f(0, 0, 1);
 }
@@ -125,7 +126,7 @@ float cpWeight(double kappa, double r0Voxels, const SurfaceGeometryParams& p) {
     return float(p.cpWeightForm == CpWeightForm::Linear ? 1.0 / (1.0 + x) : 1.0 / (1.0 + x * x));
 }
 
-void computeSurfaceGeometry(const Volume<std::uint8_t>& depth, const SurfaceGeometryParams& p, GradientMap& map) {
+void computeSurfaceGeometry(const BagLayout& bags, const SurfaceGeometryParams& p, GradientMap& map) {
     const Kernels K(p.sigmaVoxels);
     const long long n = (long long)map.surface.size();
 #pragma omp parallel
@@ -135,12 +136,12 @@ void computeSurfaceGeometry(const Volume<std::uint8_t>& depth, const SurfaceGeom
         for (long long s = 0; s < n; ++s) {
             SurfaceVoxel& sv = map.surface[std::size_t(s)];
             const Eigen::Vector3i c = map.dims().coords(sv.voxel);
-            const int level = (sv.species + 1) / 2;  // bag number of this surface
-            const Derivatives f = derivativesAt(depth, level, c.x(), c.y(), c.z(), K, scratch);
+            const int level = bagOfSpecies(sv.species);  // bag of this surface
+            const Derivatives f = derivativesAt(bags, level, c.x(), c.y(), c.z(), K, scratch);
             const Eigen::Vector3d g(f.fx, f.fy, f.fz);
             const double g2 = g.squaredNorm();
             if (g2 < 1e-12) {
-                sv.normal = faceNormal(depth, level, c.x(), c.y(), c.z());
+                sv.normal = faceNormal(bags, level, c.x(), c.y(), c.z());
                 sv.meanCurvature = sv.gaussCurvature = sv.kappa = 0;
             } else {
                 sv.normal = g.normalized().cast<float>();

@@ -2,6 +2,7 @@
 // Normals and curvature of the static surface at every surface voxel, from Gaussian-derivative
 // filters of the smoothed "outside" indicator (Thirion & Gourdon; docs/physics.md §4.4, §5), and the
 // co-planar weight map derived from the curvature (§5.3).
+#include "BagLayout.hpp"
 #include "bop/common/GradientMap.hpp"
 
 #include <string>
@@ -16,9 +17,10 @@ struct SurfaceGeometryParams {
     CpWeightForm cpWeightForm = CpWeightForm::Linear;
 };
 
-// Fills normal, curvatures and cpWeight of map.surface. depth: nested-bag count per voxel.
-// For the surface of bag k the indicator is "fewer than k bags contain the voxel".
-void computeSurfaceGeometry(const Volume<std::uint8_t>& depth, const SurfaceGeometryParams& p, GradientMap& map);
+// Fills normal, curvatures and cpWeight of map.surface. For the surface of bag k the indicator
+// is "the voxel lies outside bag k" (neither in it nor in a bag inside it): a bag touching
+// another has its own normals along the faces they share.
+void computeSurfaceGeometry(const BagLayout& bags, const SurfaceGeometryParams& p, GradientMap& map);
 
 // The co-planar weight for a curvature kappa (1/voxel) and r0 (voxels).
 float cpWeight(double kappa, double r0Voxels, const SurfaceGeometryParams& p);

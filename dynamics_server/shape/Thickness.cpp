@@ -11,11 +11,10 @@ namespace bop::shape {
 
 ThinParts findThinParts(const GradientMap& map, int bag, double minimumVoxels) {
     const Dims& d = map.dims();
-    const int first = surfaceSpeciesOfBag(bag);  // this bag's species and every inner bag's
     std::vector<std::int32_t> feature(map.occ.size()), dist2;
     ThinParts out;
     for (std::size_t v = 0; v < map.occ.size(); ++v) {
-        const bool in = map.occ[v] >= first;
+        const bool in = map.inBag(v, bag);  // this bag's voxels and those of the bags inside it
         feature[v] = in ? kNoSite : 0;
         out.bagVoxels += in;
     }
@@ -32,7 +31,7 @@ ThinParts findThinParts(const GradientMap& map, int bag, double minimumVoxels) {
     for (int z = 0; z < d.nz; ++z)
         for (int y = 0; y < d.ny; ++y)
             for (int x = 0; x < d.nx; ++x) {
-                if (map.occ[d.index(x, y, z)] < first) continue;
+                if (!map.inBag(d.index(x, y, z), bag)) continue;
                 const std::int64_t r2 = depth2(x, y, z);
                 bool ridge = true;
                 for (int k = -1; k <= 1 && ridge; ++k)
@@ -48,7 +47,7 @@ ThinParts findThinParts(const GradientMap& map, int bag, double minimumVoxels) {
                         for (int i = -r; i <= r; ++i) {
                             if (std::int64_t(i * i + j * j + k * k) >= r2 || !d.contains(x + i, y + j, z + k)) continue;
                             const std::size_t w = d.index(x + i, y + j, z + k);
-                            if (map.occ[w] >= first) thin[w] = 1;
+                            if (map.inBag(w, bag)) thin[w] = 1;
                         }
             }
     out.thinVoxels = std::size_t(std::count(thin.begin(), thin.end(), char(1)));

@@ -13,8 +13,9 @@
 
 namespace bop {
 
-// Species numbering (paper §3.4): bag k = 1, 2, ... from outer to inner has surface species
-// 2k-1 and volume species 2k; species 0 is "outside every bag".
+// Species numbering (paper §3.4): bag k = 1, 2, ... (in the order the scene lists them) has
+// surface species 2k-1 and volume species 2k; species 0 is "outside every bag". Bags form a forest
+// of containment (GradientMap::bagParent): side by side, touching, or nested in any of them.
 inline int surfaceSpeciesOfBag(int bag) {
     return 2 * bag - 1;
 }
@@ -24,6 +25,10 @@ inline int volumeSpeciesOfBag(int bag) {
 inline bool isSurfaceSpecies(int species) {
     return species % 2 == 1;
 }
+inline int bagOfSpecies(int species) {  // 0 for "outside every bag"
+    return (species + 1) / 2;
+}
+inline constexpr int kMaxBags = 127;  // species numbers fit a byte
 
 struct SurfaceVoxel {
     std::uint32_t voxel = 0;          // linear voxel index in the whole map (wholeDims().index)
@@ -36,9 +41,12 @@ struct SurfaceVoxel {
 };
 
 struct GradientMap {
-    VoxelGrid grid;                      // placement in model space (mm)
-    double r0Voxels = 2.0;               // LJ equilibrium spacing r0, in voxels
-    int bagCount = 1;                    // nested bags, outer to inner
+    VoxelGrid grid;         // placement in model space (mm)
+    double r0Voxels = 2.0;  // LJ equilibrium spacing r0, in voxels
+    int bagCount = 1;       // bags (each a surface and a volume species)
+    // bagParent[b]: the bag that holds bag b directly (0: none), b = 1..bagCount, [0] unused.
+    // Empty: the paper's chain of nested bags, each inside the one before (bag b in bag b - 1).
+    std::vector<std::uint8_t> bagParent;
     std::vector<std::uint8_t> occ;       // species that should occupy each voxel (0 = outside)
     std::vector<std::uint32_t> nearest;  // per voxel: index into `surface` of the nearest surface voxel
     std::vector<SurfaceVoxel> surface;   // every surface voxel the voxels name, in voxel-index order
@@ -79,8 +87,18 @@ struct GradientMap {
     // Signed distance to the nearest surface voxel centre: + outside its bag, - inside, voxels.
     double signedDistance(std::size_t v) const {
         const double d = delta(v).cast<double>().norm();
-        return occ[v] < nearestSpecies(v) ? d : -d;
+        return inBag(v, bagOfSpecies(nearestSpecies(v))) ? -d : d;
     }
+
+    int parentBag(int bag) const { return bagParent.empty() ? bag - 1 : int(bagParent[std::size_t(bag)]); }
+    // Whether bag a is bag b or lies inside it (0, outside every bag, lies in no bag).
+    bool bagWithin(int a, int b) const {
+        for (int steps = 0; a > 0 && steps <= bagCount; ++steps, a = parentBag(a))
+            if (a == b) return true;
+        return false;
+    }
+    // Whether voxel v belongs to bag b or to a bag inside it.
+    bool inBag(std::size_t v, int b) const { return bagWithin(bagOfSpecies(occ[v]), b); }
 };
 
 }  // namespace bop
