@@ -33,6 +33,9 @@ build/dynamics_server/bop-shape config/scenes/torus.toml -o "$out/torus" --expor
 echo "== the torus bag: construction and relaxation (bop-server batch run, about 10 s) =="
 build/dynamics_server/bop-server config/scenes/torus.toml --no-listen -o "$out/torus" | tail -6
 
+echo "== several organs in one scene: liver with a tumour, stomach, spleen, touching (placed and settled, about 5 s) =="
+build/dynamics_server/bop-server config/scenes/organs.toml --no-listen -o "$out/organs" | grep -E "placed|settled|fidelity"
+
 echo "== served for ${seconds} s ($ranks rank(s) x $threads thread(s), a core left to the clients): a haptic device pokes it, a viewer watches =="
 pids=()
 cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }

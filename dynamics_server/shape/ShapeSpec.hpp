@@ -6,6 +6,7 @@
 #include "bop/common/ConfigTable.hpp"
 #include "core/GmField.hpp"
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -21,21 +22,22 @@ struct GridSpec {
 };
 
 struct BagSpec {
-    std::string name;                     // shown in reports
-    std::string key;                      // config key of this bag, for error messages
-    std::shared_ptr<ModelSource> source;  // loaded and checked while reading the scene
+    std::string name;                            // shown in reports
+    std::string key;                             // config key of this bag, for error messages
+    std::shared_ptr<ModelSource> source;         // loaded and checked while reading the scene
+    std::optional<std::array<float, 3>> colour;  // from a label table, r g b in [0, 1]
 };
 
 struct ShapeSpec {
     std::string sceneFile;  // path of the scene file
     GridSpec grid;
-    std::vector<BagSpec> bags;  // outer to inner
+    std::vector<BagSpec> bags;  // bag k = bags[k - 1], in the order the scene lists them
     SurfaceGeometryParams geometry;
     core::Interpolation interpolation = core::Interpolation::Mixed;
     std::string canonical;              // the shape tables as TOML text (for the cache key)
     std::vector<std::string> warnings;  // what the sources found and mended, one line each
 
-    std::vector<std::string> bagNames() const {  // outer to inner
+    std::vector<std::string> bagNames() const {  // in bag order
         std::vector<std::string> names;
         for (const BagSpec& b : bags) names.push_back(b.name);
         return names;

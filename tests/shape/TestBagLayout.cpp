@@ -42,7 +42,7 @@ Built build(const std::vector<Inside>& bags) {
     spec.sceneFile = "layout.toml";
     std::vector<Mask> masks;
     for (std::size_t b = 0; b < bags.size(); ++b) {
-        spec.bags.push_back({"bag" + std::to_string(b + 1), "shape.bag[" + std::to_string(b) + "]", nullptr});
+        spec.bags.push_back({"bag" + std::to_string(b + 1), "shape.bag[" + std::to_string(b) + "]", nullptr, {}});
         masks.push_back(maskOf(bags[b]));
     }
     Built out{shape::arrangeBags(spec, masks, 0), {}};

@@ -261,6 +261,10 @@ Scene loadScene(const std::string& path) {
         for (std::size_t b = 0; b < s.shape->bags.size(); ++b) {
             m.species[2 * b + 1].name = s.shape->bags[b].name + "-surface";
             m.species[2 * b + 2].name = s.shape->bags[b].name + "-volume";
+            if (const auto& c = s.shape->bags[b].colour) {  // a label table's: the sheet, the volume darker
+                m.species[2 * b + 1].colour = *c;
+                m.species[2 * b + 2].colour = {0.6f * (*c)[0], 0.6f * (*c)[1], 0.6f * (*c)[2]};
+            }
         }
     }
     readSpecies(root, m, s.shape.has_value());
