@@ -90,10 +90,13 @@ struct GradientMap {
         return inBag(v, bagOfSpecies(nearestSpecies(v))) ? -d : d;
     }
 
-    int parentBag(int bag) const { return bagParent.empty() ? bag - 1 : int(bagParent[std::size_t(bag)]); }
+    // A bag beyond the map's (a species the model has and the map does not) continues the chain.
+    int parentBag(int bag) const {
+        return std::size_t(bag) < bagParent.size() ? int(bagParent[std::size_t(bag)]) : bag - 1;
+    }
     // Whether bag a is bag b or lies inside it (0, outside every bag, lies in no bag).
     bool bagWithin(int a, int b) const {
-        for (int steps = 0; a > 0 && steps <= bagCount; ++steps, a = parentBag(a))
+        for (int steps = 0; a > 0 && steps <= 2 * kMaxBags; ++steps, a = parentBag(a))
             if (a == b) return true;
         return false;
     }
