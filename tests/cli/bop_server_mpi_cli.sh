@@ -2,7 +2,8 @@
 # bop-server under mpirun: the bulk box at 2 ranks reports the same particles and energies as at
 # 1 rank and writes one final.xyz with every particle once; the star bag built by its
 # construction timeline at 2 ranks has the particles of a 1-rank build, and each rank holds only
-# a window of its gradient map.
+# a window of its gradient map; the organs scene (four bags side by side, touching and nested)
+# at 1, 2 and 4 ranks places the same particles and reports the same per-bag fidelity.
 # Usage: bop_server_mpi_cli.sh PATH/TO/bop-server MPIEXEC REPO_ROOT
 set -u
 exe=$1 mpiexec=$2 repo=$3
@@ -34,4 +35,16 @@ check "surface and volume particles at 2 ranks ($c2) equal 1 rank ($c1)" "[ -n '
 whole=$(grep -oP 'gradient map: \K[0-9.]+(?= MB \(the whole)' "$work/star1.txt")
 window=$(grep -oP 'gradient map: at most \K[0-9.]+' "$work/star2.txt" | tail -1)
 check "a rank's map window ($window MB) is smaller than the whole map ($whole MB)" "awk -v w='$window' -v a='$whole' 'BEGIN {exit !(w > 0 && w < a)}'"
+organs=$repo/config/scenes/organs.toml
+for np in 1 2 4; do
+  launch=("$mpiexec" -np $np --oversubscribe)
+  [ $np -eq 1 ] && launch=()
+  bounded 180 "$work/organs$np.txt" "${launch[@]}" "$exe" "$organs" --no-listen --steps 300 --report-every 100000 -o "$work/organs$np"
+  check "the organs run at $np rank(s)" "[ $? -eq 0 ]"
+done
+bags() { awk '/^this run/ {print $3, $4} /^  bag / {print}' "$1"; }
+check "four bags reported, each with its fidelity" "[ \$(grep -c \"^  bag '\" '$work/organs1.txt') -eq 4 ]"
+for np in 2 4; do
+  check "particles and per-bag fidelity at $np ranks equal 1 rank's" "[ -n \"\$(bags '$work/organs1.txt')\" ] && [ \"\$(bags '$work/organs$np.txt')\" = \"\$(bags '$work/organs1.txt')\" ]"
+done
 exit $fail

@@ -41,14 +41,23 @@ std::vector<std::string> speciesNames(const core::Model& model);
 // fractions of surface particles in voxels of their own species, of volume particles in voxels
 // of their own species, and the median angle between a surface particle's normal and the map
 // normal at its voxel.
+struct BagFidelity {
+    std::string name;  // the bag's surface species' name without "-surface"
+    std::size_t surface = 0, volume = 0;
+    double surfaceInOwnVoxels = 0;  // fraction
+    double volumeInOwnVoxels = 0;   // fraction
+    double insideBag = 0;           // fraction of the bag's particles in the bag's own voxels (no mixing)
+};
 struct Fidelity {
     double surfaceInOwnVoxels = 0;    // fraction
     double volumeInOwnVoxels = 0;     // fraction
     double medianNormalAngleDeg = 0;  // degrees
     std::size_t surface = 0, volume = 0;
+    std::vector<BagFidelity> bags;  // per bag of a map of several
 };
 Fidelity measureFidelity(const core::Model& model, const core::Particles& p);
-// "shape fidelity: ..." as the batch runs' summaries print it, one line.
+// "shape fidelity: ..." as the batch runs' summaries print it, one line, then one line per bag
+// of a map of several ("  bag 'NAME': ...").
 void printFidelity(std::ostream& out, const Fidelity& f);
 
 }  // namespace bop::app
