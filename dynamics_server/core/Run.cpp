@@ -99,14 +99,6 @@ void Run::setProbe(const ProbeState& probe) {
 Totals Run::totals() const {
     return impl_->sim->totals();
 }
-double Run::surfaceParticles() const {  // for reports: not in totals(), which a served run asks every pass
-    const Simulation& s = *impl_->sim;
-    double mine = 0;
-    for (const auto species : s.particles().species) mine += s.model().isSurface(species) ? 1 : 0;
-    double sum = 0;
-    for (const double n : impl_->ex->allGather(std::vector{mine})) sum += n;
-    return sum;
-}
 ShapeCounts Run::shapeCounts() const {
     const Simulation& s = *impl_->sim;
     const Model& m = s.model();

@@ -43,8 +43,8 @@ using ExchangeMaker = std::function<std::unique_ptr<Exchange>(const Box& whole, 
 ExchangeMaker oneProcess();  // the base Exchange: nothing to exchange
 
 // Surface and volume particles, and those in the voxels of their own species (0 without a map),
-// over every process (progress reports; the final fidelity is app::measureFidelity's on the
-// whole map).
+// over every process (reports: not in totals(), which a served run asks every pass; the final
+// fidelity is app::measureFidelity's on the whole map).
 struct ShapeCounts {
     double surface = 0, surfaceInOwn = 0, volume = 0, volumeInOwn = 0;
 };
@@ -81,7 +81,6 @@ public:
     Decision agree(const Decision& mine);
     long long stepNumber() const;  // steps so far, counted from the scene's first step
     Totals totals() const;
-    double surfaceParticles() const;                     // over every process (the rest are volume particles)
     ShapeCounts shapeCounts() const;                     // over every process, against the map windows in force
     const std::vector<MapVolume>& frameVolumes() const;  // of every keyframe's whole map
     RunCounters counters() const;

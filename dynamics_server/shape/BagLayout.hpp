@@ -2,6 +2,7 @@
 // Where the bags of a shape lie (docs/shape-pipeline.md, "Several bags"): side by side, touching,
 // nested, or nested inside one of several. Each voxel belongs to the innermost bag holding it;
 // each bag lies directly inside one bag or none (a forest of containment).
+#include "bop/common/GradientMap.hpp"
 #include "bop/common/Volume.hpp"
 
 #include <cstdint>
@@ -17,11 +18,7 @@ struct BagLayout {
 
     int count() const { return int(parent.size()) - 1; }
     // Whether bag a is bag b or lies inside it (bag 0, outside every bag, lies in none).
-    bool within(int a, int b) const {
-        for (int steps = 0; a > 0 && steps <= count(); ++steps, a = parent[std::size_t(a)])
-            if (a == b) return true;
-        return false;
-    }
+    bool within(int a, int b) const { return bagWithin(parent, a, b); }
     // Whether voxel v lies in bag b (in b itself or in a bag inside it).
     bool inside(std::size_t v, int b) const { return within(bag.data[v], b); }
 

@@ -33,6 +33,21 @@ void requireSelected(const ConfigTable& t, const std::vector<ScalarImage>& frame
 
 // Frames cut to their own selection's boxes (one file each) put back on the box around them all,
 // NaN (never selected) where a frame had no sample; frames of one spacing.
+// The box of `dims` voxels of img whose corner is img's voxel `lo` (which may lie outside img):
+// NaN (never selected) where img has no sample.
+ScalarImage boxOf(const ScalarImage& img, const Eigen::Vector3i& lo, const Dims& dims) {
+    ScalarImage out{dims, img.spacingMm, img.originMm + lo.cast<double>().cwiseProduct(img.spacingMm),
+                    std::vector<float>(dims.count(), std::numeric_limits<float>::quiet_NaN())};
+    for (int k = 0; k < dims.nz; ++k)
+        for (int j = 0; j < dims.ny; ++j)
+            for (int i = 0; i < dims.nx; ++i) {
+                const Eigen::Vector3i c = lo + Eigen::Vector3i(i, j, k);
+                if (img.dims.contains(c.x(), c.y(), c.z()))
+                    out.values[dims.index(i, j, k)] = img.values[img.dims.index(c.x(), c.y(), c.z())];
+            }
+    return out;
+}
+
 void onOneBox(std::vector<ScalarImage>& frames) {
     const Eigen::Vector3d h = frames.front().spacingMm;
     Eigen::Vector3i lo = Eigen::Vector3i::Constant(std::numeric_limits<int>::max()), hi = -lo;
@@ -46,15 +61,8 @@ void onOneBox(std::vector<ScalarImage>& frames) {
     const Dims all{hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z()};
     for (auto& img : frames) {
         if (img.dims == all && corner(img) == lo) continue;
-        ScalarImage out{all, h, lo.cast<double>().cwiseProduct(h),
-                        std::vector<float>(all.count(), std::numeric_limits<float>::quiet_NaN())};
-        const Eigen::Vector3i shift = corner(img) - lo;
-        for (int k = 0; k < img.dims.nz; ++k)
-            for (int j = 0; j < img.dims.ny; ++j)
-                for (int i = 0; i < img.dims.nx; ++i)
-                    out.values[all.index(i + shift.x(), j + shift.y(), k + shift.z())] =
-                        img.values[img.dims.index(i, j, k)];
-        img = std::move(out);
+        img = boxOf(img, lo - corner(img), all);
+        img.originMm = lo.cast<double>().cwiseProduct(h);  // the box's corner as every frame has it
     }
 }
 
@@ -96,15 +104,7 @@ ImageFrames cutToSelection(const ImageFrames& img, const ImageSelect& sel) {
             }
     ImageFrames out{{}, img.what, img.firstFile};
     const Dims cut{hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z()};
-    for (const auto& f : img.frames) {
-        ScalarImage c{cut, f.spacingMm, f.originMm + lo.cast<double>().cwiseProduct(f.spacingMm),
-                      std::vector<float>(cut.count())};
-        for (int k = 0; k < cut.nz; ++k)
-            for (int j = 0; j < cut.ny; ++j)
-                for (int i = 0; i < cut.nx; ++i)
-                    c.values[cut.index(i, j, k)] = f.values[d.index(i + lo.x(), j + lo.y(), k + lo.z())];
-        out.frames.push_back(std::move(c));
-    }
+    for (const auto& f : img.frames) out.frames.push_back(boxOf(f, lo, cut));
     return out;
 }
 

@@ -5,8 +5,6 @@
 # none of its processes is left; a signal sent to bop-deadline reaches the command.
 # Usage: bop_deadline_cli.sh (BOP_DEADLINE set by ctest)
 set -u
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "$0")/cli-checks.sh"
 
 "$BOP_DEADLINE" --help >"$work/help.txt" 2>&1

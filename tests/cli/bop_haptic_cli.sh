@@ -5,8 +5,6 @@
 # Usage: bop_haptic_cli.sh PATH/TO/bop-haptic
 set -u
 exe=$1
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "$0")/cli-checks.sh"
 
 bounded 30 "$work/help.txt" "$exe" --help

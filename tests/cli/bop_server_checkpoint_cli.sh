@@ -8,10 +8,7 @@ set -u
 exe=$1
 mpi=$2
 src=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "$0")/cli-checks.sh"
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 scene=$src/config/scenes/torus.toml
 server() {  # ranks, its log, then bop-server's options; at most 150 s
   local n=$1 log=$2

@@ -7,10 +7,7 @@
 # Usage: bop_server_mpi_cli.sh PATH/TO/bop-server MPIEXEC REPO_ROOT
 set -u
 exe=$1 mpiexec=$2 repo=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "$0")/cli-checks.sh"
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
 scene=$repo/config/scenes/bulk-box.toml
 bounded 120 "$work/np1.txt" "$exe" "$scene" --no-listen --steps 200 --report-every 200 -o "$work/np1"

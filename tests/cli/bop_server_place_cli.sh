@@ -8,10 +8,7 @@ set -u
 exe=$1
 mpi=$2
 src=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "$0")/cli-checks.sh"
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 # The torus scene, its timeline and its [run] table left out, its mesh found from here.
 awk '/^# Build the bag/ {skip = 1} /^# Oriented-particle/ {skip = 0} /^\[run\]/ {skip = 1} !skip' \
   "$src/config/scenes/torus.toml" | sed "s|\"../models/torus.obj\"|\"$src/config/models/torus.obj\"|" >"$work/placed.toml"

@@ -5,8 +5,6 @@
 # Usage: bop_shape_cli.sh PATH/TO/bop-shape REPO_ROOT
 set -u
 exe=$1 repo=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "$0")/cli-checks.sh"
 
 bounded 30 "$work/help.txt" "$exe" --help

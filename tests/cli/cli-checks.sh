@@ -2,7 +2,11 @@
 # deadline. `bounded SECONDS LOG COMMAND...` runs COMMAND through bop-deadline (ctest sets
 # BOP_DEADLINE), its output into LOG: past SECONDS, bop-deadline prints the process tree and the
 # last lines, kills every process of it, and the run's exit code is 124. A signal sent to the
-# bounded run is passed on to COMMAND.
+# bounded run is passed on to COMMAND. `work` is a scratch folder removed when the script exits;
+# MPI may run as root.
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fail=0
 check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
 bounded() {

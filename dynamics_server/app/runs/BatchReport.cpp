@@ -62,7 +62,7 @@ void BatchReport::phases(long long steps) {
 
 void BatchReport::summary(long long steps, double seconds) {
     const core::Totals t = run_.totals();
-    const double surface = run_.surfaceParticles(), volume = t.particles - surface;
+    const double surface = run_.shapeCounts().surface, volume = t.particles - surface;
     const core::RunCounters c = run_.counters();
     if (run_.rank() != 0) return;
     phases(steps);

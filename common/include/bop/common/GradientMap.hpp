@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace bop {
@@ -29,6 +30,18 @@ inline int bagOfSpecies(int species) {  // 0 for "outside every bag"
     return (species + 1) / 2;
 }
 inline constexpr int kMaxBags = 127;  // species numbers fit a byte
+
+// The bag holding `bag` directly (0: none), parent[b] giving it for bag b; a bag beyond `parent`
+// continues the paper's chain of nested bags (bag b inside bag b - 1).
+inline int parentOfBag(std::span<const std::uint8_t> parent, int bag) {
+    return std::size_t(bag) < parent.size() ? int(parent[std::size_t(bag)]) : bag - 1;
+}
+// Whether bag a is bag b or lies inside it (bag 0, outside every bag, lies in none).
+inline bool bagWithin(std::span<const std::uint8_t> parent, int a, int b) {
+    for (int steps = 0; a > 0 && steps <= 2 * kMaxBags; ++steps, a = parentOfBag(parent, a))
+        if (a == b) return true;
+    return false;
+}
 
 struct SurfaceVoxel {
     std::uint32_t voxel = 0;          // linear voxel index in the whole map (wholeDims().index)
@@ -91,15 +104,8 @@ struct GradientMap {
     }
 
     // A bag beyond the map's (a species the model has and the map does not) continues the chain.
-    int parentBag(int bag) const {
-        return std::size_t(bag) < bagParent.size() ? int(bagParent[std::size_t(bag)]) : bag - 1;
-    }
-    // Whether bag a is bag b or lies inside it (0, outside every bag, lies in no bag).
-    bool bagWithin(int a, int b) const {
-        for (int steps = 0; a > 0 && steps <= 2 * kMaxBags; ++steps, a = parentBag(a))
-            if (a == b) return true;
-        return false;
-    }
+    int parentBag(int bag) const { return parentOfBag(bagParent, bag); }
+    bool bagWithin(int a, int b) const { return bop::bagWithin(bagParent, a, b); }
     // Whether voxel v belongs to bag b or to a bag inside it.
     bool inBag(std::size_t v, int b) const { return bagWithin(bagOfSpecies(occ[v]), b); }
 };
