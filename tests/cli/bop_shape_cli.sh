@@ -44,6 +44,37 @@ else
   echo "skip NumPy check (python3-numpy missing)"
 fi
 
+# Several bags: the report and bags.csv against the segmentation itself. Each bag holds the voxels
+# of its label (the liver's tumour voxels are the tumour's), the tumour lies in the liver, and
+# two bags touch across exactly the faces their labels share in the image.
+bounded 120 "$work/organs.txt" "$exe" "$repo/config/scenes/organs.toml" -o "$work/organs" --export none
+check "the organs scene's report has one line per bag" "[ \$(grep -c \"^bag '\" '$work/organs.txt') -eq 4 ]"
+check "the organs scene's slice pictures are written" "[ -s '$work/organs/slice-xy.png' ]"
+bounded 60 "$work/bags.txt" "$py" - "$work/organs/bags.csv" "$repo/config/data/organs.raw" <<'PY'
+import csv, sys, numpy as np
+rows = {r["name"]: r for r in csv.DictReader(open(sys.argv[1]))}
+img = np.fromfile(sys.argv[2], dtype=np.uint8).reshape(36, 40, 56)
+label = {"liver": 1, "stomach": 2, "spleen": 3, "tumour": 4}
+number = {name: int(r["bag"]) for name, r in rows.items()}
+def faces(a, b):
+    n = 0
+    for ax in range(3):
+        x = np.swapaxes(img, 0, ax)
+        n += int(((x[:-1] == a) & (x[1:] == b)).sum() + ((x[:-1] == b) & (x[1:] == a)).sum())
+    return n
+for name, r in rows.items():
+    voxels = int(r["surface_voxels"]) + int(r["volume_voxels"])
+    assert voxels == int((img == label[name]).sum()), (name, voxels)
+    touching = dict(zip(map(int, r["touching_bags"].split()), map(int, r["shared_faces"].split())))
+    expected = {number[o]: faces(label[name], label[o]) for o in rows
+                if o != name and {name, o} != {"liver", "tumour"} and faces(label[name], label[o])}
+    assert touching == expected, (name, touching, expected)
+assert int(rows["tumour"]["inside_bag"]) == number["liver"] and int(rows["liver"]["inside_bag"]) == 0
+print("bags ok", {n: r["touching_bags"] for n, r in rows.items()})
+PY
+check "bags.csv agrees with the image: voxels, containment and shared faces per bag" "grep -q 'bags ok' '$work/bags.txt'"
+cat "$work/bags.txt"
+
 bounded 30 "$work/err1.txt" "$exe" "$work/absent.toml"
 rc=$?
 check "a missing scene exits non-zero naming the file" "[ $rc -ne 0 ] && grep -q 'absent.toml: file not found' '$work/err1.txt'"

@@ -71,6 +71,9 @@ int run(int argc, char** argv) {
     for (const std::string& w : bop::shape::thinPartsWarnings(build.frames.front(), spec.bagNames()))
         spdlog::warn("{}", w);
     bop::app::printShapeReport(std::cout, spec, build);
+    const auto bags = bop::app::summariseBags(build.frames.front(), spec.bagNames());
+    bop::app::printBagReport(std::cout, bags);
+    bop::app::writeBagsCsv(outDir + "/bags.csv", bags);
     bop::app::printTimings(std::cout, build.timings);
     if (!timingsCsv.empty()) bop::app::writeTimingsCsv(timingsCsv, build.frames.front(), build.timings);
     if (!what.empty()) {
@@ -78,7 +81,7 @@ int run(int argc, char** argv) {
         spdlog::info("wrote .npy arrays (NumPy shape (nz, ny, nx[, 3])) to {}", outDir);
     }
     if (!noPng) {
-        const auto files = bop::app::writeSlicePictures(outDir, build);
+        const auto files = bop::app::writeSlicePictures(outDir, build, spec.bagNames());
         spdlog::info("wrote {} slice pictures to {}", files.size(), outDir);
     }
     spdlog::info("done in {:.2f} s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());

@@ -59,7 +59,8 @@ void colourBar(Canvas& c, int x, int y, int w, const std::string& lo, const std:
 
 }  // namespace
 
-std::vector<std::string> writeSlicePictures(const std::string& dir, const shape::ShapeBuild& build) {
+std::vector<std::string> writeSlicePictures(const std::string& dir, const shape::ShapeBuild& build,
+                                            const std::vector<std::string>& bagNames) {
     std::vector<std::string> files;
     std::filesystem::create_directories(dir);
     for (std::size_t f = 0; f < build.frames.size(); ++f) {
@@ -99,6 +100,8 @@ std::vector<std::string> writeSlicePictures(const std::string& dir, const shape:
                 std::ostringstream what;
                 what << (sp == 0 ? "outside" : (isSurfaceSpecies(sp) ? "surface" : "inside"));
                 if (sp) what << " species " << sp;
+                const std::size_t bag = std::size_t(bagOfSpecies(sp));
+                if (sp && bag <= bagNames.size()) what << " ('" << bagNames[bag - 1] << "')";
                 c.drawText(gap + 14, y + 15 + 14 * int(i), what.str(), kInk);
             }
             const int bw = std::min(pw, 200);
