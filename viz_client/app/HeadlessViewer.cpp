@@ -36,6 +36,7 @@ int runHeadless(ViewerLink& link, const LoopOptions& o) {
     ImGui_ImplOpenGL3_Init("#version 330 core");
     {
         ViewerCore core(link);
+        core.panel.hideAtStart = o.hide;
         std::filesystem::create_directories(o.outDir);
         std::ofstream csv(std::filesystem::path(o.outDir) / "frames.csv");
         csv << "picture,step,sim_time,kinetic_energy,potential_energy,pressure,step_rate_hz,particles,"

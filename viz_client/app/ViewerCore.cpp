@@ -1,10 +1,13 @@
 #include "app/ViewerCore.hpp"
 
+#include "scene/SceneBags.hpp"
+
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 
 namespace bop::viz {
@@ -30,6 +33,12 @@ void ViewerCore::newScene(const protocol::SceneInfo& s) {
     probe = MouseProbe(0.25 * s.r0);
     panel.birthOn.assign(s.species.size() + 1, false);
     panel.filter.hiddenSpecies.assign(s.species.size() + 1, false);
+    for (const std::string& name : hideByName(panel.filter, s, panel.hideAtStart)) {
+        std::string known;
+        for (const BagEntry& b : bagsOfScene(s)) known += " '" + b.name + "'";
+        std::fprintf(stderr, "bop-viewer: --hide '%s': the scene has no bag or species of that name (bags:%s)\n",
+                     name.c_str(), known.c_str());
+    }
 }
 
 bool ViewerCore::poll(double nowS) {

@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace bop::viz {
 
@@ -25,6 +26,7 @@ struct LoopOptions {
     std::string outDir;                // headless pictures and frames.csv; screenshots of the window
     std::string screenshot;            // also write the last picture here (PNG); empty = no
     std::optional<ProbeScript> probe;  // headless only
+    std::vector<std::string> hide;     // bags or species to hide, by name
 };
 
 int runHeadless(ViewerLink& link, const LoopOptions& options);  // exit code

@@ -53,6 +53,9 @@ int main(int argc, char** argv) {
             ->check(CLI::Range(protocol::ranges::kMinProbeK0, protocol::ranges::kMaxProbeK0));
         app.add_option("--probe-k1", probeK1, "headless: the probe's strength k1 (paper eq. 9; default: the server's)")
             ->check(CLI::Range(protocol::ranges::kMinProbeK1, protocol::ranges::kMaxProbeK1));
+        app.add_option("--hide", o.hide,
+                       "a bag (or species) to hide, by its name in the scene (repeat for several; the panel's "
+                       "bag list shows and hides them too)");
         int udpPort = 0;
         app.add_option("--udp-port", udpPort,
                        "frames as datagrams to this local UDP port (the server's datagram mode: "

@@ -84,6 +84,7 @@ int runWindow(ViewerLink& link, const LoopOptions& o) {
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the working folder
     {
         ViewerCore core(link);
+        core.panel.hideAtStart = o.hide;
         glfwSetWindowUserPointer(window, &core);
         glfwSetMouseButtonCallback(window, onButton);
         glfwSetCursorPosCallback(window, onMove);

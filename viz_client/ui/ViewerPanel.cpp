@@ -1,5 +1,7 @@
 #include "ui/ViewerPanel.hpp"
 
+#include "scene/SceneBags.hpp"
+
 #include <imgui.h>
 
 #include <algorithm>
@@ -41,26 +43,41 @@ void status(const PanelFigures& f) {
         ImGui::Text("probe round trip %.1f ms (p50 %.1f, p99 %.1f)", l.rttLastMs, l.rttP50Ms, l.rttP99Ms);
     else
         ImGui::TextDisabled("probe round trip: no probe yet");
-    if (f.scene)
-        for (int k = 1; k < int(f.perSpecies.size()); ++k)
-            ImGui::Text("%-12s %zu particles", speciesLabel(*f.scene, k).c_str(), f.perSpecies[std::size_t(k)]);
 }
 
-void view(PanelState& s, const PanelFigures& f) {
+// One row per bag: its colours, a switch that shows or hides it, and its particles by species
+// (surface + volume; a species alone, its count).
+void bags(PanelState& s, const PanelFigures& f) {
+    const std::vector<BagEntry> list = bagsOfScene(*f.scene);
+    s.filter.hiddenSpecies.resize(f.scene->species.size() + 1, false);
+    ImGui::TextDisabled("colours, shown, bag");
+    ImGui::SameLine(150);
+    ImGui::TextDisabled("surface + volume particles");
+    for (std::size_t b = 0; b < list.size(); ++b) {
+        const BagEntry& bag = list[b];
+        ImGui::PushID(int(b));
+        for (int sp : bag.species) {
+            const auto& c = f.scene->species[std::size_t(sp - 1)].rgba;
+            ImGui::ColorButton("##colour", ImVec4(c[0] / 255.f, c[1] / 255.f, c[2] / 255.f, 1),
+                               ImGuiColorEditFlags_NoTooltip | ImGuiColorEditFlags_NoAlpha, ImVec2(12, 12));
+            ImGui::SameLine(0, 2);
+        }
+        bool shown = !bagHidden(s.filter, bag);
+        if (ImGui::Checkbox(bag.name.c_str(), &shown)) setBagHidden(s.filter, bag, !shown);
+        ImGui::SameLine(150);
+        std::string counts;
+        for (int sp : bag.species)
+            counts += (counts.empty() ? "" : " + ") +
+                      std::to_string(std::size_t(sp) < f.perSpecies.size() ? f.perSpecies[std::size_t(sp)] : 0);
+        ImGui::TextUnformatted(counts.c_str());
+        ImGui::PopID();
+    }
+}
+
+void view(PanelState& s) {
     ImGui::Checkbox("surface", &s.filter.showSurface);
     ImGui::SameLine();
     ImGui::Checkbox("volume", &s.filter.showVolume);
-    if (f.scene) {
-        s.filter.hiddenSpecies.resize(f.scene->species.size() + 1, false);
-        for (int k = 1; k <= int(f.scene->species.size()); ++k) {
-            bool shown = !s.filter.hiddenSpecies[std::size_t(k)];
-            ImGui::PushID(k);
-            if (ImGui::Checkbox(speciesLabel(*f.scene, k).c_str(), &shown))
-                s.filter.hiddenSpecies[std::size_t(k)] = !shown;
-            ImGui::PopID();
-            if (k < int(f.scene->species.size())) ImGui::SameLine();
-        }
-    }
     ImGui::Checkbox("cut plane", &s.cutOn);
     if (s.cutOn) ImGui::SliderFloat("cut offset, r0", &s.cutOffsetR0, -20, 20);
     s.fitRequested = ImGui::Button("fit (F)") || s.fitRequested;
@@ -158,7 +175,8 @@ void drawPanel(PanelState& s, Controls& controls, ViewerLink& link, const PanelF
     ImGui::SetNextWindowSize(ImVec2(kPanelWidthPx, 0), ImGuiCond_FirstUseEver);
     ImGui::Begin("BoP viewer");
     status(f);
-    if (ImGui::CollapsingHeader("view", ImGuiTreeNodeFlags_DefaultOpen)) view(s, f);
+    if (f.scene && ImGui::CollapsingHeader("bags", ImGuiTreeNodeFlags_DefaultOpen)) bags(s, f);
+    if (ImGui::CollapsingHeader("view", ImGuiTreeNodeFlags_DefaultOpen)) view(s);
     if (f.scene && ImGui::CollapsingHeader("construction")) construction(s, link, *f.scene);
     if (ImGui::CollapsingHeader("run", ImGuiTreeNodeFlags_DefaultOpen)) run(s, link);
     if (f.scene && ImGui::CollapsingHeader("parameters")) tune(controls, *f.scene);

@@ -1,6 +1,6 @@
 #pragma once
-// The viewer's Dear ImGui panel: connection state and rates, particle counts, the probe's round
-// trip, view toggles and the cut plane, the mouse tool, the construction menu (species to seed,
+// The viewer's Dear ImGui panel: connection state and rates, the probe's round trip, the bags
+// (colours, particle counts, a switch to hide each), view toggles and the cut plane, the mouse tool, the construction menu (species to seed,
 // births on or off), the sliders (sent as commands through the link), run control, recording,
 // the live plots and the newest command replies. Draws between ImGui::NewFrame and Render.
 #include "link/ViewerLink.hpp"
@@ -27,6 +27,7 @@ struct PanelState {
     bool recording = false;
     std::string recordName;  // empty: the server's default name
     ViewFilter filter;
+    std::vector<std::string> hideAtStart;  // bags or species hidden whenever a scene arrives (--hide)
     bool cutOn = false;
     float cutOffsetR0 = 0;  // the cut plane faces the eye, this far beyond the target, r0
     bool fitRequested = false, resetRequested = false, screenshotRequested = false;

@@ -1,5 +1,6 @@
 #include "app/scene/SceneConfig.hpp"
 
+#include "bop/common/BagColours.hpp"
 #include "bop/common/ConfigTable.hpp"
 #include "codec/Ranges.hpp"
 #include "core/Construction.hpp"
@@ -14,13 +15,6 @@ namespace {
 constexpr long long kPlacedStepsCap = 20000;
 
 using core::kR0;
-
-std::array<float, 3> defaultColour(int species) {
-    static const std::array<float, 3> surface[] = {{0.92f, 0.47f, 0.12f}, {0.78f, 0.16f, 0.63f}, {0.90f, 0.78f, 0.16f}};
-    static const std::array<float, 3> volume[] = {{0.31f, 0.59f, 0.90f}, {0.24f, 0.75f, 0.47f}, {0.59f, 0.43f, 0.90f}};
-    const int bag = (species - 1) / 2;
-    return species % 2 ? surface[bag % 3] : volume[bag % 3];
-}
 
 double positive(const ConfigTable& t, const std::string& key, double v) {
     if (!(v > 0)) t.fail(key, "must be greater than 0, got " + std::to_string(v));
@@ -219,7 +213,7 @@ void defaultSpecies(core::Model& m, int bags) {
         core::Species& sp = m.species[std::size_t(s)];
         sp.kind = s % 2 ? core::ParticleKind::Surface : core::ParticleKind::Volume;
         sp.name = "bag" + std::to_string((s + 1) / 2) + (s % 2 ? "-surface" : "-volume");
-        sp.colour = defaultColour(s);
+        sp.colour = defaultSpeciesColour(s);
     }
     m.lj = core::WeightMatrix(n, 1.0);
     m.coNormal = core::WeightMatrix(n, 0.0);
@@ -250,7 +244,7 @@ Scene loadScene(const std::string& path) {
         m.box.periodic = {periodic, periodic, periodic};
         m.species.assign(2, core::Species{});
         m.species[1].name = "bulk";
-        m.species[1].colour = defaultColour(2);
+        m.species[1].colour = defaultSpeciesColour(2);
         m.lj = core::WeightMatrix(1, 1.0);
         m.coNormal = m.coPlanar = core::WeightMatrix(1, 0.0);
         s.bulk = bulk;

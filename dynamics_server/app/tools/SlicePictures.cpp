@@ -1,6 +1,7 @@
 // PNG slice pictures of gradient maps: per plane a labels panel, a signed-distance panel and a
 // co-planar weight panel, each with its legend.
 #include "app/tools/ShapeReport.hpp"
+#include "bop/common/BagColours.hpp"
 #include "bop/common/Canvas.hpp"
 
 #include <algorithm>
@@ -14,12 +15,10 @@ namespace {
 
 constexpr Rgb kBackground{255, 255, 255}, kInk{20, 20, 20}, kOutside{60, 60, 68};
 
-Rgb speciesColour(int species) {
-    static const Rgb surface[] = {{235, 120, 30}, {200, 40, 160}, {230, 200, 40}, {220, 60, 60}};
-    static const Rgb volume[] = {{80, 150, 230}, {60, 190, 120}, {150, 110, 230}, {40, 190, 200}};
+Rgb speciesColour(int species) {  // the viewer's default colours
     if (species == 0) return kOutside;
-    const int bag = (species - 1) / 2;
-    return isSurfaceSpecies(species) ? surface[bag % 4] : volume[bag % 4];
+    const std::array<float, 3> c = defaultSpeciesColour(species);
+    return {std::uint8_t(255 * c[0] + 0.5f), std::uint8_t(255 * c[1] + 0.5f), std::uint8_t(255 * c[2] + 0.5f)};
 }
 
 struct Plane {
