@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Checkpoints of bop-server batch runs: a run stopped at a checkpoint and restarted from it ends
 # bit for bit where an uninterrupted run ends (1 rank and 2 ranks; the torus built by births, its
-# volume seeded after the restart); SIGTERM to mpirun writes a whole checkpoint and stops; a
-# restart at 1 and at 3 ranks holds every particle of it.
+# volume seeded after the restart; the four bags of the organs scene); SIGTERM to mpirun writes a
+# whole checkpoint and stops; a restart at 1 and at 3 ranks holds every particle of it.
 # Usage: bop_server_checkpoint_cli.sh PATH/TO/bop-server PATH/TO/mpiexec SOURCE_DIR
 set -u
 exe=$1
@@ -13,8 +13,9 @@ scene=$src/config/scenes/torus.toml
 server() {  # ranks, its log, then bop-server's options; at most 150 s
   local n=$1 log=$2
   shift 2
-  if [[ $n == 1 ]]; then bounded 150 "$log" "$exe" "$scene" --no-listen --cache "$work/map.bopgm" "$@"
-  else bounded 150 "$log" "$mpi" --oversubscribe -np "$n" "$exe" "$scene" --no-listen --cache "$work/map.bopgm" "$@"; fi
+  if [[ $n == 1 ]]; then bounded 150 "$log" "$exe" "$scene" --no-listen --cache "$work/$(basename "$scene").bopgm" "$@"
+  else bounded 150 "$log" "$mpi" --oversubscribe -np "$n" "$exe" "$scene" --no-listen \
+    --cache "$work/$(basename "$scene").bopgm" "$@"; fi
 }
 ids() { awk 'NR > 2 {print $(NF - 1)}' "$1" | sort; }  # the id column of an extended XYZ frame
 
@@ -31,6 +32,20 @@ for ranks in 1 2; do
   check "$ranks rank(s): ... with the volume seeded after the restart" \
     "[ \$(grep -c '^torus-volume ' '$work/c$ranks/final.xyz') -gt 10 ]"
 done
+
+# Several bags (the organs scene: four bags, one inside another, placed and relaxed): stopped at a
+# checkpoint and restarted, at 1 and 2 ranks, it ends as the uninterrupted run does.
+scene=$src/config/scenes/organs.toml
+for ranks in 1 2; do
+  server "$ranks" "$work/oa$ranks.log" --steps 600 --checkpoint-every 300 -o "$work/oa$ranks"
+  server "$ranks" "$work/ob$ranks.log" --steps 300 -o "$work/ob$ranks"
+  server "$ranks" "$work/oc$ranks.log" --steps 300 -o "$work/oc$ranks" --restart "$work/ob$ranks/checkpoint.xyz"
+  check "organs, $ranks rank(s): every bag's species in the checkpoint" \
+    "[ \$(awk 'NR > 2 {print \$1}' '$work/ob$ranks/checkpoint.xyz' | sort -u | wc -l) -eq 8 ]"
+  check "organs, $ranks rank(s): stopped at 300 and restarted, the run ends bit for bit as the uninterrupted one" \
+    "cmp -s '$work/oa$ranks/final.xyz' '$work/oc$ranks/final.xyz'"
+done
+scene=$src/config/scenes/torus.toml
 
 # SIGTERM to mpirun (through bop-deadline, which passes it on): a whole checkpoint, then a
 # restart at other rank counts.
