@@ -67,15 +67,34 @@ bool outsideBag(const GradientMap& m, int s, const Eigen::Vector3i& c) {
     return !d.contains(c.x(), c.y(), c.z()) || !m.inBag(d.index(c.x(), c.y(), c.z()), bagOfSpecies(s));
 }
 
-// Whether the face of bag voxel c towards `step` along axis a lies in a flat patch of such
-// faces (its 8 neighbours in the plane are faces too): a plane along the axes, whose faces count
-// whole, where the smoothed normal would tilt near an edge.
-bool flatFace(const GradientMap& m, int s, const Eigen::Vector3i& c, int a, int step) {
+// Whether voxel c lies in the bag of surface species s beneath its shell: the bag's own volume
+// or a bag inside it (the shell's inner side).
+bool beneathShell(const GradientMap& m, int s, const Eigen::Vector3i& c) {
+    const Dims& d = m.dims();
+    if (!d.contains(c.x(), c.y(), c.z())) return false;
+    const std::size_t v = d.index(c.x(), c.y(), c.z());
+    return m.occ[v] != s && m.inBag(v, bagOfSpecies(s));
+}
+
+// Whether the face of shell voxel c towards `step` along axis a is an outer face (outside the
+// bag beyond it) or, `inner`, an inner one (beneath the shell beyond it).
+bool shellFace(const GradientMap& m, int s, const Eigen::Vector3i& c, int a, int step, bool inner) {
+    const Eigen::Vector3i w = c + step * Eigen::Vector3i::Unit(a);
+    return inner ? beneathShell(m, s, w) : outsideBag(m, s, w);
+}
+
+// Whether that face lies in a flat patch of such faces (its 8 neighbours in the plane, shell
+// voxels too, have one): a plane along the axes, whose faces count whole, where the smoothed
+// normal would tilt near an edge.
+bool flatFace(const GradientMap& m, int s, const Eigen::Vector3i& c, int a, int step, bool inner) {
     const int b = (a + 1) % 3, e = (a + 2) % 3;
+    const Dims& d = m.dims();
     for (int i = -1; i <= 1; ++i)
         for (int j = -1; j <= 1; ++j) {
             const Eigen::Vector3i w = c + i * Eigen::Vector3i::Unit(b) + j * Eigen::Vector3i::Unit(e);
-            if (outsideBag(m, s, w) || !outsideBag(m, s, w + step * Eigen::Vector3i::Unit(a))) return false;
+            if (!d.contains(w.x(), w.y(), w.z()) || m.occ[d.index(w.x(), w.y(), w.z())] != s ||
+                !shellFace(m, s, w, a, step, inner))
+                return false;
         }
     return true;
 }
@@ -121,10 +140,16 @@ Placement placeParticles(const Model& model, const PlacementParams& params) {
             if (m.occ[v] != s) continue;
             const Eigen::Vector3i c = dims.coords(v);
             const Eigen::Vector3d n = m.nearestSurface(v).normal.cast<double>();
+            // Faces: the shell's outer faces. Mid-shell: the area midway between its outer and
+            // inner faces, where the map holds the sheet (the shell voxels' centres), half the
+            // sum of both.
+            const bool mid = params.sheetArea == SheetArea::MidShell;
             for (int a = 0; a < 3; ++a)
                 for (int step : {-1, 1})
-                    if (outsideBag(m, s, c + step * Eigen::Vector3i::Unit(a)))
-                        area += h * h * (flatFace(m, s, c, a, step) ? 1.0 : 1.0 / std::max(1.0, n.lpNorm<1>()));
+                    for (bool inner : {false, true})
+                        if ((mid || !inner) && shellFace(m, s, c, a, step, inner))
+                            area += (mid ? 0.5 : 1.0) * h * h *
+                                    (flatFace(m, s, c, a, step, inner) ? 1.0 : 1.0 / std::max(1.0, n.lpNorm<1>()));
             const std::uint64_t key = mixHash(params.seed, 0x91aceULL, std::uint64_t(s), std::uint64_t(v));
             const Eigen::Vector3d jitter(unit(mixHash(key, 1)) - 0.5, unit(mixHash(key, 2)) - 0.5,
                                          unit(mixHash(key, 3)) - 0.5);

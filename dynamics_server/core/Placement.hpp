@@ -8,6 +8,11 @@
 //    A = sum over the shell's outer voxel faces of h^2 / |n|_1 (n: the map's normal; exact for a
 //    plane, where a unit of area shows |n_x| + |n_y| + |n_z| faces), or h^2 for a face amid a
 //    flat patch of faces (3 x 3), where the smoothed normal tilts near a sharp edge.
+//    SheetArea::MidShell counts the sheet where the map holds it instead, at the shell voxels'
+//    centres half a voxel beneath the faces: A = half the sum over the shell's outer and inner
+//    faces (those on the bag's volume or a bag inside it), each weighted so. On a ball of radius R
+//    voxels that is 4 pi (R - 1/2)^2, (1 - 1/(2R))^2 of the faces' area: a small or thin part's
+//    sheet is not crowded out of its voxels, at a count below the object's own area.
 //  - A volume species gets an fcc lattice at nearest-neighbour distance r0, the sites that fall
 //    in its voxels and lie at least `gapR0` from every surface particle; of 8 hashed shifts of
 //    the lattice, the one with the most such sites.
@@ -22,9 +27,12 @@
 
 namespace bop::core {
 
+enum class SheetArea { Faces, MidShell };
+
 struct PlacementParams {
-    double gapR0 = 0.5;      // least distance from a volume site to a surface particle, r0 (death_r0)
-    std::uint64_t seed = 1;  // jitter, order and lattice offset
+    double gapR0 = 0.5;                      // least distance from a volume site to a surface particle, r0 (death_r0)
+    SheetArea sheetArea = SheetArea::Faces;  // the area a sheet's count is taken over
+    std::uint64_t seed = 1;                  // jitter, order and lattice offset
 };
 
 struct PlacedSpecies {

@@ -87,3 +87,28 @@ TEST_CASE("placement needs the whole map", "[core][placement]") {
     map.whole = Dims{21, 20, 20};
     CHECK_THROWS_AS(placeParticles(test::bagModel(map), {}), std::invalid_argument);
 }
+
+TEST_CASE("a mid-shell sheet is counted over the area where the map holds it", "[core][placement]") {
+    const Eigen::Vector3d c(16, 16, 16);
+    for (const double r : {5.2, 10.3}) {  // voxels
+        const Dims d{32, 32, 32};
+        const GradientMap map =
+            test::mapFrom(test::depthFrom(d, {[&](const Eigen::Vector3d& x) { return (x - c).norm() < r; }}), 2.0, 1.5);
+        const Model model = test::bagModel(map);
+        PlacementParams mid;
+        mid.sheetArea = SheetArea::MidShell;
+        const Placement faces = placeParticles(model, {}), shell = placeParticles(model, mid);
+        const double h = voxelLength(map.r0Voxels);
+        const double outer = 4 * kPi * r * r * h * h, inner = 4 * kPi * (r - 0.5) * (r - 0.5) * h * h;
+        INFO("radius " << r << " voxels: faces " << faces.species[0].areaOrVolume << " (sphere " << outer
+                       << "), mid-shell " << shell.species[0].areaOrVolume << " (sphere at r - 1/2 " << inner
+                       << "); sheet " << faces.species[0].placed << " and " << shell.species[0].placed);
+        CHECK(faces.species[0].areaOrVolume == Approx(outer).epsilon(0.06));
+        // Against the faces' own area (a voxel ball's faces exceed the sphere's by 1-4%): the
+        // parallel surface half a voxel in, (1 - 1/(2r))^2 of it.
+        CHECK(shell.species[0].areaOrVolume / faces.species[0].areaOrVolume == Approx(inner / outer).epsilon(0.04));
+        CHECK(double(shell.species[0].placed) == Approx(shell.species[0].ideal).epsilon(0.01));
+        // The volume is placed the same way either way, only its gap to a sparser sheet differs.
+        CHECK(shell.species[1].placed >= faces.species[1].placed);
+    }
+}
