@@ -30,9 +30,8 @@ def four_objects():
 def scenes(out):
     img = four_objects()
     img.tofile(f"{out}/four.raw")
-    with open("config/scenes/organs.toml") as f:
-        text = f.read()
-    dynamics = text[text.index("# ---- dynamics"):]
+    # Placed (the sheets counted over their faces, the default) and run until settled.
+    dynamics = "[dynamics]\ntime_step = 0.02\nseed = 1\n[run]\nsteps = 20000\n"
     head = ("[grid]\npadding_voxels = 4\nr0_voxels = 2.0\n[shape]\nsmoothing_sigma_voxels = 1.5\n"
             "[[shape.bag]]\nsource = \"raw\"\nfile = \"four.raw\"\n"
             f"size_voxels = [{SIZE[0]}, {SIZE[1]}, {SIZE[2]}]\nspacing_mm = [1.0, 1.0, 1.0]\n")
