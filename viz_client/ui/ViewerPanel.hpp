@@ -1,8 +1,9 @@
 #pragma once
 // The viewer's Dear ImGui panel: connection state and rates, the probe's round trip, the bags
-// (colours, particle counts, a switch to hide each), view toggles and the cut plane, the mouse tool, the construction menu (species to seed,
-// births on or off), the sliders (sent as commands through the link), run control, recording,
-// the live plots and the newest command replies. Draws between ImGui::NewFrame and Render.
+// (colours, particle counts, a switch to hide each), view toggles and the cut plane, the mouse
+// tool, the construction menu (species to seed, births on or off), the sliders (sent as commands
+// through the link), run control, recording, the live plots and the newest command replies.
+// Draws between ImGui::NewFrame and Render.
 #include "link/ViewerLink.hpp"
 #include "scene/Controls.hpp"
 #include "scene/Instances.hpp"
