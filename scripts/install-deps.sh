@@ -24,8 +24,9 @@ packages=(
   libglfw3-dev libimgui-dev xvfb xauth libglx-mesa0
   # the haptic client's 3Dconnexion adapter (spacenavd's client library)
   libspnav-dev
-  # tests; the two-host tests' namespaces, veth pair, netem and datagram loss (scripts/two-host.sh)
-  catch2 python3 python3-numpy iproute2 nftables
+  # tests; the two-host tests' namespaces, veth pair, netem and datagram loss (scripts/two-host.sh);
+  # ASE reads our extended XYZ files in the tests (tests/cli/bop_server_xyz_cli.sh)
+  catch2 python3 python3-numpy python3-ase iproute2 nftables
   # scripts/netdelay (bop-netdelay) and its iptables NFQUEUE rule: two-host.sh's delay where the kernel has no netem
   libnetfilter-queue-dev iptables
 )

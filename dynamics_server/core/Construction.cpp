@@ -37,12 +37,13 @@ void Construction::setBirth(int species, bool on) {
     birth_[std::size_t(species)] = on;
 }
 
-void Construction::restore(const std::vector<char>& births, std::uint64_t seeds) {
+void Construction::restore(const std::vector<char>& births, std::uint64_t seeds, std::uint64_t nextId) {
     if (births.size() + 1 != birth_.size())
         throw std::invalid_argument("checkpoint has birth switches for " + std::to_string(births.size()) +
                                     " species, the scene has " + std::to_string(birth_.size() - 1));
     std::copy(births.begin(), births.end(), birth_.begin() + 1);
     seeds_ = seeds;
+    nextId_ = std::max(nextId_, nextId);
 }
 
 bool Construction::building() const {
@@ -68,8 +69,9 @@ Eigen::Vector3d Construction::defaultSeedPosition(const Model& model, int specie
 }
 
 std::uint64_t Construction::seed(const Model& model, Particles& p, int species, const Eigen::Vector3d& position,
-                                 long long step, bool add) {
-    const std::uint64_t gid = seedId(step, seeds_++);
+                                 bool add) {
+    const std::uint64_t gid = takeIds(1);
+    ++seeds_;
     if (!add) return gid;
     Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
     if (model.map) {

@@ -10,6 +10,7 @@
 #include "Model.hpp"
 #include "Particles.hpp"
 
+#include <algorithm>
 #include <optional>
 #include <vector>
 
@@ -45,17 +46,29 @@ public:
     // Commands (scripted by the timeline, or sent by a viewer between steps). seed() adds the
     // particle and returns its id; every process of a decomposed run calls it (in the same
     // order), and only the one that owns the position passes add = true.
-    std::uint64_t seed(const Model& model, Particles& p, int species, const Eigen::Vector3d& position, long long step,
-                       bool add = true);
+    std::uint64_t seed(const Model& model, Particles& p, int species, const Eigen::Vector3d& position, bool add = true);
     Eigen::Vector3d defaultSeedPosition(const Model& model, int species) const;  // simulation units
     void setBirth(int species, bool on);
     bool birthOn(int species) const { return birth_[std::size_t(species)]; }
     const std::vector<char>& birthSwitches() const { return birth_; }  // per species number (index 0 unused)
     std::uint64_t seedCount() const { return seeds_; }                 // seeds placed so far
-    // A restart from a checkpoint: its birth switches (per species number from 1) and seed count.
-    // (A snapshot without them restarts with every birth off.) std::invalid_argument for a count
-    // of switches other than the species count.
-    void restore(const std::vector<char>& births, std::uint64_t seeds);
+    // Ids (docs/dynamics.md "Construction"): every new particle, seed or birth, takes the next
+    // free id, counting on from the largest id of the particles the run starts with. Every
+    // process of a decomposed run counts every seed and every birth in the same order, so all
+    // agree without a message, and ids stay small (below 2^31 for the first two billion
+    // particles: readers of 32-bit integer columns take them).
+    std::uint64_t nextId() const { return nextId_; }
+    void reserveIds(std::uint64_t largestInUse) { nextId_ = std::max(nextId_, largestInUse + 1); }
+    std::uint64_t takeIds(std::uint64_t n) {  // the first of n consecutive ids
+        const std::uint64_t first = nextId_;
+        nextId_ += n;
+        return first;
+    }
+    // A restart from a checkpoint: its birth switches (per species number from 1), seed count and
+    // next id (0: not recorded; the run counts on from its particles' largest id). A snapshot
+    // without them restarts with every birth off. std::invalid_argument for a count of switches
+    // other than the species count.
+    void restore(const std::vector<char>& births, std::uint64_t seeds, std::uint64_t nextId = 0);
     bool building() const;                                          // some species' birth is on
     bool checkDue(long long step) const;                            // a birth/death check runs at this step
     std::vector<ConstructionEvent> eventsAt(long long step) const;  // the timeline's, in order
@@ -73,7 +86,8 @@ private:
     std::vector<ConstructionEvent> timeline_;
     std::vector<char> birth_;
     ConstructionCounts totals_;
-    std::uint64_t seeds_ = 0;  // seeds so far (their ids count them)
+    std::uint64_t seeds_ = 0;   // seeds so far
+    std::uint64_t nextId_ = 1;  // the id the next new particle takes
 };
 
 // SplitMix64 of a combination of integers: the construction's only source of randomness.

@@ -59,13 +59,6 @@ std::pair<long long, std::uint64_t> seedKey(const ConstructionParams& params, co
 
 }  // namespace
 
-std::uint64_t birthId(long long step, std::uint64_t voxel) {
-    return (std::uint64_t(1) << 63) | (std::uint64_t(step + 1) << 32) | voxel;
-}
-std::uint64_t seedId(long long step, std::uint64_t seedNumber) {
-    return (std::uint64_t(step + 1) << 32) | seedNumber;
-}
-
 std::vector<DeathMark> markDeaths(const ConstructionParams& params, const ConstructionView& view, long long step) {
     const Particles& p = view.seen;
     const double d = params.deathR0 * kR0;
@@ -181,12 +174,11 @@ std::vector<BirthCandidate> chooseBirths(const ConstructionParams& params, const
     return winners;
 }
 
-void addBirth(const Model& model, Particles& p, int species, const BirthCandidate& c, long long step) {
+void addBirth(const Model& model, Particles& p, int species, const BirthCandidate& c, std::uint64_t id) {
     const GradientMap& m = *model.map;
     const std::size_t v = m.voxelAt(m.wholeDims().coords(c.voxel));
     const Eigen::Vector3d n = m.nearestSurface(v).normal.cast<double>();
-    p.add(c.pos, species, birthId(step, c.voxel),
-          model.isSurface(species) ? orientationFor(n) : Eigen::Quaterniond::Identity());
+    p.add(c.pos, species, id, model.isSurface(species) ? orientationFor(n) : Eigen::Quaterniond::Identity());
 }
 
 std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Model& model, int species,

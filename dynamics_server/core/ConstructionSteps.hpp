@@ -19,12 +19,6 @@ struct ConstructionView {
     std::size_t owned;
 };
 
-// Ids: a birth is (1 << 63) | (step + 1) << 32 | whole-map voxel index, one candidate per voxel
-// and step; a seed is (step + 1) << 32 | n, n counting the run's seeds. Particles a scene or a
-// file brings keep theirs.
-std::uint64_t birthId(long long step, std::uint64_t voxel);
-std::uint64_t seedId(long long step, std::uint64_t seedNumber);
-
 struct DeathMark {
     std::uint64_t key = 0;  // hash order in which the cap takes them
     std::uint64_t id = 0;   // the particle that would die
@@ -52,9 +46,9 @@ std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, co
 // in key order. `box`: the whole model's box.
 std::vector<BirthCandidate> chooseBirths(const ConstructionParams& params, const Box& box,
                                          std::vector<BirthCandidate> candidates, std::size_t have);
-// Adds a born particle (oriented by the map's normal for a surface species); the map must hold
-// the candidate's voxel.
-void addBirth(const Model& model, Particles& p, int species, const BirthCandidate& c, long long step);
+// Adds a born particle with id `id` (oriented by the map's normal for a surface species); the map
+// must hold the candidate's voxel.
+void addBirth(const Model& model, Particles& p, int species, const BirthCandidate& c, std::uint64_t id);
 
 // Whether some position in `pos` lies closer than `distance` to x (the periodic axes of `box`
 // wrap): a seed there would sit on a particle, where the pair forces have no bound, so it is not

@@ -41,6 +41,8 @@ Simulation::Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::s
     field_ =
         ForceField(*local_, params_);  // with the map window: the pair terms' curvature weights need to know of a map
     applyKeyframe(stats_.time);
+    // Every process holds `all`: new ids count on from its largest alike.
+    if (all.size()) construction_.reserveIds(*std::max_element(all.id.begin(), all.id.end()));
     for (std::size_t i = 0; i < all.size(); ++i) {
         if (!ex_->owns(all.pos[i])) continue;
         const std::size_t k = p_.add(all.pos[i], all.species[i], all.id[i], all.q[i]);

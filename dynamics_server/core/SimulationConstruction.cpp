@@ -83,7 +83,7 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
         const bool free = !crowded(p_.pos, model_->box, x, near) && !crowded(halo_.pos, model_->box, x, near) &&
                           !crowded(seeded, model_->box, x, near);
         const std::size_t before = p_.size();
-        construction_.seed(*local_, p_, e.species, x, step, ex_->owns(x) && free);  // every process counts the seed
+        construction_.seed(*local_, p_, e.species, x, ex_->owns(x) && free);  // every process counts the seed
         changed = changed || p_.size() != before;
         seeded.push_back(x);
     }
@@ -110,8 +110,11 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
                                                [&](const Eigen::Vector3d& x) { return ex_->owns(x); });
             const auto winners =
                 chooseBirths(params, model_->box, gatherCandidates(*ex_, found), count[std::size_t(s)]);
-            for (const auto& w : winners) {
-                if (ex_->owns(w.pos)) addBirth(*local_, p_, s, w, step);
+            const std::uint64_t firstId = construction_.takeIds(winners.size());  // in the winners' order
+            for (std::size_t k = 0; k < winners.size(); ++k) {
+                const BirthCandidate& w = winners[k];
+                const std::uint64_t id = firstId + k;
+                if (ex_->owns(w.pos)) addBirth(*local_, p_, s, w, id);
                 // Every newborn blocks later species' births nearby, here too; across a periodic
                 // seam that other processes hold, as the image this process's ghosts would show.
                 for (int image = 0; image < 27; ++image) {
@@ -123,7 +126,7 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
                         valid = valid && model_->box.periodic[std::size_t(a)] && ex_->splitsAxis(a);
                         x[a] += shift * model_->box.size()[a];
                     }
-                    if (valid) seen.add(x, s, birthId(step, w.voxel));
+                    if (valid) seen.add(x, s, id);
                 }
             }
             built.births += winners.size();

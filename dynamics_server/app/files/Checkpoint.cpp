@@ -22,6 +22,7 @@ void writeCheckpoint(const std::string& path, const core::Particles& all, const 
     XyzFrameInfo info = snapshotInfo(model, step);
     info.births.assign(construction.birthSwitches().begin() + 1, construction.birthSwitches().end());
     info.seeds = static_cast<long long>(construction.seedCount());
+    info.nextId = static_cast<long long>(construction.nextId());
     std::ostringstream text;
     writeExtendedXyz(text, all, speciesNames(model), info);
     const std::string s = text.str();

@@ -13,12 +13,16 @@ namespace bop::app {
 
 namespace {
 
-constexpr const char* kProperties =
-    "species:S:1:pos:R:3:velo:R:3:normal:R:3:orientation:R:4:omega:R:3:id:I:1:species_number:I:1";
+constexpr const char* kProperties = "type:S:1:pos:R:3:velo:R:3:normal:R:3:orientation:R:4:omega:R:3:id:I:1:Z:I:1";
 
-// Every species number used in p needs a name without whitespace or quotes.
+// Every species number used in p needs a name without whitespace or quotes; every id lies below
+// 2^63 (readers take ids as signed 64-bit integers).
 void checkSpeciesNames(const std::string& where, const core::Particles& p,
                        const std::vector<std::string>& speciesNames) {
+    for (std::uint64_t id : p.id)
+        if (id >> 63)
+            throw Error(where, "particle id " + std::to_string(id) +
+                                   " is 2^63 or more, expected ids that fit a signed 64-bit integer");
     bool seen[256] = {};
     for (std::uint8_t s : p.species) {
         if (seen[s]) continue;
@@ -79,6 +83,10 @@ std::string commentLine(const XyzFrameInfo& info) {
     if (info.seeds >= 0) {
         s += " Seeds=";
         putInteger(s, info.seeds);
+    }
+    if (info.nextId > 0) {
+        s += " NextId=";
+        putInteger(s, info.nextId);
     }
     s += " pbc=\"";
     for (int k = 0; k < 3; ++k) {

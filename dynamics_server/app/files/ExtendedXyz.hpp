@@ -4,17 +4,23 @@
 //
 // Comment line written (one line):
 //   Lattice="Lx 0 0 0 Ly 0 0 0 Lz" Origin="x y z" BoxHi="x y z"
-//   Properties=species:S:1:pos:R:3:velo:R:3:normal:R:3:orientation:R:4:omega:R:3:id:I:1:species_number:I:1
+//   Properties=type:S:1:pos:R:3:velo:R:3:normal:R:3:orientation:R:4:omega:R:3:id:I:1:Z:I:1
 //   Time=t Step=s pbc="F F F"
 // Numbers in %.17g, so reading a file back gives the state bit for bit (BoxHi keeps the upper box
-// corner exact; Lattice and Origin are what OVITO and ASE use for the cell).
-// Column conventions follow OVITO's extended XYZ importer:
+// corner exact; Lattice and Origin are what OVITO and ASE use for the cell). The columns follow
+// the extended XYZ specification (github.com/libAtoms/extxyz) and what its readers do with them:
+//   - the species name is `type` (a simple string): OVITO makes it the Particle Type by name; ASE
+//     keeps it as the array "type". Not `species`, which ASE takes for chemical symbols and
+//     refuses for any other name;
+//   - the species number is `Z`: ASE's atomic numbers (so ASE reads the file; the "element" it
+//     shows is the species number's), an integer property "Z" in OVITO;
+//   - `id` counts from 1 (core/Construction.hpp): OVITO's Particle Identifier takes it as a signed
+//     64-bit integer, ASE 3.22 as a 32-bit one (right for the first 2^31 - 1 ids); the writer
+//     refuses an id of 2^63 or more;
 //   - orientation is the quaternion in OVITO's order x y z w (OVITO maps `orientation` to its
-//     Orientation property, components X Y Z W), so aspherical particles render correctly;
-//   - the integer species number is `species_number`, not `type`: OVITO maps both `species`
-//     and `type` to Particle Type and refuses a file that has both columns.
-// ASE builds Atoms from `species`, so it reads these files only when the species names are
-// chemical symbols (ASE capitalizes them and looks them up in its element table).
+//     Orientation property, components X Y Z W), so aspherical particles render correctly.
+// Files of earlier versions (names in `species`, numbers in `species_number`, births with ids
+// above 2^63) read as before, such an id with bit 62 in place of bit 63.
 #include "core/Particles.hpp"
 
 #include <Eigen/Core>
@@ -33,9 +39,11 @@ struct XyzFrameInfo {
     Eigen::Vector3d boxHi = Eigen::Vector3d::Zero();
     std::array<bool, 3> periodic{false, false, false};  // x y z
     // Checkpoints (docs/file-formats.md): the construction's state, so that a restart goes on as
-    // the run would have. Births: one 0/1 per species number from 1; Seeds: seeds placed so far.
+    // the run would have. Births: one 0/1 per species number from 1; Seeds: seeds placed so far;
+    // NextId: the id the next seed or birth takes.
     std::vector<char> births;  // empty: not recorded
     long long seeds = -1;      // -1: not recorded
+    long long nextId = 0;      // the id the next new particle takes; 0: not recorded
 };
 
 struct XyzFrame {
@@ -54,8 +62,9 @@ void appendExtendedXyz(const std::string& path, const core::Particles& p, const 
                        const XyzFrameInfo& info);
 
 // Reads frame `frame` (0-based; -1 = the last) of an extended XYZ file.
-// Needs a `pos:R:3` column and `species:S:1` (names mapped with speciesNames) or, without it, an
-// integer `type:I:1` or `species_number:I:1` column (species numbers). Optional columns:
+// Needs a `pos:R:3` column and species names (`type:S:1` or `species:S:1`, mapped with
+// speciesNames) or, without them, species numbers (`Z:I:1`, `type:I:1` or `species_number:I:1`).
+// Optional columns:
 // velo:R:3, omega:R:3 (default 0), id:I:1 (default: the particle's index in the frame),
 // orientation:R:4 (x y z w; the normal is recomputed as q e_z), else normal:R:3 (orientation =
 // shortest-arc rotation from e_z to the normal), else identity. Other columns are skipped.

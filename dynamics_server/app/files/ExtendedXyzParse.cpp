@@ -119,6 +119,9 @@ XyzFrameInfo parseInfo(const Reader& r, long long line, const KeyValues& kv) {
     if (auto sd = kv.find("seeds");
         sd != kv.end() && (!parseWhole(std::string_view(sd->second), info.seeds) || info.seeds < 0))
         r.fail(line, "Seeds=" + sd->second + ", expected a count of 0 or more");
+    if (auto n = kv.find("nextid");
+        n != kv.end() && (!parseWhole(std::string_view(n->second), info.nextId) || info.nextId < 1))
+        r.fail(line, "NextId=" + n->second + ", expected an id of 1 or more");
     return info;
 }
 
@@ -132,10 +135,11 @@ std::vector<Column> parseProperties(const Reader& r, long long line, const KeyVa
     }
     if (f.size() % 3 != 0)
         r.fail(line, "Properties=" + it->second + " is not name:type:count triples, expected e.g. species:S:1:pos:R:3");
-    static const std::map<std::string, std::pair<char, int>> known = {
-        {"species", {'S', 1}},     {"type", {'I', 1}},  {"species_number", {'I', 1}},
-        {"pos", {'R', 3}},         {"velo", {'R', 3}},  {"normal", {'R', 3}},
-        {"orientation", {'R', 4}}, {"omega", {'R', 3}}, {"id", {'I', 1}}};
+    // The columns read, with their type and count; `type` holds names (S) or numbers (I).
+    static const std::map<std::string, std::pair<std::string, int>> known = {
+        {"species", {"S", 1}}, {"type", {"SI", 1}}, {"species_number", {"I", 1}}, {"z", {"I", 1}},
+        {"pos", {"R", 3}},     {"velo", {"R", 3}},  {"normal", {"R", 3}},         {"orientation", {"R", 4}},
+        {"omega", {"R", 3}},   {"id", {"I", 1}}};
     std::vector<Column> cols;
     int first = 0;
     for (std::size_t k = 0; k < f.size(); k += 3) {
@@ -145,9 +149,12 @@ std::vector<Column> parseProperties(const Reader& r, long long line, const KeyVa
             r.fail(line, "property '" + f[k] + ":" + f[k + 1] + ":" + f[k + 2] +
                              "' is malformed, expected name:type:count with type S, R, I or L");
         if (auto kn = known.find(c.name);
-            kn != known.end() && (kn->second.first != c.type || kn->second.second != c.count))
-            r.fail(line, "property " + f[k] + " is " + f[k + 1] + ":" + f[k + 2] + ", expected " + f[k] + ":" +
-                             kn->second.first + ":" + std::to_string(kn->second.second));
+            kn != known.end() && (kn->second.first.find(c.type) == std::string::npos || kn->second.second != c.count)) {
+            std::string want;
+            for (char t : kn->second.first)
+                want += (want.empty() ? "" : " or ") + f[k] + ":" + t + ":" + std::to_string(kn->second.second);
+            r.fail(line, "property " + f[k] + " is " + f[k + 1] + ":" + f[k + 2] + ", expected " + want);
+        }
         first += c.count;
         cols.push_back(c);
     }

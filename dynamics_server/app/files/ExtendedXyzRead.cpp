@@ -76,6 +76,14 @@ long long scanFrames(const Reader& r, std::istream& in, int want, std::vector<Fr
     return line;
 }
 
+// Files of versions that numbered a birth (1 << 63) | (step + 1) << 32 | voxel: the same id with
+// bit 62 in place of bit 63, below 2^63 and apart from every other id they hold (their seeds and
+// placed particles have neither bit). Ids below 2^63 stay as they are.
+std::uint64_t idOfEarlierFiles(std::uint64_t id) {
+    constexpr std::uint64_t bit63 = std::uint64_t(1) << 63, bit62 = std::uint64_t(1) << 62;
+    return id & bit63 ? (id & ~bit63) | bit62 : id;
+}
+
 }  // namespace
 
 XyzFrame readExtendedXyz(const std::string& path, const std::vector<std::string>& speciesNames, int frame) {
@@ -101,16 +109,25 @@ XyzFrame readExtendedXyz(const std::string& path, const std::vector<std::string>
     out.info = parseInfo(r, line, kv);
     const auto cols = parseProperties(r, line, kv);
     const Column* pos = findColumn(cols, "pos");
-    const Column* species = findColumn(cols, "species");
-    const Column* type = species ? nullptr : findColumn(cols, "type");
-    if (!type && !species) type = findColumn(cols, "species_number");
+    // Names: a string column `type` (written since ids stay below 2^63) or `species`; numbers
+    // otherwise: `Z`, an integer `type`, or `species_number`.
+    const Column* species = nullptr;
+    const Column* type = nullptr;
+    for (const char* name : {"type", "species"})
+        if (const Column* c = findColumn(cols, name); c && c->type == 'S' && !species) species = c;
+    for (const char* name : {"z", "type", "species_number"})
+        if (const Column* c = findColumn(cols, name); c && c->type == 'I' && !type) type = c;
+    if (species) type = nullptr;
     const Column* velo = findColumn(cols, "velo");
     const Column* normal = findColumn(cols, "normal");
     const Column* orient = findColumn(cols, "orientation");
     const Column* omega = findColumn(cols, "omega");
     const Column* id = findColumn(cols, "id");
     if (!pos) r.fail(line, "Properties has no pos column, expected pos:R:3");
-    if (!species && !type) r.fail(line, "Properties has no species column, expected species:S:1 (or type:I:1)");
+    if (!species && !type)
+        r.fail(line,
+               "Properties has no species column, expected type:S:1 or species:S:1 (names), or Z:I:1 or "
+               "type:I:1 (numbers)");
     const std::size_t width = std::size_t(cols.back().first + cols.back().count);
 
     std::map<std::string, int, std::less<>> numberOf;
@@ -157,6 +174,7 @@ XyzFrame readExtendedXyz(const std::string& path, const std::vector<std::string>
             const std::string_view word = w[std::size_t(id->first)];
             if (!parseWhole(word, p.id[i]))
                 r.fail(line, "id '" + std::string(word) + "', expected a non-negative integer");
+            p.id[i] = idOfEarlierFiles(p.id[i]);
         }
         p.pos[i] = vec(pos);
         p.vel[i] = velo ? vec(velo) : Eigen::Vector3d::Zero();

@@ -124,7 +124,7 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
         if (!goOn) return;
         core::Construction construction(scene.construction, scene.timeline, model.speciesCount());
         construction.restore({run.construction().birthSwitches().begin() + 1, run.construction().birthSwitches().end()},
-                             run.construction().seedCount());
+                             run.construction().seedCount(), run.construction().nextId());
         construction.addToTotals(run.construction().totals());  // the run's births and deaths so far
         run.reseat(all, construction, run.stepNumber());
         run.refreshForces();

@@ -47,7 +47,8 @@ core::Particles initialParticles(const Scene& scene, const std::string& restart,
         firstStep = f.info.step;
         if (!f.info.births.empty()) {
             try {
-                construction.restore(f.info.births, std::uint64_t(std::max(0LL, f.info.seeds)));
+                construction.restore(f.info.births, std::uint64_t(std::max(0LL, f.info.seeds)),
+                                     std::uint64_t(f.info.nextId));
             } catch (const std::invalid_argument& e) {
                 throw Error(restart, e.what());
             }
