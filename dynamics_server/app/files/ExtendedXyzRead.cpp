@@ -109,7 +109,7 @@ XyzFrame readExtendedXyz(const std::string& path, const std::vector<std::string>
     out.info = parseInfo(r, line, kv);
     const auto cols = parseProperties(r, line, kv);
     const Column* pos = findColumn(cols, "pos");
-    // Names: a string column `type` (written since ids stay below 2^63) or `species`; numbers
+    // Names: a string column `type` (what the writer writes) or `species` (earlier files); numbers
     // otherwise: `Z`, an integer `type`, or `species_number`.
     const Column* species = nullptr;
     const Column* type = nullptr;
