@@ -15,6 +15,7 @@
 #   scripts/bench/bags.sh
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+source scripts/bench/served.sh
 scripts/install-deps.sh --bench >/dev/null
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "${BOP_JOBS:-2}" --target bop-server bop-viewer >/dev/null
@@ -59,13 +60,7 @@ build/dynamics_server/bop-server "$out/organs.toml" --restart "$out/organs-1/fin
   -o "$out/served" >"$log" 2>&1 &
 server=$!
 trap 'kill $server 2>/dev/null || true' EXIT
-endpoint=""
-for _ in $(seq 1 300); do
-  endpoint=$(sed -n 's/^listening on \(tcp:[^ ]*\).*/\1/p' "$log" | head -1)
-  [[ -n $endpoint ]] && break
-  kill -0 "$server" 2>/dev/null || break
-  sleep 0.1
-done
+endpoint=$(served_endpoint "$log" "$server")
 [[ -n $endpoint ]] || { cat "$log" >&2; echo "bags: the served organs scene did not start" >&2; exit 1; }
 timeout 60 build/viz_client/bop-viewer "$endpoint" --headless --frames 3 --width 1100 --height 620 \
   --out "$out/viewer" --screenshot out/bench/bags-organs.png >"$out/viewer.log" 2>&1

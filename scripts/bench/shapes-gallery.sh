@@ -17,6 +17,7 @@
 #   BOP_GALLERY_STEPS   construction steps (default: the torus timeline's 4,000)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+source scripts/bench/served.sh
 sizes=("$@"); [[ ${#sizes[@]} -gt 0 ]] || sizes=(64 128)
 scripts/install-deps.sh --bench >/dev/null
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -61,13 +62,7 @@ for dir in "$out"/*-*/; do
   build/dynamics_server/bop-server "$dir/scene.toml" --restart "$dir/run/final.xyz" --cache "$dir/run.bopgm" \
     --port 0 --publish-hz 10 -o "$dir/served" >"$log" 2>&1 &
   server=$!
-  endpoint=""
-  for _ in $(seq 1 300); do
-    endpoint=$(sed -n 's/^listening on \(tcp:[^ ]*\).*/\1/p' "$log" | head -1)
-    [[ -n $endpoint ]] && break
-    kill -0 "$server" 2>/dev/null || break
-    sleep 0.1
-  done
+  endpoint=$(served_endpoint "$log" "$server")
   if [[ -n $endpoint ]]; then
     timeout 60 build/viz_client/bop-viewer "$endpoint" --headless --frames 2 --no-panel --width 480 --height 400 \
       --out "$dir/viewer" --screenshot "$dir/picture.png" >"$dir/viewer.log" 2>&1 || true
