@@ -16,6 +16,8 @@ packages=(
   libopenmpi-dev openmpi-bin
   # the wire protocol and network front (protocol/)
   flatbuffers-compiler flatbuffers-compiler-dev libflatbuffers-dev libzmq3-dev cppzmq-dev
+  # recordings: zstd-compressed MCAP chunks (protocol/recording/)
+  libzstd-dev
   # the viewer's renderer (viz_client/): OpenGL and EGL headers and libraries (libglvnd), Mesa's
   # EGL and its llvmpipe software driver for headless rendering without a GPU
   libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri

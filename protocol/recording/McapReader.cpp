@@ -1,6 +1,7 @@
 #include "recording/McapReader.hpp"
 
 #include "bop/common/Error.hpp"
+#include "recording/McapChunkCheck.hpp"
 #include "recording/McapFields.hpp"
 #include "recording/McapFormat.hpp"
 
@@ -53,6 +54,7 @@ public:
             out_.validBytes = pos;
         }
         if (out_.complete) out_.validBytes = b_.size();
+        out_.chunkCount = index_.chunks();
         return std::move(out_);
     }
 
@@ -76,7 +78,16 @@ private:
                 message(f);
                 break;
             case mcap::kChunk:
-                f.fail("Chunk records (chunked or compressed messages) are not supported by this reader");
+                chunk(pos, f);
+                break;
+            case mcap::kMessageIndex:
+                if (out_.hasDataEnd) f.fail("a MessageIndex record after DataEnd");
+                index_.messageIndex(pos, f);
+                break;
+            case mcap::kChunkIndex:
+                if (!out_.hasDataEnd) f.fail("a ChunkIndex record before DataEnd (it belongs to the summary)");
+                index_.chunkIndex(f);
+                break;
             case mcap::kDataEnd:
                 dataEnd(pos, f);
                 break;
@@ -134,7 +145,36 @@ private:
         }
     }
 
-    void message(Fields& f) {
+    // A Chunk: its uncompressed records are Schema, Channel and Message records (nothing else).
+    void chunk(std::uint64_t pos, Fields& f) {
+        if (out_.hasDataEnd) f.fail("a Chunk record after DataEnd (the summary holds no messages)");
+        const mcap::ChunkContent c = mcap::readChunk(f);
+        index_.chunk(pos, recordEnd_ - pos, c);
+        const std::span<const std::uint8_t> r(c.records);
+        for (std::uint64_t at = 0; at < r.size();) {
+            if (r.size() - at < mcap::kRecordPrefix || loadLe(&r[at + 1], 8) > r.size() - at - mcap::kRecordPrefix)
+                f.fail("the record at offset " + std::to_string(at) + " of its uncompressed records is cut short");
+            const std::uint8_t op = r[at];
+            const std::uint64_t len = loadLe(&r[at + 1], 8);
+            Fields inner(r.subspan(at + mcap::kRecordPrefix, len), where_, op, pos, "inside a Chunk");
+            if (op == mcap::kSchema) {
+                schema(inner);
+            } else if (op == mcap::kChannel) {
+                channel(inner);
+            } else if (op == mcap::kMessage) {
+                const McapMessage& m = message(inner);
+                if (m.logTimeNs < c.startNs || m.logTimeNs > c.endNs)
+                    inner.fail("log time " + std::to_string(m.logTimeNs) + " outside the chunk's [" +
+                               std::to_string(c.startNs) + ", " + std::to_string(c.endNs) + "]");
+                index_.message(at, m.channelId, m.logTimeNs);
+            } else {
+                inner.fail("only Schema, Channel and Message records may be inside a Chunk");
+            }
+            at += mcap::kRecordPrefix + len;
+        }
+    }
+
+    const McapMessage& message(Fields& f) {
         if (out_.hasDataEnd) f.fail("a Message record after DataEnd (the summary holds no messages)");
         McapMessage m;
         m.channelId = f.u16("channel_id");
@@ -146,6 +186,7 @@ private:
         if (!channelAt_.count(m.channelId))
             f.fail("message on channel id " + std::to_string(m.channelId) + ", which no earlier Channel defines");
         out_.messages.push_back(std::move(m));
+        return out_.messages.back();
     }
 
     void dataEnd(std::uint64_t pos, Fields& f) {
@@ -194,6 +235,13 @@ private:
         if (!isMagic(b_, end)) f.fail("the 8 bytes after the Footer are not the MCAP magic");
         if (b_.size() - end > 8) f.fail(std::to_string(b_.size() - end - 8) + " bytes after the closing magic");
         if (!out_.hasDataEnd) f.fail("no DataEnd record before the Footer");
+        out_.indexedChunks = index_.indexed();
+        if (out_.statistics && out_.statistics->chunkCount != index_.chunks())
+            f.fail("Statistics counts " + std::to_string(out_.statistics->chunkCount) + " chunks, the file holds " +
+                   std::to_string(index_.chunks()));
+        if (out_.indexedChunks != 0 && out_.indexedChunks != index_.chunks())
+            f.fail("the summary indexes " + std::to_string(out_.indexedChunks) + " of the file's " +
+                   std::to_string(index_.chunks()) + " chunks");
         if (out_.statistics && out_.statistics->messageCount != out_.messages.size())
             f.fail("Statistics counts " + std::to_string(out_.statistics->messageCount) + " messages, the file holds " +
                    std::to_string(out_.messages.size()));
@@ -224,6 +272,7 @@ private:
     std::map<std::uint16_t, std::size_t> channelAt_;  // id -> index in out_.channels
     std::uint64_t summaryStart_ = 0;                  // offset just after DataEnd
     std::uint64_t firstSummaryOffset_ = 0;            // offset of the first SummaryOffset record, 0 if none
+    mcap::ChunkIndexCheck index_;                     // chunks read, against which indexes are checked
 };
 
 }  // namespace

@@ -1,13 +1,16 @@
 #pragma once
 // Reads MCAP files (https://mcap.dev/spec, major version "0") such as McapWriter produces, from
 // untrusted bytes: every length is checked against the bytes that are really there before use.
-// Whole files are read into memory (at most maxFileBytes). Supported: unchunked Schema, Channel
-// and Message records in the data section, DataEnd (CRC checked when nonzero), a summary with
-// Schema/Channel copies (checked against the data section), Statistics and SummaryOffset, and the
-// Footer's summary CRC (checked when nonzero). Records with other opcodes (index, attachment,
-// metadata, application 0x80-0xFF, ...) are skipped as the spec allows; Chunk records are refused,
-// since skipping them would silently lose messages. Trailing bytes inside a known record (fields
-// added by later spec versions) are ignored.
+// Whole files are read into memory (at most maxFileBytes). Supported: Schema, Channel and Message
+// records in the data section, unchunked or in Chunk records (uncompressed or zstd; lz4 is refused
+// with an error, never skipped, since skipping would silently lose messages; at most 256 MiB
+// uncompressed per chunk), DataEnd (CRC checked when nonzero), a summary with Schema/Channel
+// copies (checked against the data section), Statistics and SummaryOffset, and the Footer's summary
+// CRC (checked when nonzero). Indexes are checked, not used: each MessageIndex must list exactly
+// its chunk's messages of its channel, each ChunkIndex must match its chunk and name its
+// MessageIndex records, and a summary that indexes chunks must index them all. Records with other
+// opcodes (attachment, metadata, application 0x80-0xFF, ...) are skipped as the spec allows.
+// Trailing bytes inside a known record (fields added by later spec versions) are ignored.
 // Errors: bop::Error(where, what), where = the path (or the name given to parseMcap), what
 // includes the byte offset of the offending record.
 #include <cstdint>
@@ -81,6 +84,8 @@ struct McapFile {
     std::uint32_t dataSectionCrc = 0;  // as stored in DataEnd (0: not computed by the writer)
     bool complete = false;             // Footer and closing magic present (always true in Strict mode)
     std::uint64_t validBytes = 0;      // offset just past the last complete record (or magic)
+    std::size_t chunkCount = 0;        // Chunk records (counted when the Footer is read)
+    std::size_t indexedChunks = 0;     // of them, those the summary's ChunkIndex records point at
 
     const McapSchema* schema(std::uint16_t id) const;
     const McapChannel* channel(std::uint16_t id) const;

@@ -1,7 +1,7 @@
 #include "recording/McapWriter.hpp"
 
 #include "bop/common/Error.hpp"
-#include "recording/McapFormat.hpp"
+#include "recording/McapBytes.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -17,62 +17,10 @@ namespace bop::recording {
 
 namespace {
 
-using Bytes = std::vector<std::uint8_t>;
+using namespace mcap;
 
 // Records are handed to the OS once this many bytes are buffered (bounds data lost in a crash).
 constexpr std::size_t kFlushBytes = std::size_t(1) << 20;
-
-void putLe(Bytes& out, std::uint64_t v, int bytes) {
-    for (int i = 0; i < bytes; ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
-}
-void putU8(Bytes& out, std::uint8_t v) {
-    out.push_back(v);
-}
-void putU16(Bytes& out, std::uint16_t v) {
-    putLe(out, v, 2);
-}
-void putU32(Bytes& out, std::uint32_t v) {
-    putLe(out, v, 4);
-}
-void putU64(Bytes& out, std::uint64_t v) {
-    putLe(out, v, 8);
-}
-void append(Bytes& out, const Bytes& more) {
-    out.insert(out.end(), more.begin(), more.end());
-}
-
-// MCAP prefixes strings, byte arrays and maps with a u32 byte length.
-std::uint32_t u32Length(std::size_t n, const std::string& where, const std::string& field) {
-    if (n > std::numeric_limits<std::uint32_t>::max())
-        throw Error(where, field + " is " + std::to_string(n) + " bytes; MCAP allows at most 4 GiB - 1");
-    return static_cast<std::uint32_t>(n);
-}
-
-void putString(Bytes& out, const std::string& s, const std::string& where, const std::string& field) {
-    putU32(out, u32Length(s.size(), where, field));
-    out.insert(out.end(), s.begin(), s.end());
-}
-
-// Map<string, string>: u32 byte length of all entries, then key and value strings in key order.
-void putStringMap(Bytes& out, const std::map<std::string, std::string>& map, const std::string& where) {
-    Bytes entries;
-    for (const auto& [key, value] : map) {
-        putString(entries, key, where, "channel metadata key");
-        putString(entries, value, where, "channel metadata value '" + key + "'");
-    }
-    putU32(out, u32Length(entries.size(), where, "channel metadata"));
-    append(out, entries);
-}
-
-// A whole record: opcode, u64 content length, content.
-Bytes makeRecord(std::uint8_t op, const Bytes& content) {
-    Bytes r;
-    r.reserve(mcap::kRecordPrefix + content.size());
-    putU8(r, op);
-    putU64(r, content.size());
-    append(r, content);
-    return r;
-}
 
 [[noreturn]] void throwErrno(const std::string& where, const std::string& what, int err) {
     throw Error(where, what + ": " + std::strerror(err));
@@ -80,9 +28,11 @@ Bytes makeRecord(std::uint8_t op, const Bytes& content) {
 
 }  // namespace
 
-McapWriter::McapWriter(std::string path, std::string profile)
-    : path_(std::move(path)), partialPath_(path_ + ".partial") {
+McapWriter::McapWriter(std::string path, std::string profile, McapWriterOptions options)
+    : path_(std::move(path)), partialPath_(path_ + ".partial"), options_(options) {
     if (path_.empty()) throw Error("McapWriter", "empty output path");
+    if (options_.compression == McapCompression::Zstd && (options_.zstdLevel < 1 || options_.zstdLevel > 19))
+        throw Error(path_, "zstd level " + std::to_string(options_.zstdLevel) + " (expected 1 to 19)");
     fd_ = ::open(partialPath_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd_ < 0) throwErrno(partialPath_, "cannot create recording", errno);
     // The magic belongs to the data-section CRC: DataEnd's CRC covers the file from byte 0.
@@ -165,7 +115,12 @@ void McapWriter::write(std::uint16_t channelId, std::uint32_t sequence, std::uin
     putU64(content, logTimeNs);
     putU64(content, publishTimeNs);
     content.insert(content.end(), data.begin(), data.end());
-    appendRecord(mcap::kMessage, content, true);
+    if (options_.chunkBytes == 0) {
+        appendRecord(mcap::kMessage, content, true);
+    } else {
+        chunk_.add(channelId, logTimeNs, makeRecord(mcap::kMessage, content));
+        if (chunk_.bytes() >= options_.chunkBytes) sealChunk();
+    }
     messageStartNs_ = messageCount_ == 0 ? logTimeNs : std::min(messageStartNs_, logTimeNs);
     messageEndNs_ = messageCount_ == 0 ? logTimeNs : std::max(messageEndNs_, logTimeNs);
     ++messageCount_;
@@ -180,7 +135,21 @@ void McapWriter::appendRecord(std::uint8_t op, const Bytes& content, bool inData
     const std::size_t n = buffer_.size() - start;
     if (inDataSection) dataCrc_ = mcap::crc32Update(dataCrc_, buffer_.data() + start, n);
     offset_ += n;
-    if (buffer_.size() >= kFlushBytes) flush();
+    if (buffer_.size() >= kFlushBytes) flushBuffer();
+}
+
+void McapWriter::appendData(const Bytes& records) {
+    dataCrc_ = mcap::crc32Update(dataCrc_, records.data(), records.size());
+    append(buffer_, records);
+    offset_ += records.size();
+    if (buffer_.size() >= kFlushBytes) flushBuffer();
+}
+
+void McapWriter::sealChunk() {
+    if (chunk_.empty()) return;
+    SealedChunk sealed = chunk_.seal(offset_, options_.compression, options_.zstdLevel, partialPath_);
+    appendData(sealed.dataRecords);
+    chunkIndexRecords_.push_back(std::move(sealed.chunkIndex));
 }
 
 void McapWriter::writeOut(const std::uint8_t* p, std::size_t n) {
@@ -200,6 +169,12 @@ void McapWriter::writeOut(const std::uint8_t* p, std::size_t n) {
 
 void McapWriter::flush() {
     if (fd_ < 0) return;
+    sealChunk();
+    flushBuffer();
+}
+
+void McapWriter::flushBuffer() {
+    if (fd_ < 0) return;
     writeOut(buffer_.data(), buffer_.size());
     buffer_.clear();
 }
@@ -208,6 +183,7 @@ void McapWriter::close() {
     if (closed_) return;
     requireOpen("close");
     closed_ = true;  // also after a failure below: a second close() must not append a second summary
+    sealChunk();
     // DataEnd ends the data section; its CRC covers every byte before this record.
     Bytes dataEnd;
     putU32(dataEnd, dataCrc_);
@@ -219,9 +195,9 @@ void McapWriter::close() {
     putU64(stats, messageCount_);
     putU16(stats, static_cast<std::uint16_t>(schemaRecords_.size()));
     putU32(stats, static_cast<std::uint32_t>(channelRecords_.size()));
-    putU32(stats, 0);                // attachment_count
-    putU32(stats, 0);                // metadata_count
-    putU32(stats, 0);                // chunk_count: messages are not chunked
+    putU32(stats, 0);  // attachment_count
+    putU32(stats, 0);  // metadata_count
+    putU32(stats, chunkCount());
     putU64(stats, messageStartNs_);  // earliest / latest log time in ns, 0 when there are no messages
     putU64(stats, messageEndNs_);
     Bytes counts;  // Map<u16 channel id, u64 count>, channels that have messages (as the reference writer)
@@ -249,6 +225,7 @@ void McapWriter::close() {
     addGroup(mcap::kSchema, schemaRecords_);
     addGroup(mcap::kChannel, channelRecords_);
     addGroup(mcap::kStatistics, {makeRecord(mcap::kStatistics, stats)});
+    addGroup(mcap::kChunkIndex, chunkIndexRecords_);
     const std::uint64_t summaryOffsetStart = summaryStart + tail.size();
     append(tail, offsets);
 

@@ -75,15 +75,19 @@ inline Session makeSession(int n) {
     return s;
 }
 
-inline void writeSession(const std::string& path, const Session& s) {
-    McapWriter w(path);
+// Every Message record on its own in the data section, as the byte-level tests expect.
+inline const McapWriterOptions kUnchunked{.chunkBytes = 0};
+
+inline void writeSession(const std::string& path, const Session& s, const McapWriterOptions& options = {}) {
+    McapWriter w(path, "", options);
     for (const auto& x : s.schemas) REQUIRE(w.addSchema(x.name, x.encoding, x.data) == x.id);
     for (const auto& c : s.channels) REQUIRE(w.addChannel(c.schemaId, c.topic, c.messageEncoding, c.metadata) == c.id);
     for (const auto& m : s.messages) w.write(m.channelId, m.sequence, m.logTimeNs, m.publishTimeNs, m.data);
     w.close();
 }
 
-// End offsets of the Message records, found by walking <opcode u8><length u64> records directly.
+// End offsets of the Message records of an unchunked file, found by walking <opcode u8><length
+// u64> records directly.
 inline std::vector<std::size_t> messageEnds(const Bytes& b) {
     std::vector<std::size_t> ends;
     for (std::size_t pos = 8; b[pos] != 0x02;) {

@@ -13,7 +13,7 @@ using namespace bop::test::mcap;
 TEST_CASE("mcap round trip of 2 schemas, 3 channels and 1000 messages", "[mcap]") {
     const std::string path = tempPath("session.mcap");
     const Session s = makeSession(1000);
-    writeSession(path, s);
+    writeSession(path, s, kUnchunked);
     CHECK(std::filesystem::exists(path));
     CHECK_FALSE(std::filesystem::exists(path + ".partial"));
 
@@ -66,7 +66,7 @@ TEST_CASE("mcap round trip of 2 schemas, 3 channels and 1000 messages", "[mcap]"
 TEST_CASE("mcap bytes of a small file match the spec layout", "[mcap]") {
     const std::string path = tempPath("small.mcap");
     {
-        McapWriter w(path);
+        McapWriter w(path, "", kUnchunked);
         REQUIRE(w.addSchema("s", "flatbuffer", Bytes{0xAA}) == 1);
         REQUIRE(w.addChannel(1, "/t", "flatbuffer", {{"k", "v"}}) == 1);
         w.write(1, 7, 0x0102030405060708ull, 9, Bytes{1, 2, 3});
@@ -122,7 +122,7 @@ TEST_CASE("mcap bytes of a small file match the spec layout", "[mcap]") {
 
 TEST_CASE("mcap CRC mismatches are detected", "[mcap]") {
     const std::string path = tempPath("crc.mcap");
-    writeSession(path, makeSession(200));
+    writeSession(path, makeSession(200), kUnchunked);
     const Bytes good = readAll(path);
     const std::string marker = "PAYLOAD-MARK";
     const auto it = std::search(good.begin(), good.end(), marker.begin(), marker.end());
