@@ -32,6 +32,12 @@ packages=(
   # scripts/netdelay (bop-netdelay) and its iptables NFQUEUE rule: two-host.sh's delay where the kernel has no netem
   libnetfilter-queue-dev iptables
 )
+# the Foxglove check of recordings (tests/cli/foxglove_cli.sh) runs in Node.js with packages from
+# npm: Debian's nodejs and npm, unless a Node.js with npm is already installed (another vendor's
+# nodejs package holds npm itself and conflicts with Debian's npm)
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  packages+=(nodejs npm)
+fi
 if [[ "${1:-}" == "--bench" ]]; then
   packages+=(python3-scipy python3-matplotlib lammps gromacs time)
 fi

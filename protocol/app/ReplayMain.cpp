@@ -4,14 +4,18 @@
 //   check FILE    runs a fresh bop-server on the recorded inputs (same scene, same rank count)
 //                 and compares its frames with the recorded ones, step by step, bit for bit
 //   compare A B   only the comparison, of two recordings
+//   export IN OUT IN rewritten chunked, indexed and zstd-compressed, with the Foxglove channels
+//                 (recording/RecordingExport.hpp), for recordings made without them
 #include "bop/common/Error.hpp"
 #include "bop/common/ToolMain.hpp"
+#include "recording/RecordingExport.hpp"
 #include "recording/SessionReader.hpp"
 #include "server/ServerFront.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
@@ -142,6 +146,17 @@ int serve(const std::string& file, FrontOptions front, double speed, bool wait) 
     return 0;
 }
 
+int exportFile(const std::string& in, const std::string& out, const recording::McapWriterOptions& options) {
+    const ExportReport r = exportRecording(in, out, options);
+    const double perSecond = r.seconds > 0 ? 1 / r.seconds : 0;
+    std::cout << out << ": " << r.messagesCopied << " messages copied, " << r.framesDerived
+              << " frames for Foxglove (point cloud, surfels, probe, transform, stats), " << r.chunks << " chunks\n"
+              << "  " << r.inputBytes << " bytes in (" << std::lround(double(r.inputBytes) * perSecond)
+              << " per recorded second), " << r.outputBytes << " bytes out ("
+              << std::lround(double(r.outputBytes) * perSecond) << " per recorded second) over " << r.seconds << " s\n";
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -167,6 +182,17 @@ int main(int argc, char** argv) {
         auto* k = app.add_subcommand("compare", "compare the frames of two recordings, step by step");
         k->add_option("recorded", file, "recording (.mcap)")->required();
         k->add_option("replayed", other, "recording (.mcap)")->required();
+        recording::McapWriterOptions mcap;
+        auto* x = app.add_subcommand("export",
+                                     "rewrite a recording for Foxglove: chunked, indexed, zstd, 3D and plot channels");
+        x->add_option("file", file, "recording (.mcap, or an unfinished .mcap.partial)")->required();
+        x->add_option("out", other, "the new recording (.mcap)")->required();
+        x->add_option("--zstd-level", mcap.zstdLevel, "zstd level, 1 (fast) .. 19 (small)")->check(CLI::Range(1, 19));
+        bool plain = false;
+        x->add_flag("--no-compression", plain, "chunks stored uncompressed");
+        x->add_option("--chunk-kib", mcap.chunkBytes, "uncompressed KiB a chunk collects (0: no chunks, no index)")
+            ->check(CLI::Range(0, 1 << 18))
+            ->transform([](std::string v) { return std::to_string(std::stoull(v) * 1024); });
         try {
             app.parse(argc, argv);
         } catch (const CLI::ParseError& e) {
@@ -174,6 +200,8 @@ int main(int argc, char** argv) {
         }
         if (s->parsed()) return serve(file, front, speed, wait);
         if (c->parsed()) return check(file, server, ranks, outDir);
+        if (plain) mcap.compression = recording::McapCompression::None;
+        if (x->parsed()) return exportFile(file, other, mcap);
         return compare(file, other);
     });
 }

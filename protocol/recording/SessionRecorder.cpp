@@ -23,7 +23,7 @@ std::uint64_t wallNs() {
 
 SessionRecorder::SessionRecorder(const std::string& path, const SceneInfo& scene,
                                  const std::map<std::string, std::string>& meta)
-    : writer_(path) {
+    : writer_(path), foxglove_(writer_, scene) {
     using namespace embedded;
     const auto channel = [&](const char* topic, const char* root, const std::uint8_t* schema, std::size_t size,
                              const std::map<std::string, std::string>& m = {}) {
@@ -55,7 +55,9 @@ void SessionRecorder::probe(const Buffer& probe, const Buffer& applied) {
 }
 
 void SessionRecorder::frameChunk(const Buffer& chunk) {
-    write(frame_, chunk);
+    const std::uint64_t t = wallNs();
+    writer_.write(frame_, sequence_[frame_]++, t, t, chunk);
+    foxglove_.frameChunk(chunk, t);
 }
 
 void SessionRecorder::close() {

@@ -3,9 +3,12 @@
 // with the reply that says the step at which it was applied, every probe with the step at
 // which it was applied (a Feedback message: probe sequence and step), and every state-frame
 // chunk sent, each on its own channel with the binary FlatBuffers schema embedded, so MCAP
-// tools can open it. Timestamps are wall-clock nanoseconds since the Unix epoch.
+// tools can open it; beside them, for every whole frame, the channels Foxglove shows in its 3D and
+// Plot panels (FoxgloveChannels.hpp). Chunked, indexed and zstd-compressed (McapWriter.hpp).
+// Timestamps are wall-clock nanoseconds since the Unix epoch.
 // One thread (the front's) owns a recorder.
 #include "codec/Codec.hpp"
+#include "recording/FoxgloveChannels.hpp"
 #include "recording/McapWriter.hpp"
 #include "recording/SessionTopics.hpp"
 
@@ -31,6 +34,7 @@ private:
     recording::McapWriter writer_;
     std::uint16_t scene_ = 0, command_ = 0, reply_ = 0, probe_ = 0, applied_ = 0, frame_ = 0;
     std::map<std::uint16_t, std::uint32_t> sequence_;
+    FoxgloveChannels foxglove_;
 };
 
 }  // namespace bop::protocol
