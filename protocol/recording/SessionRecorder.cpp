@@ -1,5 +1,7 @@
 #include "recording/SessionRecorder.hpp"
 
+#include "bop/common/Error.hpp"
+
 #include <chrono>
 #include <cstddef>
 #include <span>
@@ -36,31 +38,91 @@ SessionRecorder::SessionRecorder(const std::string& path, const SceneInfo& scene
     probe_ = channel(kTopicProbe, "bop.wire.Probe", probeSchema, probeSchemaSize);
     applied_ = channel(kTopicProbeApplied, "bop.wire.Feedback", feedbackSchema, feedbackSchemaSize);
     frame_ = channel(kTopicFrame, "bop.wire.StateFrame", frameSchema, frameSchemaSize);
-    write(scene_, encodeSceneInfo(scene));
+    const std::uint64_t t = wallNs();
+    writer_.write(scene_, sequence_[scene_]++, t, t, encodeSceneInfo(scene));
+    thread_ = std::thread([this] { run(); });
 }
 
-void SessionRecorder::write(std::uint16_t channel, const Buffer& b) {
-    const std::uint64_t t = wallNs();
-    writer_.write(channel, sequence_[channel]++, t, t, b);
+SessionRecorder::~SessionRecorder() {
+    stopThread();  // what is queued is written; the writer's destructor leaves PATH.partial
+}
+
+void SessionRecorder::push(std::uint16_t channel, const Buffer& b, std::uint64_t timeNs) {
+    if (error_) std::rethrow_exception(error_);
+    if (queuedBytes_ + b.size() > kMaxQueuedBytes) {
+        queue_.clear();  // the disk cannot keep up: end the recording here, the run goes on
+        error_ = std::make_exception_ptr(Error(writer_.partialPath(), "the recording fell " +
+                                                                          std::to_string(kMaxQueuedBytes >> 20) +
+                                                                          " MiB behind the session (disk too slow?)"));
+        std::rethrow_exception(error_);
+    }
+    queuedBytes_ += b.size();
+    queue_.push_back({channel, timeNs, b});
 }
 
 void SessionRecorder::command(const Buffer& command, const Buffer& reply) {
-    write(command_, command);
-    write(reply_, reply);
+    const std::uint64_t t = wallNs();
+    {
+        std::lock_guard lock(m_);
+        push(command_, command, t);
+        push(reply_, reply, t);
+    }
+    wake_.notify_one();
 }
 
 void SessionRecorder::probe(const Buffer& probe, const Buffer& applied) {
-    write(probe_, probe);
-    write(applied_, applied);
+    const std::uint64_t t = wallNs();
+    {
+        std::lock_guard lock(m_);
+        push(probe_, probe, t);
+        push(applied_, applied, t);
+    }
+    wake_.notify_one();
 }
 
 void SessionRecorder::frameChunk(const Buffer& chunk) {
     const std::uint64_t t = wallNs();
-    writer_.write(frame_, sequence_[frame_]++, t, t, chunk);
-    foxglove_.frameChunk(chunk, t);
+    {
+        std::lock_guard lock(m_);
+        push(0, chunk, t);
+    }
+    wake_.notify_one();
+}
+
+void SessionRecorder::run() {
+    std::unique_lock lock(m_);
+    for (;;) {
+        wake_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+        if (queue_.empty()) return;  // stopping, and everything is written
+        Item item = std::move(queue_.front());
+        queue_.pop_front();
+        queuedBytes_ -= item.bytes.size();
+        if (error_) continue;  // after a failure nothing more is written
+        lock.unlock();
+        try {
+            const std::uint16_t channel = item.channel == 0 ? frame_ : item.channel;
+            writer_.write(channel, sequence_[channel]++, item.timeNs, item.timeNs, item.bytes);
+            if (item.channel == 0) foxglove_.frameChunk(item.bytes, item.timeNs);
+            lock.lock();
+        } catch (...) {
+            lock.lock();
+            error_ = std::current_exception();
+        }
+    }
+}
+
+void SessionRecorder::stopThread() {
+    {
+        std::lock_guard lock(m_);
+        stopping_ = true;
+    }
+    wake_.notify_one();
+    if (thread_.joinable()) thread_.join();
 }
 
 void SessionRecorder::close() {
+    stopThread();
+    if (error_) std::rethrow_exception(error_);
     writer_.close();
 }
 
