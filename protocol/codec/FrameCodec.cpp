@@ -1,4 +1,4 @@
-// State frames and their chunks, float32 or 16-bit quantised (Quantise.hpp).
+// State frames and their chunks, float32, 16-bit quantised or compact (Quantise.hpp).
 #include "codec/BufferPool.hpp"
 #include "codec/Checker.hpp"
 #include "codec/Codec.hpp"
@@ -7,6 +7,7 @@
 #include "frame_generated.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 
 // Float, uint16 and uint64 arrays are copied out of the buffer with memcpy, which assumes the
@@ -34,10 +35,42 @@ void copyOut(const flatbuffers::Vector<T>* v, std::vector<T>& out) {
     if (!out.empty()) std::memcpy(out.data(), v->Data(), out.size() * sizeof(T));
 }
 
+// Compact8: particles [begin, end) of m grouped by species (a stable counting sort), their
+// arrays gathered in that order, and the runs of species.
+struct Grouped {
+    std::vector<float> positions, normals;
+    std::vector<std::uint64_t> ids;
+    std::vector<std::uint8_t> runSpecies;
+    std::vector<std::uint32_t> runLengths;
+};
+
+void groupBySpecies(const StateFrame& m, std::size_t begin, std::size_t end, Grouped& g) {
+    std::array<std::uint32_t, 257> start{};
+    for (std::size_t i = begin; i < end; ++i) ++start[m.species[i] + 1];
+    g.runSpecies.clear();
+    g.runLengths.clear();
+    for (int s = 0; s < 256; ++s) {
+        if (start[s + 1] > 0) g.runSpecies.push_back(std::uint8_t(s)), g.runLengths.push_back(start[s + 1]);
+        start[s + 1] += start[s];
+    }
+    const std::size_t k = end - begin;
+    const bool withNormals = !m.normals.empty(), withIds = !m.ids.empty();
+    g.positions.resize(3 * k);
+    g.normals.resize(withNormals ? 3 * k : 0);
+    g.ids.resize(withIds ? k : 0);
+    for (std::size_t i = begin; i < end; ++i) {
+        const std::uint32_t at = start[m.species[i]]++;
+        std::memcpy(&g.positions[3 * at], &m.positions[3 * i], 3 * sizeof(float));
+        if (withNormals) std::memcpy(&g.normals[3 * at], &m.normals[3 * i], 3 * sizeof(float));
+        if (withIds) g.ids[at] = m.ids[i];
+    }
+}
+
 // Particles [begin, end) of m as chunk `index` of `count`, into `out` (its capacity reused).
 void encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std::uint32_t index, std::uint32_t count,
                  std::uint32_t firstIndex, Buffer& out) {
     const std::size_t k = end - begin;
+    const bool compact = m.encoding == FrameEncoding::Compact8;
     const bool quantised = m.encoding == FrameEncoding::Quantised16;
     const bool withNormals = !m.normals.empty(), withIds = !m.ids.empty();
     // One builder per thread, cleared for each chunk: its memory stays (as large as the largest
@@ -47,7 +80,23 @@ void encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std::u
     flatbuffers::Offset<flatbuffers::Vector<float>> positions, normals;
     flatbuffers::Offset<flatbuffers::Vector<std::uint16_t>> qpositions, qnormals;
     flatbuffers::Offset<flatbuffers::Vector<std::uint64_t>> ids;
-    if (quantised) {
+    flatbuffers::Offset<flatbuffers::Vector<std::uint8_t>> species, qnormals8, runSpecies;
+    flatbuffers::Offset<flatbuffers::Vector<std::uint32_t>> runLengths;
+    if (compact) {
+        thread_local Grouped g;
+        groupBySpecies(m, begin, end, g);
+        std::uint16_t* q = nullptr;
+        qpositions = fbb.CreateUninitializedVector(3 * k, &q);
+        quantisePositions(g.positions.data(), k, m.quantLo, m.quantHi, q);
+        if (withNormals) {
+            std::uint8_t* q8 = nullptr;
+            qnormals8 = fbb.CreateUninitializedVector(2 * k, &q8);
+            octEncodeNormals8(g.normals.data(), k, q8);
+        }
+        if (withIds) ids = fbb.CreateVector(g.ids);
+        runSpecies = fbb.CreateVector(g.runSpecies);
+        runLengths = fbb.CreateVector(g.runLengths);
+    } else if (quantised) {
         std::uint16_t* q = nullptr;
         qpositions = fbb.CreateUninitializedVector(3 * k, &q);
         quantisePositions(m.positions.data() + 3 * begin, k, m.quantLo, m.quantHi, q);
@@ -59,8 +108,10 @@ void encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std::u
         positions = fbb.CreateVector(m.positions.data() + 3 * begin, 3 * k);
         if (withNormals) normals = fbb.CreateVector(m.normals.data() + 3 * begin, 3 * k);
     }
-    if (withIds) ids = fbb.CreateVector(m.ids.data() + begin, k);
-    const auto species = fbb.CreateVector(m.species.data() + begin, k);
+    if (!compact) {
+        if (withIds) ids = fbb.CreateVector(m.ids.data() + begin, k);
+        species = fbb.CreateVector(m.species.data() + begin, k);
+    }
     const FrameStats& s = m.stats;
     const wire::LoopStats haptic = detail::toWire(s.haptic);
     const auto stats = wire::CreateFrameStats(fbb, s.kinetic, s.potential, s.pressure, s.stepRateHz, s.particleCount,
@@ -81,10 +132,17 @@ void encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std::u
     b.add_stats(stats);
     b.add_frame_particle_count(m.frameParticleCount);
     b.add_first_index(firstIndex);
-    b.add_species(species);
+    if (!compact) b.add_species(species);
     if (withIds) b.add_ids(ids);
     b.add_encoding(wire::FrameEncoding(m.encoding));
-    if (quantised) {
+    if (compact) {
+        b.add_quant_lo(&lo);
+        b.add_quant_hi(&hi);
+        b.add_qpositions(qpositions);
+        if (withNormals) b.add_qnormals8(qnormals8);
+        b.add_run_species(runSpecies);
+        b.add_run_lengths(runLengths);
+    } else if (quantised) {
         b.add_quant_lo(&lo);
         b.add_quant_hi(&hi);
         b.add_qpositions(qpositions);
@@ -99,10 +157,42 @@ void encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std::u
 
 // Array lengths of a verified chunk against its particle count (the arrays of the encoding not
 // in use must be empty), and the quantisation bounds, which must be sane before dequantising.
+// A Compact8 chunk's particle count: the sum of its run lengths (at most 2^28 runs of at most
+// 2^32 - 1: no overflow in 64 bits).
+std::uint64_t compactCount(const wire::StateFrame& w) {
+    std::uint64_t n = 0;
+    if (w.run_lengths())
+        for (const std::uint32_t r : *w.run_lengths()) n += r;
+    return n;
+}
+
 Validation checkWireLengths(const wire::StateFrame& w) {
     detail::Checker c("StateFrame");
-    const std::size_t n = sizeOf(w.species());
+    const bool compact = w.encoding() == wire::FrameEncoding::Compact8;
+    const std::uint64_t n = compact ? compactCount(w) : sizeOf(w.species());
     const auto got = [](std::size_t size) { return std::to_string(size) + " values"; };
+    const bool noPlainArrays =
+        sizeOf(w.qnormals8()) == 0 && sizeOf(w.run_species()) == 0 && sizeOf(w.run_lengths()) == 0;
+    if (compact) {
+        c.require(sizeOf(w.run_species()) == sizeOf(w.run_lengths()), DecodeError::BadLength, "run_species",
+                  got(sizeOf(w.run_species())) + ", expected one per run (" + got(sizeOf(w.run_lengths())) + ")") &&
+            c.require(sizeOf(w.qpositions()) == 3 * n, DecodeError::BadLength, "qpositions",
+                      got(sizeOf(w.qpositions())) + ", expected 3 x " + std::to_string(n) + " (the runs' particles)") &&
+            c.require(sizeOf(w.qnormals8()) == 0 || sizeOf(w.qnormals8()) == 2 * n, DecodeError::BadLength, "qnormals8",
+                      got(sizeOf(w.qnormals8())) + ", expected 0 or 2 x " + std::to_string(n)) &&
+            c.require(sizeOf(w.positions()) == 0 && sizeOf(w.normals()) == 0 && sizeOf(w.qnormals()) == 0 &&
+                          sizeOf(w.species()) == 0,
+                      DecodeError::BadLength, "positions/normals/qnormals/species",
+                      "arrays of another encoding in a Compact8 chunk") &&
+            c.require(w.quant_lo() && w.quant_hi(), DecodeError::MissingField, "quant_lo/quant_hi", "absent") &&
+            detail::checkQuantBounds(c, detail::toEigen(*w.quant_lo()), detail::toEigen(*w.quant_hi()));
+        return c.result();
+    }
+    if (!noPlainArrays) {
+        c.fail(DecodeError::BadLength, "qnormals8/run_species/run_lengths",
+               "Compact8 arrays in a chunk of another encoding");
+        return c.result();
+    }
     if (w.encoding() == wire::FrameEncoding::Quantised16) {
         c.require(sizeOf(w.qpositions()) == 3 * n, DecodeError::BadLength, "qpositions",
                   got(sizeOf(w.qpositions())) + ", expected 3 x " + std::to_string(n)) &&
@@ -189,10 +279,27 @@ Validation decodeStateFrameInto(const std::uint8_t* buf, std::size_t len, StateF
     m.frameParticleCount = w.frame_particle_count();
     m.firstIndex = w.first_index();
     m.encoding = FrameEncoding(w.encoding());
-    copyOut(w.species(), m.species);
+    if (m.encoding == FrameEncoding::Compact8) {
+        m.species.clear();  // runs expanded; checkWireLengths bounded their sum by qpositions
+        m.species.reserve(compactCount(w));
+        for (flatbuffers::uoffset_t r = 0; r < sizeOf(w.run_lengths()); ++r)
+            m.species.insert(m.species.end(), w.run_lengths()->Get(r), w.run_species()->Get(r));
+    } else {
+        copyOut(w.species(), m.species);
+    }
     copyOut(w.ids(), m.ids);
     const std::size_t n = m.species.size();
-    if (m.encoding == FrameEncoding::Quantised16) {
+    if (m.encoding == FrameEncoding::Compact8) {
+        const auto* qpositions =
+            w.qpositions() ? reinterpret_cast<const std::uint16_t*>(w.qpositions()->Data()) : nullptr;
+        m.quantLo = detail::toEigen(*w.quant_lo());
+        m.quantHi = detail::toEigen(*w.quant_hi());
+        m.positions.resize(3 * n);
+        dequantisePositions(qpositions, n, m.quantLo, m.quantHi, m.positions.data());
+        const std::size_t normals = sizeOf(w.qnormals8()) / 2;
+        m.normals.resize(3 * normals);
+        if (normals > 0) octDecodeNormals8(w.qnormals8()->Data(), n, m.normals.data());
+    } else if (m.encoding == FrameEncoding::Quantised16) {
         // Decoded straight from the verified buffer: aligned (VerifiedBuffer), its arrays read the
         // way FlatBuffers' own accessors read them.
         // An empty chunk may leave qpositions out altogether (0 values: checkWireLengths passed it).

@@ -81,6 +81,8 @@ struct SceneInfo {
 enum class FrameEncoding : std::uint8_t {
     Float32 = 0,      // 12 bytes per position, 12 per normal
     Quantised16 = 1,  // 6 bytes per position (uint16 against quantLo/Hi), 4 per normal (octahedral)
+    Compact8 = 2,     // 6 bytes per position as Quantised16, 2 per normal (octahedral, 8-bit), species
+                      // as runs (a chunk's particles grouped by species); decoded in that order
 };
 
 // A haptic client's device loop as it measures itself; all 0 when there is none.

@@ -23,9 +23,11 @@ double signNotZero(double v) {
     return v < 0 ? -1.0 : 1.0;
 }
 
-// A uint16 code back to its square coordinate in [-1, 1].
-double fromCode(std::uint16_t q) {
-    return q * (2.0 / kQuantLevels) - 1.0;
+// A code (uint16, or uint8 for Compact8) back to its square coordinate in [-1, 1].
+template <class Code>
+double fromCode(Code q) {
+    constexpr double levels = std::numeric_limits<Code>::max();
+    return q * (2.0 / levels) - 1.0;
 }
 
 // In float: normals travel as float32 anyway, and the float loop runs four times faster than the
@@ -34,12 +36,15 @@ float signNotZero(float v) {
     return v < 0 ? -1.0f : 1.0f;
 }
 
-std::uint16_t toCode(float s) {
+template <class Code>
+Code toCode(float s) {
+    constexpr float levels = std::numeric_limits<Code>::max();
     const float t = std::min(std::max(0.0f, (s + 1.0f) * 0.5f), 1.0f);  // max(0, NaN) = 0
-    return std::uint16_t(std::int32_t(t * float(kQuantLevels) + 0.5f));
+    return Code(std::int32_t(t * levels + 0.5f));
 }
 
-void octEncodeOne(float x, float y, float z, std::uint16_t* out) {
+template <class Code>
+void octEncodeOne(float x, float y, float z, Code* out) {
     // Both halves computed and selected, so the loop has no data-dependent branch.
     const float l1 = std::abs(x) + std::abs(y) + std::abs(z);
     const bool usable = l1 > 0 && l1 <= std::numeric_limits<float>::max();  // else +z
@@ -48,11 +53,12 @@ void octEncodeOne(float x, float y, float z, std::uint16_t* out) {
     // The lower half folded over the upper: mirrored across the edges |u| + |v| = 1.
     const float fu = (1.0f - std::abs(v)) * signNotZero(u), fv = (1.0f - std::abs(u)) * signNotZero(v);
     const bool lower = usable && z < 0;
-    out[0] = toCode(lower ? fu : u);
-    out[1] = toCode(lower ? fv : v);
+    out[0] = toCode<Code>(lower ? fu : u);
+    out[1] = toCode<Code>(lower ? fv : v);
 }
 
-void octDecodeOne(std::uint16_t qu, std::uint16_t qv, double* p) {
+template <class Code>
+void octDecodeOne(Code qu, Code qv, double* p) {
     double u = fromCode(qu), v = fromCode(qv);
     const double z = 1.0 - std::abs(u) - std::abs(v);
     if (z < 0) {
@@ -136,12 +142,38 @@ BOP_BATCH_KERNEL void octDecodeNormals(const std::uint16_t* q, std::size_t n, fl
     }
 }
 
+std::array<std::uint8_t, 2> octEncode8(const Eigen::Vector3d& n) {
+    std::array<std::uint8_t, 2> c;
+    octEncodeOne(float(n.x()), float(n.y()), float(n.z()), c.data());
+    return c;
+}
+
+Eigen::Vector3d octDecode8(std::uint8_t qu, std::uint8_t qv) {
+    Eigen::Vector3d p;
+    octDecodeOne(qu, qv, p.data());
+    return p;
+}
+
+BOP_BATCH_KERNEL void octEncodeNormals8(const float* xyz, std::size_t n, std::uint8_t* out) {
+    for (std::size_t i = 0; i < n; ++i) octEncodeOne(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], out + 2 * i);
+}
+
+BOP_BATCH_KERNEL void octDecodeNormals8(const std::uint8_t* q, std::size_t n, float* xyz) {
+    for (std::size_t i = 0; i < n; ++i) {
+        double p[3];
+        octDecodeOne(q[2 * i], q[2 * i + 1], p);
+        for (int a = 0; a < 3; ++a) xyz[3 * i + a] = float(p[a]);
+    }
+}
+
 std::size_t bytesPerParticle(FrameEncoding encoding, bool withNormals, bool withIds) {
-    const bool q = encoding == FrameEncoding::Quantised16;
-    const std::size_t position = q ? 3 * sizeof(std::uint16_t) : 3 * sizeof(float);
-    const std::size_t normal = withNormals ? (q ? 2 * sizeof(std::uint16_t) : 3 * sizeof(float)) : 0;
+    const bool q16 = encoding == FrameEncoding::Quantised16, c8 = encoding == FrameEncoding::Compact8;
+    const std::size_t position = q16 || c8 ? 3 * sizeof(std::uint16_t) : 3 * sizeof(float);
+    const std::size_t normal = !withNormals ? 0 : c8 ? 2 : q16 ? 2 * sizeof(std::uint16_t) : 3 * sizeof(float);
     const std::size_t id = withIds ? sizeof(std::uint64_t) : 0;
-    return position + normal + sizeof(std::uint8_t) + id;
+    const std::size_t species =
+        c8 ? sizeof(std::uint8_t) + sizeof(std::uint32_t) : sizeof(std::uint8_t);  // a run each, at worst
+    return position + normal + species + id;
 }
 
 }  // namespace bop::protocol

@@ -234,7 +234,7 @@ Validation validate(const StateFrame& m, const FrameLimits& limits) {
         c.require(m.ids.empty() || m.ids.size() == n, DecodeError::BadLength, "ids",
                   count(m.ids.size()) + " values, expected 0 or " + count(n));
     if (!lengthsOk) return c.result();
-    const bool quantised = m.encoding == FrameEncoding::Quantised16;
+    const bool quantised = m.encoding == FrameEncoding::Quantised16 || m.encoding == FrameEncoding::Compact8;
     const bool headerOk =
         c.require(quantised || m.encoding == FrameEncoding::Float32, DecodeError::Unsupported, "encoding",
                   "unknown encoding " + std::to_string(int(m.encoding))) &&

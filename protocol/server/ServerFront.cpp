@@ -65,7 +65,7 @@ void ServerFront::Impl::publish(StateFrame f) {
     f.serverTimeNs = nowNs();
     f.frameSeq = frameNumber + 1;  // the number send() gives it
     if (!opt.frameIds) f.ids.clear();
-    f.encoding = opt.quantised ? FrameEncoding::Quantised16 : FrameEncoding::Float32;
+    f.encoding = opt.frameEncoding;
     f.quantLo = scene.boxLo;
     f.quantHi = scene.boxHi;
     std::vector<Buffer> chunks = encodeStateFrameChunks(f, opt.chunkBytes, chunkPool.get());

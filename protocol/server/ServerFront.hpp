@@ -18,15 +18,15 @@
 namespace bop::protocol {
 
 struct FrontOptions {
-    std::string bindAddress = "127.0.0.1";     // interface to bind; "*" for all
-    int basePort = 7700;                       // control P, frames P+1, UDP probes P+2; 0 = ephemeral ports
-    float publishHz = 60;                      // default state-frame rate, wall Hz
-    float maxPublishHz = 240;                  // the most a client may ask for, wall Hz
-    std::size_t chunkBytes = 4u << 20;         // largest frame chunk, bytes
-    bool quantised = false;                    // 16-bit frames (positions against the box, octahedral normals)
-    bool frameIds = false;                     // frames carry particle ids (8 bytes per particle more)
-    bool viewersMayCommand = true;             // false: viewers are read-only, only control clients command
-    std::string curveSecretKey;                // z85 server secret key; empty = no CURVE
+    std::string bindAddress = "127.0.0.1";                 // interface to bind; "*" for all
+    int basePort = 7700;                                   // control P, frames P+1, UDP probes P+2; 0 = ephemeral ports
+    float publishHz = 60;                                  // default state-frame rate, wall Hz
+    float maxPublishHz = 240;                              // the most a client may ask for, wall Hz
+    std::size_t chunkBytes = 4u << 20;                     // largest frame chunk, bytes
+    FrameEncoding frameEncoding = FrameEncoding::Float32;  // Quantised16, Compact8: smaller frames (codec/Quantise.hpp)
+    bool frameIds = false;                                 // frames carry particle ids (8 bytes per particle more)
+    bool viewersMayCommand = true;                         // false: viewers are read-only, only control clients command
+    std::string curveSecretKey;                            // z85 server secret key; empty = no CURVE
     std::vector<std::string> curveClientKeys;  // z85 public keys of the clients let in (ZapHandler.hpp); empty = any
     bool udp = true;                           // probes on UDP P+2 and frames to clients' UDP ports; off with CURVE
     std::string recordPath;                    // MCAP recording of the session (SessionRecorder.hpp); empty = none

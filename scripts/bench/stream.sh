@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Streaming from bop-server to one client on loopback (docs/protocol.md):
-#  1. frames/s and MB/s at 10k, 100k and 1M particles (bulk fcc boxes), float and 16-bit
-#     quantised frames, with the server paused so that the stream alone is measured (the server
+#  1. frames/s and MB/s at 10k, 100k and 1M particles (bulk fcc boxes), float, 16-bit
+#     quantised and compact frames, with the server paused so that the stream alone is measured (the server
 #     keeps publishing the same state at --publish-hz 240);
 #  2. probe -> feedback round trip p50/p99/max at 1 kHz against a running 10k-particle server,
 #     over ZeroMQ and as datagrams, beside its step time (target: p99 <= 2 ms + one step);
@@ -63,8 +63,8 @@ echo "part,particles,encoding,frames_per_s,mb_per_s,bytes_per_particle,rtt_p50_m
 printf "%9s %10s %9s %8s %12s\n" particles encoding frames/s MB/s "B/particle"
 for n in ${BOP_STREAM_SIZES:-10000 100000 1000000}; do
   scene_of "$n" "$out/bulk-$n.toml"
-  for enc in float quantised; do
-    extra=(--publish-hz 240); [[ $enc == quantised ]] && extra+=(--quantised)
+  for enc in float quantised compact; do
+    extra=(--publish-hz 240); [[ $enc == quantised ]] && extra+=(--quantised); [[ $enc == compact ]] && extra+=(--compact)
     start_server 1 "$out/bulk-$n.toml" "$out/server-$n-$enc.log" "${extra[@]}"
     line=$("$bench" frames "$endpoint" --pause --seconds 5)
     stop_server

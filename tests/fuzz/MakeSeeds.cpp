@@ -93,6 +93,7 @@ void frames() {
     put("frame", "f32-0", encodeStateFrame(sampleFrame(0, FrameEncoding::Float32, false, false)));
     put("frame", "f32-64-plain", encodeStateFrame(sampleFrame(64, FrameEncoding::Float32, false, false, 11)));
     put("frame", "q16-64-ids", encodeStateFrame(sampleFrame(64, FrameEncoding::Quantised16, false, true, 12)));
+    put("frame", "c8-64-normals-ids", encodeStateFrame(sampleFrame(64, FrameEncoding::Compact8, true, true, 14)));
     // A frame split into chunks: the first, a middle and the last chunk (nonzero chunk index and
     // first index), each well below the 1 MiB -max_len of the frame target.
     const std::vector<Buffer> chunks =

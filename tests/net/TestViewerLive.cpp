@@ -124,6 +124,28 @@ TEST_CASE("bop-viewer --headless writes the frames of a 2-rank server as picture
     srv.stop(SIGINT);
 }
 
+TEST_CASE("bop-viewer --headless draws the served torus bag from Compact8 frames (8 bytes a particle)", "[net][gui]") {
+    test::TempDir dir("viewer-compact");
+    const std::string start = test::builtTorus();
+    const std::size_t particles =
+        positionsOf(start, "torus-surface").size() + positionsOf(start, "torus-volume").size();
+    test::ChildProcess srv(
+        server("torus", {"--restart", start, "--compact", "--publish-hz", "10", "-o", dir.file("run")}));
+    const std::string out = test::outputDir("viewer", "compact");
+    const auto [code, printed] =
+        test::runCommand(test::buildDir() + "/viz_client/bop-viewer " + srv.endpoint() +
+                             " --headless --no-panel --frames 3 --width 320 --height 240 --out " + out + " 2>&1",
+                         60s);
+    INFO(printed);
+    REQUIRE(code == 0);
+    CHECK(printed.find("frame 3: step ") != std::string::npos);
+    CHECK(printed.find(", " + std::to_string(particles) + " particles") != std::string::npos);
+    const Rgb p(out + "/frame-000003.png");
+    INFO(particlePixels(p) << " particle pixels");
+    CHECK(particlePixels(p) > std::size_t(p.w * p.h) / 10);
+    srv.stop(SIGINT);
+}
+
 TEST_CASE("a probe scripted in bop-viewer --headless indents the served torus bag and feels it push back",
           "[net][gui]") {
     test::TempDir dir("viewer-probe");

@@ -208,7 +208,7 @@ bool same(const CommandReply& a, const CommandReply& b) {
 }
 
 bool same(const StateFrame& a, const StateFrame& b) {
-    const bool quantised = a.encoding == FrameEncoding::Quantised16;
+    const bool quantised = a.encoding != FrameEncoding::Float32;
     return a.frameSeq == b.frameSeq && a.chunkIndex == b.chunkIndex && a.chunkCount == b.chunkCount &&
            a.step == b.step && a.simTime == b.simTime && a.serverTimeNs == b.serverTimeNs &&
            a.probePosition == b.probePosition && a.probeForce == b.probeForce && a.probeActive == b.probeActive &&
@@ -233,6 +233,7 @@ std::vector<Sample> allSamples() {
     for (const Command& c : sampleCommands()) out.push_back({MessageKind::Command, encodeCommand(c)});
     out.push_back({MessageKind::StateFrame, encodeStateFrame(sampleFrame(5, FrameEncoding::Float32, true, true))});
     out.push_back({MessageKind::StateFrame, encodeStateFrame(sampleFrame(5, FrameEncoding::Quantised16, true, false))});
+    out.push_back({MessageKind::StateFrame, encodeStateFrame(sampleFrame(6, FrameEncoding::Compact8, true, true))});
     return out;
 }
 

@@ -69,6 +69,11 @@ int run(int argc, char** argv) {
     app.add_option("--chunk-bytes", front.chunkBytes, "largest state-frame chunk, bytes")
         ->check(CLI::Range(4096, 1 << 30));
     app.add_flag("--quantised", quantised, "16-bit state frames (positions against the box, octahedral normals)");
+    bool compact = false;
+    app.add_flag("--compact", compact,
+                 "8 bytes a particle: positions as --quantised, normals octahedral in 8 bits a coordinate (0.95 deg), "
+                 "species as runs")
+        ->excludes("--quantised");
     app.add_flag("--frame-ids", front.frameIds, "state frames carry every particle's id (8 bytes per particle)");
     app.add_flag("--wait-for-client", waitForClient, "hold the first step until a client has said hello");
     app.add_flag("--read-only-viewers", readOnlyViewers, "viewers may watch but not command");
@@ -94,7 +99,9 @@ int run(int argc, char** argv) {
                    "apply a recorded session's commands and probes at their steps "
                    "instead of clients' (bop-replay check runs this)");
     CLI11_PARSE(app, argc, argv);
-    front.quantised = quantised;
+    front.frameEncoding = compact     ? protocol::FrameEncoding::Compact8
+                          : quantised ? protocol::FrameEncoding::Quantised16
+                                      : protocol::FrameEncoding::Float32;
     if (!std::isfinite(sessionTimeout) || (sessionTimeout != 0 && sessionTimeout < 0.5))
         throw Error("--session-timeout", "expected 0 (never) or 0.5 to 86400 seconds");
     front.sessionTimeout = std::chrono::milliseconds(std::llround(sessionTimeout * 1000));
