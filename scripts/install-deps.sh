@@ -29,6 +29,8 @@ packages=(
   # tests; the two-host tests' namespaces, veth pair, netem and datagram loss (scripts/two-host.sh);
   # ASE reads our extended XYZ files in the tests (tests/cli/bop_server_xyz_cli.sh)
   catch2 python3 python3-numpy python3-ase iproute2 nftables
+  # the Python client (python/bop) and its tests: ZeroMQ, FlatBuffers, zstd-compressed recordings
+  python3-zmq python3-flatbuffers python3-zstandard
   # scripts/netdelay (bop-netdelay) and its iptables NFQUEUE rule: two-host.sh's delay where the kernel has no netem
   libnetfilter-queue-dev iptables
 )

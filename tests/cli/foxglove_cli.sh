@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # A recording opened as Foxglove opens it (tests/foxglove/check.mjs, with npm's @mcap/core,
 # @foxglove/schemas, flatbuffers_reflection and fzstd, pinned by tests/foxglove/package-lock.json):
-# a served torus recorded for 4 s while a simulated haptic device pokes it, then
+# a served torus recorded for 4 s while a simulated haptic device pokes it (Compact8 frames), then
 #  - the recording: @mcap/core's indexed and stream readers find every message; its Foxglove
 #    schemas equal the published ones field by field; every message decodes, also with the
 #    published schemas, with sensible content;
@@ -28,7 +28,7 @@ fi
 bounded 200 "$work/build.log" "$server" "$src/config/scenes/torus.toml" --no-listen --cache "$work/map.bopgm" -o "$work/t"
 check "the torus is built" "[ -s '$work/t/final.xyz' ]"
 "$server" "$src/config/scenes/torus.toml" --restart "$work/t/final.xyz" --cache "$work/map.bopgm" --port 0 \
-  --publish-hz 30 --steps 1000000000 --record "$work/session.mcap" -o "$work/served" >"$work/server.log" 2>&1 &
+  --publish-hz 30 --compact --steps 1000000000 --record "$work/session.mcap" -o "$work/served" >"$work/server.log" 2>&1 &
 pid=$!
 endpoint=""
 for _ in $(seq 1 300); do
