@@ -29,8 +29,9 @@ packages=(
   # tests; the two-host tests' namespaces, veth pair, netem and datagram loss (scripts/two-host.sh);
   # ASE reads our extended XYZ files in the tests (tests/cli/bop_server_xyz_cli.sh)
   catch2 python3 python3-numpy python3-ase iproute2 nftables
-  # the Python client (python/bop) and its tests: ZeroMQ, FlatBuffers, zstd-compressed recordings
-  python3-zmq python3-flatbuffers python3-zstandard
+  # the Python client (python/bop) and its tests: ZeroMQ, FlatBuffers, zstd-compressed recordings;
+  # matplotlib draws every plot (python/bop/plots.py: bop-haptic's stiffness, the ventricle's pressure)
+  python3-zmq python3-flatbuffers python3-zstandard python3-matplotlib
   # scripts/netdelay (bop-netdelay) and its iptables NFQUEUE rule: two-host.sh's delay where the kernel has no netem
   libnetfilter-queue-dev iptables
 )
@@ -41,7 +42,7 @@ if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
   packages+=(nodejs npm)
 fi
 if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(python3-scipy python3-matplotlib lammps gromacs time)
+  packages+=(python3-scipy lammps gromacs time)
 fi
 if [[ "${1:-}" == "--fuzz" ]]; then  # scripts/fuzz.sh: libFuzzer and sanitizer runtimes, symbolizer
   packages+=(clang libclang-rt-dev llvm)

@@ -4,6 +4,7 @@
 #include "app/HapticMap.hpp"
 #include "app/Traces.hpp"
 #include "bop/common/Error.hpp"
+#include "bop/common/PythonPlot.hpp"
 #include "client/ClientSession.hpp"
 #include "client/RoundTrip.hpp"
 #include "control/RateLoop.hpp"
@@ -185,8 +186,13 @@ int runHaptic(const RunOptions& o) {
     std::printf("largest force rendered: %.3f N; trace in %s/haptic-trace.csv\n", largestN, o.outDir.c_str());
     if (scripted(o.device) && !curve.points().empty()) {
         curve.writeCsv(o.outDir + "/stiffness.csv");
-        curve.writePng(o.outDir + "/stiffness.png");
-        std::printf("stiffness curve: %s/stiffness.csv and stiffness.png\n", o.outDir.c_str());
+        const std::string why =
+            plotWithMatplotlib("stiffness", {o.outDir + "/stiffness.csv", o.outDir + "/stiffness.png"});
+        if (why.empty())
+            std::printf("stiffness curve: %s/stiffness.csv and stiffness.png\n", o.outDir.c_str());
+        else
+            std::printf("stiffness curve: %s/stiffness.csv (stiffness.png not drawn: %s)\n", o.outDir.c_str(),
+                        why.c_str());
     }
     return 0;
 }

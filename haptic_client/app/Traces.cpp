@@ -1,6 +1,5 @@
 #include "app/Traces.hpp"
 
-#include "bop/common/Canvas.hpp"
 #include "bop/common/Error.hpp"
 
 #include <algorithm>
@@ -51,31 +50,6 @@ void StiffnessCurve::writeCsv(const std::string& path) const {
     if (!out) throw Error(path, "cannot write the stiffness curve");
     out << "depth,force,samples\n";
     for (const StiffnessPoint& p : points()) out << p.depth << ',' << p.force << ',' << p.samples << '\n';
-}
-
-void StiffnessCurve::writePng(const std::string& path) const {
-    const std::vector<StiffnessPoint> p = points();
-    const int w = 640, h = 400, left = 70, right = 20, top = 30, bottom = 50;
-    Canvas c(w, h, {255, 255, 255});
-    double maxDepth = bin_, maxForce = 1e-9, minForce = 0;
-    for (const StiffnessPoint& q : p)
-        maxDepth = std::max(maxDepth, q.depth + bin_ / 2), maxForce = std::max(maxForce, q.force),
-        minForce = std::min(minForce, q.force);
-    const auto X = [&](double d) { return left + int(std::lround(d / maxDepth * (w - left - right))); };
-    const auto Y = [&](double f) {
-        return h - bottom - int(std::lround((f - minForce) / (maxForce - minForce) * (h - top - bottom)));
-    };
-    const Rgb axis{60, 60, 60}, curve{200, 60, 30};
-    c.drawLine(left, Y(minForce), left, top, axis);
-    c.drawLine(left, Y(0), w - right, Y(0), axis);
-    for (std::size_t k = 1; k < p.size(); ++k)
-        c.drawLine(X(p[k - 1].depth), Y(p[k - 1].force), X(p[k].depth), Y(p[k].force), curve);
-    char label[96];
-    std::snprintf(label, sizeof label, "force felt (max %.3g, simulation units)", maxForce);
-    c.drawText(left, 8, label, axis, 1);
-    std::snprintf(label, sizeof label, "depth past the surface (0 .. %.3g, simulation length)", maxDepth);
-    c.drawText(left, h - 30, label, axis, 1);
-    c.writePng(path);
 }
 
 }  // namespace bop::haptic

@@ -37,7 +37,6 @@ public:
     void add(const Eigen::Vector3d& device, const Eigen::Vector3d& force);
     std::vector<StiffnessPoint> points() const;
     void writeCsv(const std::string& path) const;
-    void writePng(const std::string& path) const;  // 640 x 400, force against depth
 
 private:
     Eigen::Vector3d surface_, inward_;

@@ -70,5 +70,5 @@ for s in "${scales[@]}"; do
     echo "$s,$surface,$volume,$total,$built,$births,$layout,$rate,$ns,${pairs:-},${lj:-},${oriented:-},${perpair:-},${nslj:-},${nsor:-}" >>"$csv"
   done
 done
-/usr/bin/python3 scripts/bench/plot-bag.py "$csv" out/bench/bag.png >/dev/null
+/usr/bin/python3 python/bop/plots.py bag "$csv" out/bench/bag.png >/dev/null
 echo "CSV: $csv; plot: out/bench/bag.png; logs: $out/"

@@ -1,5 +1,6 @@
 #include "app/cardiac/CardiacRun.hpp"
 
+#include "bop/common/PythonPlot.hpp"
 #include "core/FilledVolume.hpp"
 
 #include <cmath>
@@ -57,9 +58,12 @@ void CardiacRun::finish(const std::string& outDir, std::ostream& log) const {
     try {
         const CardiacCycle c = series_.cycle();
         CardiacSeries::writeCycleCsv(outDir + "/pressure-cycle.csv", c);
-        CardiacSeries::writePng(outDir + "/pressure.png", c);
+        CardiacSeries::writeVolumeCycleCsv(outDir + "/volume-cycle.csv", c);
+        const std::string why = plotWithMatplotlib(
+            "pressure", {outDir + "/pressure-cycle.csv", outDir + "/volume-cycle.csv", outDir + "/pressure.png"});
         log << CardiacSeries::summary(c) << "\npressure: " << csv << ", " << outDir << "/pressure-cycle.csv, " << outDir
-            << "/pressure.png\n";
+            << "/volume-cycle.csv, " << (why.empty() ? outDir + "/pressure.png" : "no pressure.png (" + why + ")")
+            << "\n";
     } catch (const std::runtime_error& e) {
         log << "pressure: " << csv << " (no averaged cycle: " << e.what() << ")\n";
     }

@@ -24,8 +24,8 @@ public:
     void record(core::Run& run, const core::Model& model);
     // Every particle of the run (the outer bag's surface species is used).
     void particles(const core::Model& model, const core::Particles& all);
-    // pressure.csv, pressure-cycle.csv and pressure.png in outDir; a summary on `log`. A run too
-    // short for a whole cycle writes the series and says why there is no cycle.
+    // pressure.csv, pressure-cycle.csv, volume-cycle.csv and pressure.png (matplotlib) in outDir; a summary on `log`. A
+    // run too short for a whole cycle writes the series and says why there is no cycle.
     void finish(const std::string& outDir, std::ostream& log) const;
 
     const CardiacSeries& series() const { return series_; }

@@ -133,6 +133,16 @@ void CardiacSeries::writeCycleCsv(const std::string& path, const CardiacCycle& c
     if (!out.flush()) throw Error(path, "cannot write the pressure cycle");
 }
 
+void CardiacSeries::writeVolumeCycleCsv(const std::string& path, const CardiacCycle& c) {
+    std::ofstream out(path);
+    if (!out) throw Error(path, "cannot write the volume cycle");
+    out << "phase,cavity_ml,particle_ml,ef_voxels,ef_particles\n";
+    for (std::size_t k = 0; k < c.phase.size(); ++k)
+        out << c.phase[k] << ',' << c.cavityMl[k] << ',' << c.particleMl[k] << ',' << c.efVoxels << ',' << c.efParticles
+            << '\n';
+    if (!out.flush()) throw Error(path, "cannot write the volume cycle");
+}
+
 std::string CardiacSeries::summary(const CardiacCycle& c) {
     char s[400];
     std::snprintf(s, sizeof s,

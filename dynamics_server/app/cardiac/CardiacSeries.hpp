@@ -55,7 +55,9 @@ public:
 
     void writeCsv(const std::string& path) const;  // every row
     static void writeCycleCsv(const std::string& path, const CardiacCycle& c);
-    static void writePng(const std::string& path, const CardiacCycle& c);  // CardiacPlot.cpp
+    // phase, cavity_ml (voxels), particle_ml (-1 where not measured), and the cycle's ejection
+    // fractions from the voxels and the particles (the same in every row): pressure.png's volume panel
+    static void writeVolumeCycleCsv(const std::string& path, const CardiacCycle& c);
     static std::string summary(const CardiacCycle& c);
 
 private:

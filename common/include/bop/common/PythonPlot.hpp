@@ -1,0 +1,17 @@
+#pragma once
+// Plots drawn by matplotlib (python/bop/plots.py) from the CSV files a tool has just written:
+// axes with ticks, values, units and a legend, as users' own tools would draw them. The tool
+// runs `python3 plots.py KIND FILES...` and waits for it. Python is $BOP_PYTHON, else
+// /usr/bin/python3 (Debian's, which has python3-matplotlib), else python3 on the PATH; the script
+// is $BOP_PYTHON_DIR/bop/plots.py, else the one in this source tree.
+#include <string>
+#include <vector>
+
+namespace bop {
+
+// Runs plots.py KIND FILES... (the last file is the PNG it writes). Returns "" when the plot was
+// drawn, else why not (Python or matplotlib missing, a bad CSV: plots.py's own message is on
+// stderr). Never throws: a missing picture must not lose the CSV files already written.
+std::string plotWithMatplotlib(const std::string& kind, const std::vector<std::string>& files);
+
+}  // namespace bop
