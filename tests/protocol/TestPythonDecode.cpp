@@ -14,7 +14,8 @@
 
 using namespace bop::protocol;
 
-TEST_CASE("the Python client decodes Float32, Quantised16 and Compact8 frames within their bounds", "[protocol][python]") {
+TEST_CASE("the Python client decodes Float32, Quantised16 and Compact8 frames within their bounds",
+          "[protocol][python]") {
     const bop::test::TempDir dir("python-decode");
     StateFrame f = samples::sampleFrame(4000, FrameEncoding::Float32, true, true);
     std::mt19937 rng(9);
@@ -26,9 +27,9 @@ TEST_CASE("the Python client decodes Float32, Quantised16 and Compact8 frames wi
             raw.write(reinterpret_cast<const char*>(&f.normals[3 * i]), 12);
         }
     }
-    for (const auto& [encoding, name] : {std::pair{FrameEncoding::Float32, "f32.bin"},
-                                         std::pair{FrameEncoding::Quantised16, "q16.bin"},
-                                         std::pair{FrameEncoding::Compact8, "c8.bin"}}) {
+    for (const auto& [encoding, name] :
+         {std::pair{FrameEncoding::Float32, "f32.bin"}, std::pair{FrameEncoding::Quantised16, "q16.bin"},
+          std::pair{FrameEncoding::Compact8, "c8.bin"}}) {
         f.encoding = encoding;
         std::ofstream out(dir.file(name), std::ios::binary);
         for (const Buffer& c : encodeStateFrameChunks(f, 30'000)) {  // several chunks: the assembler too
