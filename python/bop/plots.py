@@ -11,6 +11,7 @@ Each function returns the matplotlib Figure it saved (tests/python/test_plots.py
 Needs python3-matplotlib and python3-numpy.
 """
 import csv
+import os
 import sys
 
 import matplotlib
@@ -21,6 +22,13 @@ import numpy as np  # noqa: E402
 from matplotlib.ticker import FuncFormatter  # noqa: E402
 
 PLAIN = FuncFormatter(lambda v, _: f"{v:g}")  # 200, 1e+04: not 2 x 10^2 on a log axis
+
+
+def _save(fig, png_path):
+    """Writes the PNG under a temporary name and renames it: the file is whole once it exists."""
+    tmp = png_path + ".partial.png"
+    fig.savefig(tmp, dpi=100)
+    os.replace(tmp, png_path)
 
 
 def _read(path, *columns):
@@ -54,7 +62,7 @@ def stiffness(csv_path, png_path):
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper left")
     fig.tight_layout()
-    fig.savefig(png_path, dpi=100)
+    _save(fig, png_path)
     return fig
 
 
@@ -82,7 +90,7 @@ def pressure(cycle_csv, volume_csv, png_path):
     bottom.grid(True, alpha=0.3)
     bottom.legend(loc="lower right")
     fig.tight_layout()
-    fig.savefig(png_path, dpi=100)
+    _save(fig, png_path)
     return fig
 
 
@@ -119,7 +127,7 @@ def bag(csv_path, png_path):
     rate.set_title("torus bag, stepped from its built state")
     cost.set_title("cost per particle-step")
     fig.tight_layout()
-    fig.savefig(png_path, dpi=100)
+    _save(fig, png_path)
     return fig
 
 

@@ -59,14 +59,26 @@ void CardiacRun::finish(const std::string& outDir, std::ostream& log) const {
         const CardiacCycle c = series_.cycle();
         CardiacSeries::writeCycleCsv(outDir + "/pressure-cycle.csv", c);
         CardiacSeries::writeVolumeCycleCsv(outDir + "/volume-cycle.csv", c);
-        const std::string why = plotWithMatplotlib(
-            "pressure", {outDir + "/pressure-cycle.csv", outDir + "/volume-cycle.csv", outDir + "/pressure.png"});
+        cycleWritten_ = true;
         log << CardiacSeries::summary(c) << "\npressure: " << csv << ", " << outDir << "/pressure-cycle.csv, " << outDir
-            << "/volume-cycle.csv, " << (why.empty() ? outDir + "/pressure.png" : "no pressure.png (" + why + ")")
-            << "\n";
+            << "/volume-cycle.csv" << std::endl;
     } catch (const std::runtime_error& e) {
         log << "pressure: " << csv << " (no averaged cycle: " << e.what() << ")\n";
     }
+}
+
+void CardiacRun::plot(const std::string& outDir, std::ostream& log, bool detached) const {
+    if (!cycleWritten_) return;  // no whole cycle: finish() said why
+    const std::vector<std::string> files{outDir + "/pressure-cycle.csv", outDir + "/volume-cycle.csv",
+                                         outDir + "/pressure.png"};
+    if (detached) {
+        log << "pressure plot: " << outDir
+            << "/pressure.png, drawn in the background by: " << plotWithMatplotlibDetached("pressure", files)
+            << std::endl;
+        return;
+    }
+    const std::string why = plotWithMatplotlib("pressure", files);
+    log << (why.empty() ? "pressure plot: " + outDir + "/pressure.png" : "no pressure.png: " + why) << std::endl;
 }
 
 }  // namespace bop::app

@@ -24,14 +24,19 @@ public:
     void record(core::Run& run, const core::Model& model);
     // Every particle of the run (the outer bag's surface species is used).
     void particles(const core::Model& model, const core::Particles& all);
-    // pressure.csv, pressure-cycle.csv, volume-cycle.csv and pressure.png (matplotlib) in outDir; a summary on `log`. A
-    // run too short for a whole cycle writes the series and says why there is no cycle.
+    // pressure.csv, pressure-cycle.csv and volume-cycle.csv in outDir; a summary on `log`. A run
+    // too short for a whole cycle writes the series and says why there is no cycle.
     void finish(const std::string& outDir, std::ostream& log) const;
+    // pressure.png from the cycle files (matplotlib, a second or two): called last, after the run
+    // has said everything else. detached: drawn by a process nobody waits for (a served run
+    // stopped by a signal: mpirun kills its ranks a second after forwarding it).
+    void plot(const std::string& outDir, std::ostream& log, bool detached = false) const;
 
     const CardiacSeries& series() const { return series_; }
     double filledMl(const core::Model& model, const core::Particles& all) const;  // now, mL
 
 private:
+    mutable bool cycleWritten_ = false;  // finish() wrote the cycle files plot() draws
     PressureSettings settings_;
     Dims dims_;
     double h_ = 1, mlPerLength3_ = 1;

@@ -197,6 +197,7 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
     if (root) printMap(scene, run, mapBytes, frame, all, o.cache);
     if (root && cardiac) cardiac->finish(o.outDir, std::cout);
     spdlog::info("final state: {}{}", finalFile, o.snapshotEvery > 0 ? ", trajectory: " + trajectory : "");
+    if (root && cardiac) cardiac->plot(o.outDir, std::cout);
     return 0;
 }
 

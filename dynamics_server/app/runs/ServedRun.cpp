@@ -160,6 +160,7 @@ int runServed(const Scene& scene, RunStart start, const ServeOptions& o, core::E
     if (code == kExitStoppedByError)
         spdlog::error("stopped by an error: {}; the state at step {} is in {}", why, run.stepNumber(), checkpoint);
     spdlog::info("final state: {}; checkpoint: {}", finalFile, checkpoint);
+    if (cardiac) cardiac->plot(o.outDir, std::cout, true);  // a signal may have stopped the run: mpirun is not waiting
     return code;
 }
 

@@ -14,4 +14,10 @@ namespace bop {
 // stderr). Never throws: a missing picture must not lose the CSV files already written.
 std::string plotWithMatplotlib(const std::string& kind, const std::vector<std::string>& files);
 
+// The same plot drawn by a process of its own session that nobody waits for, its output to
+// /dev/null: for an MPI rank that has a signal to obey (mpirun kills a job's ranks about a
+// second after forwarding SIGINT, and Python with matplotlib takes longer to start). The PNG
+// appears a second or two later. Returns the command, for the log (rerun it to see errors).
+std::string plotWithMatplotlibDetached(const std::string& kind, const std::vector<std::string>& files);
+
 }  // namespace bop
