@@ -166,6 +166,16 @@ std::uint64_t compactCount(const wire::StateFrame& w) {
     return n;
 }
 
+// Compact8 runs as the encoder writes them: species strictly increasing, no empty run. Any other
+// order would come back regrouped from a decode and encode, a different value.
+bool runsAscending(const wire::StateFrame& w) {
+    if (!w.run_species() || !w.run_lengths() || w.run_species()->size() != w.run_lengths()->size()) return true;
+    for (flatbuffers::uoffset_t r = 0; r < w.run_species()->size(); ++r)
+        if (w.run_lengths()->Get(r) == 0 || (r > 0 && w.run_species()->Get(r) <= w.run_species()->Get(r - 1)))
+            return false;
+    return true;
+}
+
 Validation checkWireLengths(const wire::StateFrame& w) {
     detail::Checker c("StateFrame");
     const bool compact = w.encoding() == wire::FrameEncoding::Compact8;
@@ -176,6 +186,9 @@ Validation checkWireLengths(const wire::StateFrame& w) {
     if (compact) {
         c.require(sizeOf(w.run_species()) == sizeOf(w.run_lengths()), DecodeError::BadLength, "run_species",
                   got(sizeOf(w.run_species())) + ", expected one per run (" + got(sizeOf(w.run_lengths())) + ")") &&
+            c.require(
+                runsAscending(w), DecodeError::OutOfRange, "run_species",
+                "runs must be of increasing species, each at least 1 particle long (as the encoder groups them)") &&
             c.require(sizeOf(w.qpositions()) == 3 * n, DecodeError::BadLength, "qpositions",
                       got(sizeOf(w.qpositions())) + ", expected 3 x " + std::to_string(n) + " (the runs' particles)") &&
             c.require(sizeOf(w.qnormals8()) == 0 || sizeOf(w.qnormals8()) == 2 * n, DecodeError::BadLength, "qnormals8",

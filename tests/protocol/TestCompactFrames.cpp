@@ -129,5 +129,9 @@ TEST_CASE("compact chunks whose runs disagree with their arrays are refused", "[
     CHECK(build({1}, {60, 40}, 300, false).message.find("run_species") != std::string::npos);
     CHECK(build({1, 2}, {60, 40}, 300, true).message.find("another encoding") != std::string::npos);
     CHECK(build({1, 0}, {60, 40}, 300, false).message.find("species") != std::string::npos);  // species 0 is none
+    // Runs as the encoder writes them, or a decode and encode would regroup the particles.
+    CHECK(build({2, 1}, {60, 40}, 300, false).message.find("increasing species") != std::string::npos);
+    CHECK(build({1, 1}, {60, 40}, 300, false).message.find("increasing species") != std::string::npos);
+    CHECK(build({1, 2, 3}, {60, 0, 40}, 300, false).message.find("at least 1 particle") != std::string::npos);
     CHECK_FALSE(build({1, 2}, {0xFFFFFFFFu, 0xFFFFFFFFu}, 300, false).ok());  // a huge run is not allocated
 }
