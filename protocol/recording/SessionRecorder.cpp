@@ -51,6 +51,7 @@ void SessionRecorder::push(std::uint16_t channel, const Buffer& b, std::uint64_t
     if (error_) std::rethrow_exception(error_);
     if (queuedBytes_ + b.size() > kMaxQueuedBytes) {
         queue_.clear();  // the disk cannot keep up: end the recording here, the run goes on
+        queuedBytes_ = 0;
         error_ = std::make_exception_ptr(Error(writer_.partialPath(), "the recording fell " +
                                                                           std::to_string(kMaxQueuedBytes >> 20) +
                                                                           " MiB behind the session (disk too slow?)"));
