@@ -118,52 +118,64 @@ BOP_BATCH_KERNEL void dequantisePositions(const std::uint16_t* q, std::size_t n,
         for (int a = 0; a < 3; ++a) xyz[3 * i + a] = float(l[a] + step[a] * q[3 * i + a]);
 }
 
-std::array<std::uint16_t, 2> octEncode(const Eigen::Vector3d& n) {
-    std::array<std::uint16_t, 2> c;
+namespace {
+
+// One normal to its code and back; and the batch loops, inlined into each public kernel (and so
+// into each of its target clones). Code: uint16 (Quantised16) or uint8 (Compact8).
+template <class Code>
+std::array<Code, 2> encodeOne(const Eigen::Vector3d& n) {
+    std::array<Code, 2> c;
     octEncodeOne(float(n.x()), float(n.y()), float(n.z()), c.data());
     return c;
 }
 
-Eigen::Vector3d octDecode(std::uint16_t qu, std::uint16_t qv) {
+template <class Code>
+Eigen::Vector3d decodeOne(Code qu, Code qv) {
     Eigen::Vector3d p;
     octDecodeOne(qu, qv, p.data());
     return p;
+}
+
+template <class Code>
+inline void encodeBatch(const float* xyz, std::size_t n, Code* out) {
+    for (std::size_t i = 0; i < n; ++i) octEncodeOne(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], out + 2 * i);
+}
+
+template <class Code>
+inline void decodeBatch(const Code* q, std::size_t n, float* xyz) {
+    for (std::size_t i = 0; i < n; ++i) {
+        double p[3];
+        octDecodeOne(q[2 * i], q[2 * i + 1], p);
+        for (int a = 0; a < 3; ++a) xyz[3 * i + a] = float(p[a]);
+    }
+}
+
+}  // namespace
+
+std::array<std::uint16_t, 2> octEncode(const Eigen::Vector3d& n) {
+    return encodeOne<std::uint16_t>(n);
+}
+Eigen::Vector3d octDecode(std::uint16_t qu, std::uint16_t qv) {
+    return decodeOne(qu, qv);
+}
+std::array<std::uint8_t, 2> octEncode8(const Eigen::Vector3d& n) {
+    return encodeOne<std::uint8_t>(n);
+}
+Eigen::Vector3d octDecode8(std::uint8_t qu, std::uint8_t qv) {
+    return decodeOne(qu, qv);
 }
 
 BOP_BATCH_KERNEL void octEncodeNormals(const float* xyz, std::size_t n, std::uint16_t* out) {
-    for (std::size_t i = 0; i < n; ++i) octEncodeOne(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], out + 2 * i);
+    encodeBatch(xyz, n, out);
 }
-
 BOP_BATCH_KERNEL void octDecodeNormals(const std::uint16_t* q, std::size_t n, float* xyz) {
-    for (std::size_t i = 0; i < n; ++i) {
-        double p[3];
-        octDecodeOne(q[2 * i], q[2 * i + 1], p);
-        for (int a = 0; a < 3; ++a) xyz[3 * i + a] = float(p[a]);
-    }
+    decodeBatch(q, n, xyz);
 }
-
-std::array<std::uint8_t, 2> octEncode8(const Eigen::Vector3d& n) {
-    std::array<std::uint8_t, 2> c;
-    octEncodeOne(float(n.x()), float(n.y()), float(n.z()), c.data());
-    return c;
-}
-
-Eigen::Vector3d octDecode8(std::uint8_t qu, std::uint8_t qv) {
-    Eigen::Vector3d p;
-    octDecodeOne(qu, qv, p.data());
-    return p;
-}
-
 BOP_BATCH_KERNEL void octEncodeNormals8(const float* xyz, std::size_t n, std::uint8_t* out) {
-    for (std::size_t i = 0; i < n; ++i) octEncodeOne(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], out + 2 * i);
+    encodeBatch(xyz, n, out);
 }
-
 BOP_BATCH_KERNEL void octDecodeNormals8(const std::uint8_t* q, std::size_t n, float* xyz) {
-    for (std::size_t i = 0; i < n; ++i) {
-        double p[3];
-        octDecodeOne(q[2 * i], q[2 * i + 1], p);
-        for (int a = 0; a < 3; ++a) xyz[3 * i + a] = float(p[a]);
-    }
+    decodeBatch(q, n, xyz);
 }
 
 std::size_t bytesPerParticle(FrameEncoding encoding, bool withNormals, bool withIds) {

@@ -41,10 +41,32 @@ def _records(b, start, end, where):
         at += 9 + n
 
 
-def _messages(b, path):
-    """(topic, log time ns, data) of every message, in file order."""
-    topics = {}
-    for op, c in _records(b, 8, len(b), path):
+def _chunk_records(c, path):
+    """The uncompressed records of a Chunk record's content."""
+    _start, _end, size, _crc = struct.unpack_from("<QQQI", c, 0)
+    compression, at = _string(c, 28)
+    (n,) = struct.unpack_from("<Q", c, at)
+    data = bytes(c[at + 8:at + 8 + n])
+    if size > MAX_CHUNK:
+        raise ProtocolError(f"{path}: a chunk of {size} bytes, more than {MAX_CHUNK} this reader takes")
+    if compression == "zstd":
+        try:
+            import zstandard
+        except ImportError as e:
+            raise ProtocolError(f"{path}: zstd chunks need python3-zstandard ({e})") from e
+        data = zstandard.ZstdDecompressor().decompress(data, max_output_size=size)
+    elif compression != "":
+        raise ProtocolError(f"{path}: chunk compression '{compression}' is not supported (zstd or none)")
+    if len(data) != size:
+        raise ProtocolError(f"{path}: a chunk holds {len(data)} bytes, its record says {size}")
+    return data
+
+
+def _messages(b, path, start=8, topics=None):
+    """(topic, log time ns, data) of every message in b[start:], in file order; chunks are
+    opened where they stand (their records are Channel and Message records like the file's)."""
+    topics = {} if topics is None else topics
+    for op, c in _records(b, start, len(b), path):
         if op == OP_CHANNEL:
             cid, _schema = struct.unpack_from("<HH", c, 0)
             topics[cid], _ = _string(c, 4)
@@ -52,29 +74,7 @@ def _messages(b, path):
             cid, _seq, t, _pub = struct.unpack_from("<HIQQ", c, 0)
             yield topics.get(cid, ""), t, bytes(c[22:])
         elif op == OP_CHUNK:
-            _start, _end, size, _crc = struct.unpack_from("<QQQI", c, 0)
-            compression, at = _string(c, 28)
-            (n,) = struct.unpack_from("<Q", c, at)
-            data = bytes(c[at + 8:at + 8 + n])
-            if size > MAX_CHUNK:
-                raise ProtocolError(f"{path}: a chunk of {size} bytes, more than {MAX_CHUNK} this reader takes")
-            if compression == "zstd":
-                try:
-                    import zstandard
-                except ImportError as e:
-                    raise ProtocolError(f"{path}: zstd chunks need python3-zstandard ({e})") from e
-                data = zstandard.ZstdDecompressor().decompress(data, max_output_size=size)
-            elif compression != "":
-                raise ProtocolError(f"{path}: chunk compression '{compression}' is not supported (zstd or none)")
-            if len(data) != size:
-                raise ProtocolError(f"{path}: a chunk holds {len(data)} bytes, its record says {size}")
-            for iop, ic in _records(data, 0, len(data), path):
-                if iop == OP_CHANNEL:
-                    cid, _schema = struct.unpack_from("<HH", ic, 0)
-                    topics[cid], _ = _string(ic, 4)
-                elif iop == OP_MESSAGE:
-                    cid, _seq, t, _pub = struct.unpack_from("<HIQQ", ic, 0)
-                    yield topics.get(cid, ""), t, bytes(ic[22:])
+            yield from _messages(_chunk_records(c, path), path, 0, topics)
         elif op == OP_DATA_END:
             return
 
