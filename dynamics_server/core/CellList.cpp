@@ -1,6 +1,7 @@
 #include "CellList.hpp"
 
 #include "Model.hpp"
+#include "Threads.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,8 @@
 
 namespace bop::core {
 
-void CellList::build(const Box& box, double minCell, const std::vector<Eigen::Vector3d>& pos) {
+void CellList::build(const Box& box, double minCell, const std::vector<Eigen::Vector3d>& pos,
+                     const std::vector<std::uint64_t>* key) {
     lo_ = box.lo;
     boxSize_ = box.size();
     periodic_ = box.periodic;
@@ -32,6 +34,16 @@ void CellList::build(const Box& box, double minCell, const std::vector<Eigen::Ve
     order_.resize(pos.size());
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
     for (std::size_t i = 0; i < pos.size(); ++i) order_[fill[std::size_t(cellOfParticle_[i])]++] = std::uint32_t(i);
+    if (!key) return;
+    if (key->size() != pos.size()) throw std::invalid_argument("cell list: keys and positions differ in number");
+    forEachIndex(std::size_t(cells), [&](std::size_t c) {  // a cell's few particles, by key (insertion sort)
+        for (std::uint32_t k = start_[c] + 1; k < start_[c + 1]; ++k) {
+            const std::uint32_t i = order_[k];
+            std::uint32_t j = k;
+            for (; j > start_[c] && (*key)[order_[j - 1]] > (*key)[i]; --j) order_[j] = order_[j - 1];
+            order_[j] = i;
+        }
+    });
 }
 
 int CellList::cellOf(const Eigen::Vector3d& p) const {

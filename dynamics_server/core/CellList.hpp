@@ -19,8 +19,10 @@ struct Box;
 class CellList {
 public:
     // Cells of at least minCell (simulation length units) across box; periodic axes need at
-    // least 3 cells, otherwise that axis uses one cell and pairs take the minimum image.
-    void build(const Box& box, double minCell, const std::vector<Eigen::Vector3d>& pos);
+    // least 3 cells, otherwise that axis uses one cell and pairs take the minimum image. Within a
+    // cell, particles by index, or by `key` (one per particle; equal keys by index) where given.
+    void build(const Box& box, double minCell, const std::vector<Eigen::Vector3d>& pos,
+               const std::vector<std::uint64_t>* key = nullptr);
 
     int cellCount() const { return int(start_.size()) - 1; }
     const std::array<int, 3>& dims() const { return n_; }

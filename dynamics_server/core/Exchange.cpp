@@ -2,34 +2,43 @@
 // one process every piece is a no-op but the halo, which stays empty.
 #include "Exchange.hpp"
 
+#include "SpatialOrder.hpp"
+
 namespace bop::core {
 
-namespace {
+void Exchange::sortIfDue(Particles& p, bool now) {
+    if (sortEvery_ <= 0 || !(now || driftsSinceSort_ >= sortEvery_)) return;
+    reorder(p, spatialOrder(sortBox_, sortCell_, p.pos, p.id));
+    driftsSinceSort_ = 0;
+    ++sorts_;
+}
 
-Refreshed rebuild(Exchange& ex, Particles& p, Halo& halo, double range, bool balance) {
-    const bool moved = balance && ex.rebalance(p);
-    ex.buildHalo(p, range, halo);
+// New cut planes (when `balance`), then the sort (when due, or `sortNow`), then the halo's plan,
+// which names particles by index.
+Refreshed Exchange::rebuild(Particles& p, Halo& halo, double range, bool balance, bool sortNow) {
+    const bool moved = balance && rebalance(p);
+    sortIfDue(p, sortNow);
+    buildHalo(p, range, halo);
     return moved ? Refreshed::Moved : Refreshed::Rebuilt;
 }
 
-}  // namespace
-
 Refreshed Exchange::start(Particles& p, Halo& halo, double range) {
-    return rebuild(*this, p, halo, range, true);
+    return rebuild(p, halo, range, true, true);
 }
 
 Refreshed Exchange::afterDrift(Particles& p, Halo& halo, double range, bool listHolds) {
+    ++driftsSinceSort_;
     if (allTrue(listHolds)) {
         updateHalo(p, halo);
         return Refreshed::Kept;
     }
     migrate(p);
-    return rebuild(*this, p, halo, range, imbalance(p.size()) > kRebalanceAbove);
+    return rebuild(p, halo, range, imbalance(p.size()) > kRebalanceAbove, false);
 }
 
 Refreshed Exchange::afterChange(Particles& p, Halo& halo, double range) {
     if (!hasGhosts()) return Refreshed::Rebuilt;
-    return rebuild(*this, p, halo, range, imbalance(p.size()) > kRebalanceAbove);
+    return rebuild(p, halo, range, imbalance(p.size()) > kRebalanceAbove, false);
 }
 
 bool Exchange::widen(Particles& p, Halo& halo, double range) {

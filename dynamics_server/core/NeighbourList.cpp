@@ -61,16 +61,28 @@ int NeighbourList::kind(std::uint32_t x, std::uint32_t y) const {
     if (ghostX && ghostY) return 0;
     if (ghostX || ghostY) return (ghostX ? image_[y] : image_[x]) ? 0 : 2;
     if (image_[x] && image_[y]) return 0;
-    if (image_[x] != image_[y] && (image_[x] ? owner_[y] > owner_[x] : owner_[x] > owner_[y])) return 0;
+    if (image_[x] != image_[y] && (image_[x] ? key_[owner_[y]] > key_[owner_[x]] : key_[owner_[x]] > key_[owner_[y]]))
+        return 0;
     return 1;
 }
 
 void NeighbourList::build(const Box& box, double range, const std::vector<Eigen::Vector3d>& pos,
-                          const std::vector<Eigen::Vector3d>& halo, const Wide* wide) {
+                          const std::vector<Eigen::Vector3d>& halo, const Wide* wide,
+                          const std::vector<std::uint64_t>* keys) {
     if (wide && wide->member.size() != pos.size() + halo.size())
         throw std::invalid_argument("neighbour list: wide members given for " + std::to_string(wide->member.size()) +
                                     " entries, not the " + std::to_string(pos.size() + halo.size()) +
                                     " particles and ghosts");
+    if (keys && keys->size() != pos.size() + halo.size())
+        throw std::invalid_argument("neighbour list: keys given for " + std::to_string(keys->size()) +
+                                    " entries, not the " + std::to_string(pos.size() + halo.size()) +
+                                    " particles and ghosts");
+    if (keys) {
+        key_ = *keys;
+    } else {
+        key_.resize(pos.size() + halo.size());
+        std::iota(key_.begin(), key_.end(), std::uint64_t(0));
+    }
     range_ = range;
     wideRange_ = wide ? wide->range : 0.0;
     const double reach = std::max(range_, wideRange_);  // of the images and of the box's extension
@@ -117,8 +129,10 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
         extended.hi[a] += reach;
     }
 
+    std::vector<std::uint64_t> rawKey(raw.size());
+    for (std::size_t k = 0; k < raw.size(); ++k) rawKey[k] = key_[rawOwner[k]];
     CellList cells;
-    cells.build(extended, range, raw);
+    cells.build(extended, range, raw, &rawKey);  // an image never shares a cell with its owner
     const auto& order = cells.order();
     const std::size_t ne = raw.size();
     owner_.resize(ne);
@@ -234,14 +248,15 @@ bool NeighbourList::measure(const Box& box, const std::vector<Eigen::Vector3d>& 
     Eigen::Vector3d L = box.size(), half;
     for (int a = 0; a < 3; ++a) half[a] = box.periodic[std::size_t(a)] ? 0.5 * L[a] : HUGE_VAL;
     const double max2 = maxMove * maxMove;
-    for (std::size_t i = 0; i < pos.size(); ++i) {
+    const double beyond = sumIndex(pos.size(), [&](std::size_t i) {  // on the threads: the particles moved too far
         Eigen::Vector3d d = pos[i] - built_[i];
         for (int a = 0; a < 3; ++a)
             if (std::abs(d[a]) > half[a]) d[a] -= L[a] * std::round(d[a] / L[a]);
-        if (!(d.squaredNorm() <= max2)) return false;
+        if (!(d.squaredNorm() <= max2)) return 1.0;
         now_[i] = built_[i] + d;
-    }
-    return true;
+        return 0.0;
+    });
+    return beyond == 0;
 }
 
 void NeighbourList::move(const std::vector<Eigen::Vector3d>& halo) {
@@ -249,7 +264,7 @@ void NeighbourList::move(const std::vector<Eigen::Vector3d>& halo) {
         throw std::invalid_argument("neighbour list: " + std::to_string(halo.size()) + " halo ghosts given, " +
                                     std::to_string(halo_) + " at the build");
     std::copy(halo.begin(), halo.end(), now_.begin() + std::ptrdiff_t(particles_));
-    for (std::size_t e = 0; e < owner_.size(); ++e) pos_[e] = now_[owner_[e]] + shift_[e];
+    forEachIndex(owner_.size(), [&](std::size_t e) { pos_[e] = now_[owner_[e]] + shift_[e]; });
 }
 
 }  // namespace bop::core

@@ -43,9 +43,14 @@ public:
 
     // range: cutoff + skin, simulation length units. Periodic axes need a side of at least
     // 2 * the larger range (std::invalid_argument otherwise). halo: positions of the halo
-    // ghosts. wide: also build the wide pairs (widePairs(), wideHaloPairs()).
+    // ghosts. wide: also build the wide pairs (widePairs(), wideHaloPairs()). keys: one per
+    // particle, then per ghost (their ids): entries within a cell follow them, and a pair of a
+    // particle with an image of another is kept on the side of the smaller key, so that the
+    // list, and the sums over it, do not depend on the order of the particles. Without keys,
+    // their indices serve.
     void build(const Box& box, double range, const std::vector<Eigen::Vector3d>& pos,
-               const std::vector<Eigen::Vector3d>& halo = {}, const Wide* wide = nullptr);
+               const std::vector<Eigen::Vector3d>& halo = {}, const Wide* wide = nullptr,
+               const std::vector<std::uint64_t>* keys = nullptr);
 
     // Displacements since the build. Returns false when the particle count differs from the
     // build or a particle moved farther than maxMove (then build again).
@@ -72,10 +77,11 @@ public:
     // index of a halo ghost.
     const std::vector<std::uint32_t>& owner() const { return owner_; }
     const std::vector<Eigen::Vector3d>& positions() const { return pos_; }  // current entry positions
-    const Pairs& pairs() const { return pairs_; }                           // Newton pairs: forces to both sides
-    const Pairs& haloPairs() const { return haloPairs_; }                   // particle with halo ghost: one side
-    const Pairs& widePairs() const { return widePairs_; }                   // as pairs(), wide members, wide range
-    const Pairs& wideHaloPairs() const { return wideHaloPairs_; }           // as haloPairs(), the same
+    const std::vector<char>& images() const { return image_; }     // per entry: an image across a periodic face
+    const Pairs& pairs() const { return pairs_; }                  // Newton pairs: forces to both sides
+    const Pairs& haloPairs() const { return haloPairs_; }          // particle with halo ghost: one side
+    const Pairs& widePairs() const { return widePairs_; }          // as pairs(), wide members, wide range
+    const Pairs& wideHaloPairs() const { return wideHaloPairs_; }  // as haloPairs(), the same
 
 private:
     // 0: no pair; 1: a Newton pair; 2: a halo pair (entries x, y within range).
@@ -85,7 +91,8 @@ private:
     double range_ = 0, wideRange_ = 0;
     std::size_t particles_ = 0, halo_ = 0, builds_ = 0;
     std::vector<std::uint32_t> owner_;
-    std::vector<char> image_;  // per entry: an image of a particle or ghost across a periodic face
+    std::vector<char> image_;         // per entry: an image of a particle or ghost across a periodic face
+    std::vector<std::uint64_t> key_;  // per particle, then ghost: the build's keys (or indices)
     Pairs pairs_, haloPairs_, widePairs_, wideHaloPairs_;
     std::vector<Eigen::Vector3d> pos_, shift_;  // entry positions now; entry minus owner at the build
     std::vector<Eigen::Vector3d> built_;        // particle positions at the build

@@ -2,6 +2,7 @@
 
 #include "MapForces.hpp"
 #include "Stopwatch.hpp"
+#include "Threads.hpp"
 
 namespace bop::core {
 
@@ -56,7 +57,10 @@ void PairForces::updateList(const Model& model, const Particles& p, const Halo* 
             for (std::size_t i = 0; i < p.size(); ++i) wide_.member[i] = isWide_[p.species[i]];
             for (std::size_t g = 0; g < haloPos.size(); ++g) wide_.member[p.size() + g] = isWide_[halo->species[g]];
         }
-        list_.build(model.box, kernel_.lj().cutoff() + skin_, p.pos, haloPos, oriented_ ? &wide_ : nullptr);
+        keys_ = p.id;  // entries by id within a cell: the list does not depend on the particles' order
+        if (halo) keys_.insert(keys_.end(), halo->id.begin(), halo->id.end());
+        keys_.resize(p.size() + haloPos.size());
+        list_.build(model.box, kernel_.lj().cutoff() + skin_, p.pos, haloPos, oriented_ ? &wide_ : nullptr, &keys_);
         list_.measure(model.box, p.pos, 0.5 * skin_);
         revision_ = p.revision;
     }
@@ -74,8 +78,9 @@ void PairForces::gatherEntries(const Model& model, const Particles& p, const Hal
     PairEntries& e = entries_;
     if (speciesBuild_ != list_.builds()) {  // entries change only when the list is built
         e.species.resize(ne);
-        for (std::size_t k = 0; k < ne; ++k)
+        forEachIndex(ne, [&](std::size_t k) {
             e.species[k] = owner[k] < n ? p.species[owner[k]] : halo->species[owner[k] - n];
+        });
         speciesBuild_ = list_.builds();
     }
     e.force.resize(ne);
@@ -83,7 +88,7 @@ void PairForces::gatherEntries(const Model& model, const Particles& p, const Hal
     e.torque.resize(ne);
     e.normal.resize(ne);
     e.curvature.resize(ne);
-    for (std::size_t k = 0; k < ne; ++k) {
+    forEachIndex(ne, [&](std::size_t k) {  // each entry on its own: on the threads
         if (owner[k] < n) {
             e.normal[k] = p.normal[owner[k]];
             e.curvature[k] = curvature[owner[k]];
@@ -92,7 +97,7 @@ void PairForces::gatherEntries(const Model& model, const Particles& p, const Hal
             e.normal[k] = halo->normal[g];
             e.curvature[k] = MapForces::curvatureWeight(model, halo->pos[g], halo->species[g]);
         }
-    }
+    });
 }
 
 void PairForces::add(const Model& model, Particles& p, const Halo* halo, const std::vector<float>& curvature,
@@ -113,13 +118,21 @@ void PairForces::add(const Model& model, Particles& p, const Halo* halo, const s
     const PrunedPairs::Sets sets = prune_ > 0 ? pruned_.sets() : PrunedPairs::whole(list_);
     chunks_.run(kernel_, sets, in, o, energies, halo != nullptr, sums, haloSums, loopSeconds);
     // Forces on images go to their particles; forces on halo ghosts are their owners' business.
+    // Each particle has one entry that is not an image: those on the threads, then the images
+    // in entry order.
     const auto& owner = list_.owner();
+    const auto& image = list_.images();
     const std::size_t ne = list_.entryCount(), n = p.size();
-    for (std::size_t k = 0; k < ne; ++k)
-        if (owner[k] < n) p.force[owner[k]] += e.force[k];
-    if (oriented_)
+    const auto fold = [&](std::size_t k) {
+        p.force[owner[k]] += e.force[k];
+        if (oriented_) p.torque[owner[k]] += e.torque[k];
+    };
+    forEachIndex(ne, [&](std::size_t k) {
+        if (owner[k] < n && !image[k]) fold(k);
+    });
+    if (list_.ghostCount() > 0)
         for (std::size_t k = 0; k < ne; ++k)
-            if (owner[k] < n) p.torque[owner[k]] += e.torque[k];
+            if (owner[k] < n && image[k]) fold(k);
     stats.pairEnergy = energies ? sums.energy + 0.5 * haloSums.energy : 0.0;
     stats.virial = sums.virial + 0.5 * haloSums.virial;
     stats.virialVolume = sums.virialVolume + 0.5 * haloSums.virialVolume;

@@ -55,6 +55,7 @@ public:
     double pruneSkin() const { return prune_; }  // length units; 0: the loops read the whole list
     std::size_t chunks() const { return chunks_.count(); }
     double listRange() const;                                           // the largest cutoff + skin, length units
+    double cellWidth() const { return kernel_.lj().cutoff() + skin_; }  // the LJ list's least cell width, length
     static double listRange(const Model& model, const Params& params);  // the same of any model
 
     // Reference O(N^2) pair forces (tests): PairKernel::apply pair by pair, the scene's weights,
@@ -81,6 +82,7 @@ private:
     std::size_t speciesBuild_ = 0;                // list build that entries_.species was gathered for
     bool heldSinceCompute_ = false;               // listHolds() said yes since the last add()
     PairEntries entries_;
+    std::vector<std::uint64_t> keys_;  // the last build's ids, particles then ghosts
 };
 
 }  // namespace bop::core

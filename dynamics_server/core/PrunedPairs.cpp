@@ -53,9 +53,10 @@ void PrunedPairs::prune(const NeighbourList& list, double ljRange, double wideRa
 bool PrunedPairs::holds(const NeighbourList& list) const {
     const std::vector<Eigen::Vector3d>& pos = list.positions();
     if (list.builds() != build_ || pos.size() != at_.size()) return false;
-    for (std::size_t e = 0; e < pos.size(); ++e)
-        if (!((pos[e] - at_[e]).squaredNorm() < maxMove2_)) return false;  // NaN too: pruned again
-    return true;
+    const double beyond = sumIndex(pos.size(), [&](std::size_t e) {      // on the threads
+        return (pos[e] - at_[e]).squaredNorm() < maxMove2_ ? 0.0 : 1.0;  // NaN too: pruned again
+    });
+    return beyond == 0;
 }
 
 }  // namespace bop::core

@@ -51,6 +51,12 @@ Simulation::Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::s
         p_.vel[k] = all.vel[i];
         p_.omega[k] = all.omega[i];
     }
+    // The particles in the order of the LJ list's cells: its box (extended by the ghosts' reach
+    // where it holds images or ghosts) and its cell width.
+    Box cells = model_->box;
+    for (int a = 0; a < 3; ++a)
+        if (cells.periodic[std::size_t(a)] || ex_->size() > 1) cells.lo[a] -= range_, cells.hi[a] += range_;
+    ex_->sortParticles(cells, field_.pairs().cellWidth(), options.sortEverySteps);
     placeRegion(ex_->start(p_, halo_, range_));
     forces(true);
     stats_.kinetic = kineticEnergy(*local_, p_);

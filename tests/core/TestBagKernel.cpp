@@ -2,17 +2,21 @@
 // on a curved bag: two surface species and a volume species, asymmetric weights, and the map's
 // curvature weights on the co-planar terms, which vary along an ellipsoid's surface.
 #include "BruteForce.hpp"
+#include "core/HotLoop.hpp"
 #include "shape/ShapeTestUtil.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <random>
+#include <string>
 
 using namespace bop;
 using namespace bop::core;
 
-TEST_CASE("the bag's pair loops equal the O(N^2) reference with curvature weights and asymmetric species",
-          "[core][cells][curvature]") {
+namespace {
+
+// The loops (in whichever clone this CPU runs) against the reference on the ellipsoid bag.
+void checkBagAgainstReference() {
     const Dims d{34, 26, 22};
     auto map = std::make_shared<GradientMap>(test::mapFrom(test::depthFrom(
         d, {[](const Eigen::Vector3d& x) {
@@ -69,4 +73,27 @@ TEST_CASE("the bag's pair loops equal the O(N^2) reference with curvature weight
     CHECK(errT < 1e-12 * maxF);
     CHECK(a.pairEnergy == Approx(b.pairEnergy).epsilon(1e-12));
     CHECK(a.virial == Approx(b.virial).epsilon(1e-12));
+}
+
+}  // namespace
+
+TEST_CASE("the bag's pair loops equal the O(N^2) reference with curvature weights and asymmetric species",
+          "[core][cells][curvature]") {
+    INFO("pair loops: " << hotLoopClone() << " clone");
+    checkBagAgainstReference();
+}
+
+// The AVX-512 clone (HotLoop.hpp) is the one the loader picks on a CPU that has x86-64-v4; there
+// it must agree with the reference as the others do.
+TEST_CASE("the x86-64-v4 (AVX-512) clone equals the O(N^2) reference where the CPU has it", "[core][cells][clones]") {
+    if (std::string(hotLoopClone()) != "x86-64-v4") {
+        WARN("skipped: this CPU or build runs the " << hotLoopClone() << " clone, not x86-64-v4 (AVX-512)");
+        return;
+    }
+#if BOP_HOT_LOOP_CLONES
+    __builtin_cpu_init();
+    REQUIRE(__builtin_cpu_supports("avx512f"));
+    REQUIRE(__builtin_cpu_supports("avx512vl"));
+#endif
+    checkBagAgainstReference();
 }

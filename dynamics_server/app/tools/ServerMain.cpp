@@ -11,6 +11,7 @@
 #include "bop/common/Error.hpp"
 #include "bop/common/GradientMapCrop.hpp"
 #include "bop/common/ToolMain.hpp"
+#include "core/HotLoop.hpp"
 #include "core/Threads.hpp"
 #include "parallel/RankExchanges.hpp"
 #include "parallel/Session.hpp"
@@ -116,9 +117,9 @@ int run(int argc, char** argv) {
     if (parallel::MpiSession::worldRank() != 0) spdlog::set_level(spdlog::level::off);
     const int onNode = parallel::MpiSession::ranksOnThisNode();
     if (threads > 0) core::setThreadCount(threads);  // else MpiSession's choice
-    spdlog::info("layout: {} rank{} x {} thread{} each ({} rank{} and {} cores on this machine)", ranks,
-                 ranks == 1 ? "" : "s", core::threadCount(), core::threadCount() == 1 ? "" : "s", onNode,
-                 onNode == 1 ? "" : "s", std::thread::hardware_concurrency());
+    spdlog::info("layout: {} rank{} x {} thread{} each ({} rank{} and {} cores on this machine); pair loops: {} clone",
+                 ranks, ranks == 1 ? "" : "s", core::threadCount(), core::threadCount() == 1 ? "" : "s", onNode,
+                 onNode == 1 ? "" : "s", std::thread::hardware_concurrency(), core::hotLoopClone());
     app::Scene scene = app::loadScene(scenePath);
     if (scene.shape)
         for (const std::string& w : scene.shape->warnings) spdlog::warn("{}", w);
