@@ -95,25 +95,40 @@ def pressure(cycle_csv, volume_csv, png_path):
 
 
 def bag(csv_path, png_path):
-    """scripts/bench/bag.sh: steps per second and ns per particle-step against the bag's particle
-    count, one line per layout (ranks x threads), log-log."""
-    by_layout = {}
+    """scripts/bench/bag.sh: the time to build each bag and its steps per second and ns per
+    particle-step against its particle count, one line per layout (ranks x threads), log-log; the
+    CPU and the clone of the pair loops in the title when the CSV names them."""
+    by_layout, built, machine = {}, {}, set()
     with open(csv_path, newline="") as f:
         for row in csv.DictReader(f):
             try:
-                point = (int(row["particles"]), float(row["steps_per_s"]), float(row["ns_per_particle_step"]))
+                n = int(row["particles"])
+                point = (n, float(row["steps_per_s"]), float(row["ns_per_particle_step"]))
             except (KeyError, ValueError) as e:
                 raise ValueError(f"{csv_path}: a row without particles, steps_per_s or ns_per_particle_step ({e})") from e
             by_layout.setdefault(row["layout"], []).append(point)
+            if row.get("construction_s"):
+                built.setdefault(row.get("build") or "built", {})[n] = float(row["construction_s"])
+            if row.get("cpu"):
+                machine.add(f"{row['cpu']}, {row.get('clone') or '?'} clone")
     if not by_layout:
         raise ValueError(f"{csv_path}: no rows")
-    fig, (rate, cost) = plt.subplots(1, 2, figsize=(11, 4.5))
+    fig, axes = plt.subplots(1, 3 if built else 2, figsize=(16 if built else 11, 4.5))
+    rate, cost = axes[-2], axes[-1]
     for layout, points in by_layout.items():
         points.sort()
         n = [p[0] for p in points]
         rate.plot(n, [p[1] for p in points], "o-", label=layout)
         cost.plot(n, [p[2] for p in points], "o-", label=layout)
-    for ax, what in ((rate, "steps per second (1/s)"), (cost, "time per particle-step (ns)")):
+    panels = [(rate, "steps per second (1/s)", "ranks x threads"), (cost, "time per particle-step (ns)", "ranks x threads")]
+    if built:
+        build = axes[0]
+        for how, times in built.items():
+            n = sorted(times)
+            build.plot(n, [times[k] for k in n], "s-", color="#555555", label=how)
+        build.set_title("time to build the bag (map, placement, settling)")
+        panels.insert(0, (build, "wall time (s)", "bag built by"))
+    for ax, what, legend in panels:
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.yaxis.set_major_formatter(PLAIN)
@@ -123,9 +138,11 @@ def bag(csv_path, png_path):
         ax.set_xlabel("size of the built bag (particles)")
         ax.set_ylabel(what)
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(title="ranks x threads")
+        ax.legend(title=legend)
     rate.set_title("torus bag, stepped from its built state")
     cost.set_title("cost per particle-step")
+    if machine:
+        fig.suptitle("; ".join(sorted(machine)), fontsize=10)
     fig.tight_layout()
     _save(fig, png_path)
     return fig

@@ -119,6 +119,25 @@ run_gromacs() {
     gmx -quiet -nobackup mdrun -s run.tpr -deffnm md -ntmpi 1 -ntomp 1 -nb cpu -noconfout >mdrun.out 2>&1) || true
 }
 
+# why_gromacs_failed DIR: one line saying why GROMACS gave no rate, from its own words in DIR (the
+# Debian build stops on a CPU without the rdtscp instruction, which some VMs hide).
+why_gromacs_failed() {
+  local log
+  for log in "$1/mdrun.out" "$1/grompp.log"; do
+    [[ -s $log ]] || continue
+    if grep -q "rdtscp" "$log"; then
+      echo "GROMACS did not run: its Debian build is compiled to use the rdtscp instruction, which this CPU or VM does not offer (grep rdtscp /proc/cpuinfo finds nothing); $log says: $(grep -m1 -i "rdtscp" "$log" | sed 's/^ *//')"
+      return
+    fi
+    if grep -qiE "fatal error|^error" "$log"; then
+      echo "GROMACS stopped: $(grep -m1 -iA3 -E "fatal error|^error" "$log" | tr -s ' \n' ' ' | cut -c1-300) ($log)"
+      return
+    fi
+  done
+  command -v gmx >/dev/null || { echo "GROMACS did not run: gmx is not installed (scripts/install-deps.sh --bench installs it)"; return; }
+  echo "GROMACS gave no rate: no performance summary in $1/md.log (see $1/mdrun.out)"
+}
+
 # Rates from the logs: BoP's "this run" particle-steps/s, LAMMPS's atoms x steps / loop time.
 rate_of_bop() { awk '/^this run/ {print $7}' "$1"; }
 # GROMACS's atoms x steps / wall time of its performance summary ("Time:" line).

@@ -167,11 +167,11 @@ TEST_CASE("an undamped LJ cluster follows the single-process trajectory for 200 
     CartComm comm(MPI_COMM_WORLD, m->box);
     RankRun run(m, all);
     run.run(200);
-    const Particles got = run.gather();
+    const Particles got = run.gather(), want = single.gather();  // both by id
     REQUIRE(got.size() == all.size());
+    REQUIRE(got.id == want.id);
     double worst = 0;
-    for (std::size_t i = 0; i < got.size(); ++i)
-        worst = std::max(worst, separation(*m, got.pos[i], single.particles().pos[i]));
+    for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, separation(*m, got.pos[i], want.pos[i]));
     const double eSingle = single.stats().kinetic + single.stats().forces.pairEnergy;
     INFO(comm.size() << " ranks: largest position difference " << worst << ", energies " << run.totals().total()
                      << " and " << eSingle);
@@ -274,10 +274,10 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
     }
     run.refreshForces();
     single.refreshForces();
-    const Particles got = run.gather();
+    const Particles got = run.gather(), want = single.gather();  // both by id
+    REQUIRE(got.id == want.id);
     double worst = 0;
-    for (std::size_t i = 0; i < got.size(); ++i)
-        worst = std::max(worst, separation(*m, got.pos[i], single.particles().pos[i]));
+    for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, separation(*m, got.pos[i], want.pos[i]));
     const double reaction = (run.totals().probeReaction - single.stats().forces.probeReaction).norm();
     INFO(comm.size() << " ranks: largest position difference " << worst << ", reaction difference " << reaction);
     CHECK(single.stats().forces.probeReaction.norm() > 1e-3);

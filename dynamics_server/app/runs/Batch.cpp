@@ -135,6 +135,7 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
     long long done = 0;
     bool stopped = false, settled = false;
     int calmChecks = 0;                       // settle checks in a row at or below the kinetic energy
+    double lastSettleLine = 0;                // wall time of the last settling line, s since t0
     if (o.steps == 0) takeCheckpoint(false);  // nothing to step: the start itself is the checkpoint
     installBatchSignals();                    // from here a signal ends the run with a checkpoint
     const auto t0 = std::chrono::steady_clock::now();
@@ -164,6 +165,15 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
             const double perParticle = t.kinetic / std::max(1.0, t.particles);
             calmChecks = perParticle <= o.settleKinetic ? calmChecks + 1 : 0;
             settled = calmChecks >= 2;
+            // Settling shows its progress: at most one line every 2 s of wall time.
+            const double now = secondsSince(t0);
+            if (!settled && root && now >= lastSettleLine + 2.0) {
+                lastSettleLine = now;
+                std::cout << "settling: step " << step << ", kinetic energy " << std::scientific << std::setprecision(2)
+                          << perParticle << " per particle (settled at " << o.settleKinetic << " twice in a row), "
+                          << std::defaultfloat << std::setprecision(3) << double(s) / now << " steps/s"
+                          << std::setprecision(6) << std::endl;
+            }
             if (settled && root)
                 std::cout << "settled at step " << step << ": kinetic energy " << std::scientific
                           << std::setprecision(2) << perParticle << " per particle (at most " << o.settleKinetic
