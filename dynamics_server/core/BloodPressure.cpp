@@ -1,14 +1,15 @@
 #include "BloodPressure.hpp"
 
+#include "Threads.hpp"
+
 namespace bop::core {
 
 BloodSums bloodSums(const Model& model, const Particles& p) {
-    BloodSums s;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        if (model.isSurface(p.species[i])) continue;
-        s.mv2 += p.vel[i].squaredNorm();  // unit mass
-        s.count += 1;
-    }
+    BloodSums s;  // on the threads, in fixed blocks
+    s.mv2 = sumIndex(p.size(), [&](std::size_t i) {
+        return model.isSurface(p.species[i]) ? 0.0 : p.vel[i].squaredNorm();  // unit mass
+    });
+    s.count = sumIndex(p.size(), [&](std::size_t i) { return model.isSurface(p.species[i]) ? 0.0 : 1.0; });
     return s;
 }
 

@@ -1,7 +1,6 @@
 #include "ForceField.hpp"
 
 #include "Stopwatch.hpp"
-#include "Threads.hpp"
 
 namespace bop::core {
 
@@ -10,12 +9,8 @@ ForceField::ForceField(const Model& model, const Params& params) : pairs_(model,
 void ForceField::compute(const Model& model, const ProbeState& probe, Particles& p, ForceStats& stats,
                          PhaseTimes* times, bool energies, const Halo* halo) {
     stats = ForceStats{};
-    forEachIndex(p.size(), [&](std::size_t i) {
-        p.force[i].setZero();
-        p.torque[i].setZero();
-    });
     auto t0 = PhaseClock::now();
-    map_.add(model, p, stats, pairs_.oriented());  // curvature weights serve the co-planar pairs only
+    map_.set(model, p, stats, pairs_.oriented());  // curvature weights serve the co-planar pairs only
     if (times) times->gradientMap += secondsSince(t0);
     pairs_.add(model, p, halo, map_.curvatureWeights(), stats, energies, times);
     t0 = PhaseClock::now();

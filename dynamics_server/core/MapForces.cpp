@@ -11,9 +11,15 @@ float MapForces::curvatureWeight(const Model& model, const Eigen::Vector3d& x, i
     return map.nearestSurface(map.voxelAt((x / h).array().floor().cast<int>().matrix())).cpWeight;
 }
 
-void MapForces::add(const Model& model, Particles& p, ForceStats& stats, bool curvature) {
+void MapForces::set(const Model& model, Particles& p, ForceStats& stats, bool curvature) {
     if (curvature) curvature_.assign(p.size(), 1.0f);
-    if (!model.map) return;
+    if (!model.map) {
+        forEachIndex(p.size(), [&](std::size_t i) {
+            p.force[i].setZero();
+            p.torque[i].setZero();
+        });
+        return;
+    }
     if (fieldMap_ != model.map) {
         field_ = std::make_unique<GmField>(*model.map, model.interpolation);
         fieldMap_ = model.map;
@@ -33,9 +39,10 @@ void MapForces::add(const Model& model, Particles& p, ForceStats& stats, bool cu
             g.force = (1 - w) * g.force + w * n.force;
             g.torque = (1 - w) * g.torque + w * n.torque;
         }
-        p.force[i] += sp.alphaForceGm * g.force;
+        p.force[i] = sp.alphaForceGm * g.force;
+        p.torque[i].setZero();
         if (sp.kind == ParticleKind::Surface) {
-            p.torque[i] += sp.alphaTorqueGm * g.torque;
+            p.torque[i] = sp.alphaTorqueGm * g.torque;
             if (curvature) curvature_[i] = g.cpWeight;  // curvatureWeight(), from the same voxel
             return 0.0;
         }

@@ -13,9 +13,10 @@ namespace bop::core {
 
 class MapForces {
 public:
-    // Adds the map's forces and torques to particles.force and .torque, and its wall virial to
-    // stats. curvature: whether the pairs read curvatureWeights() (else not written).
-    void add(const Model& model, Particles& particles, ForceStats& stats, bool curvature);
+    // Sets particles.force and .torque to the map's forces and torques (zero without a map), the
+    // first forces of a step, and its wall virial in stats. curvature: whether the pairs read
+    // curvatureWeights() (else not written).
+    void set(const Model& model, Particles& particles, ForceStats& stats, bool curvature);
 
     // Keyframe blending: until set again, the forces are (1 - w) of the model's map plus w of
     // `next` (a map on the same grid; null or w = 0: the model's map alone).

@@ -93,7 +93,7 @@ void PairChunks::run(const PairKernel& kernel, const PrunedPairs::Sets& sets, Pa
     Eigen::Vector3d* t = o.t;
     const std::size_t n = chunks_.size();
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1) if (n > 1)
+#pragma omp parallel for schedule(static) if (n > 1)  // a range of chunks each, as the particles
 #endif
     for (std::size_t k = 0; k < n; ++k) {
         const Chunk& c = chunks_[k];

@@ -30,7 +30,7 @@ void keep(const NeighbourList::Pairs& from, const std::vector<Eigen::Vector3d>& 
                 to.start[x + 1] = std::uint32_t(kept.size() - before);  // the row's length, summed below
             }
         },
-        1, rows >= kThreadedEntries);
+        1, rows >= kThreadedEntries, true);
     for (std::size_t x = 1; x < to.start.size(); ++x) to.start[x] += to.start[x - 1];
     to.nbr.reserve(to.start.back());
     for (const auto& part : parts) to.nbr.insert(to.nbr.end(), part.begin(), part.end());

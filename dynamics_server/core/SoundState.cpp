@@ -1,5 +1,7 @@
 #include "SoundState.hpp"
 
+#include "Threads.hpp"
+
 #include <cmath>
 
 namespace bop::core {
@@ -22,13 +24,12 @@ struct Bounds {
 
 bool sound(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction) {
     const Bounds b(model);
-    bool inside = true;
-    double sum = probeReaction.sum();  // any NaN or infinity makes the sum so
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        inside &= b.inside(p.pos[i]) & b.slow(p.vel[i]);
-        sum += p.vel[i].sum() + p.omega[i].sum() + p.force[i].sum() + p.torque[i].sum();
-    }
-    return inside && std::isfinite(sum);
+    // Any NaN or infinity makes the sum so, and so does a particle out of bounds (on the threads).
+    const double sum = probeReaction.sum() + sumIndex(p.size(), [&](std::size_t i) {
+                           if (!(b.inside(p.pos[i]) && b.slow(p.vel[i]))) return std::nan("");
+                           return p.vel[i].sum() + p.omega[i].sum() + p.force[i].sum() + p.torque[i].sum();
+                       });
+    return std::isfinite(sum);
 }
 
 std::string Unsoundness::text() const {

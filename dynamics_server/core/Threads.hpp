@@ -15,10 +15,12 @@ namespace bop::core {
 
 inline constexpr std::size_t kSumBlock = 256;   // items per block of a sum
 inline constexpr std::size_t kThreadMin = 256;  // loops shorter than this stay on one thread
-// Per-particle loops deal the particles to the threads in turns of this many: a bag's particles
-// come species by species, and a surface particle costs more than a volume one (its rotation,
-// its normal's map sample), so halves would leave one thread most of the work.
-inline constexpr std::size_t kIndexTurn = 64;
+// Per-particle and per-entry loops give each thread one contiguous range, the same in every loop
+// of a step, as ranks own their subdomains: the particles are kept in the neighbour list's cell
+// order (SpatialOrder.hpp), so a thread's range is a slab of the bag, its surface and volume
+// particles mixed, and each core works on the same memory from phase to phase. Dealing turns of
+// 64 particles instead made both cores pull every cache line (two threads 1.28x one at 10^5
+// particles, against 1.93x for two ranks; docs/parallel.md).
 
 inline int threadCount() {
 #if defined(_OPENMP)
@@ -36,11 +38,11 @@ inline void setThreadCount(int n) {
 #endif
 }
 
-// f(i) for i in [0, n), on the threads (in turns of kIndexTurn).
+// f(i) for i in [0, n), on the threads (a contiguous range each).
 template <class F>
 void forEachIndex(std::size_t n, F&& f) {
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static, kIndexTurn) if (n >= kThreadMin)
+#pragma omp parallel for schedule(static) if (n >= kThreadMin)
 #endif
     for (std::size_t i = 0; i < n; ++i) f(i);
 }
@@ -51,12 +53,22 @@ inline std::size_t blockCount(std::size_t n, std::size_t block) {
 }
 
 // f(b, begin, end) for each block b = [b * block, min(n, (b + 1) * block)) of [0, n), on the
-// threads (dynamic schedule, `grain` blocks at a time) when `threaded` and there are several.
+// threads when `threaded` and there are several: dynamic schedule, `grain` blocks at a time
+// (blocks of uneven work, such as cells of which many are empty), or with `contiguous` a range
+// of blocks each (blocks of even work over the particles' order, as the per-particle loops).
 // The blocks depend on n and block alone: a caller that keeps each block's results and joins
 // them in block order gets the same bits at any thread count.
 template <class F>
-void forBlocks(std::size_t n, std::size_t block, F&& f, std::size_t grain = 1, bool threaded = true) {
+void forBlocks(std::size_t n, std::size_t block, F&& f, std::size_t grain = 1, bool threaded = true,
+               bool contiguous = false) {
     const std::size_t blocks = blockCount(n, block);
+    if (contiguous) {
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) if (threaded && blocks > 1)
+#endif
+        for (std::size_t b = 0; b < blocks; ++b) f(b, b * block, std::min(n, (b + 1) * block));
+        return;
+    }
 #if defined(_OPENMP)
 #pragma omp parallel for schedule(dynamic, grain) if (threaded && blocks > 1)
 #endif
@@ -69,7 +81,7 @@ double sumIndex(std::size_t n, F&& f) {
     const std::size_t blocks = (n + kSumBlock - 1) / kSumBlock;
     std::vector<double> part(blocks, 0.0);
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static, 1) if (n >= kThreadMin)  // blocks dealt in turns
+#pragma omp parallel for schedule(static) if (n >= kThreadMin)  // a range of blocks each
 #endif
     for (std::size_t b = 0; b < blocks; ++b) {
         double s = 0;
