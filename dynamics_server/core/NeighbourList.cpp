@@ -14,15 +14,23 @@ namespace bop::core {
 
 namespace {
 
-// Sorts entry x's neighbours [from, end) nearest first (ties by index): the pair loop's cutoff
-// test then changes outcome once per entry, which the branch predictor follows.
-void nearestFirst(std::vector<std::uint32_t>& list, std::uint32_t from, std::uint32_t x,
-                  const std::vector<Eigen::Vector3d>& pos, std::size_t to = ~std::size_t(0)) {
-    const auto end = to == ~std::size_t(0) ? list.end() : list.begin() + std::ptrdiff_t(to);
-    std::sort(list.begin() + from, end, [&](std::uint32_t u, std::uint32_t v) {
-        const double du = (pos[u] - pos[x]).squaredNorm(), dv = (pos[v] - pos[x]).squaredNorm();
-        return du < dv || (du == dv && u < v);
-    });
+// A row's neighbours with their squared distances, sorted nearest first (ties by index): the
+// pair loop's cutoff test then changes outcome once per entry, which the branch predictor
+// follows. Each distance is computed once, not in every comparison.
+using Near = std::vector<std::pair<double, std::uint32_t>>;
+void appendNearestFirst(Near& row, std::vector<std::uint32_t>& out) {
+    std::sort(row.begin(), row.end());
+    for (const auto& [_, y] : row) out.push_back(y);
+    row.clear();
+}
+
+// Sorts entry x's neighbours [from, to) of list nearest first (ties by index).
+void nearestFirst(std::vector<std::uint32_t>& list, std::size_t from, std::size_t to, std::uint32_t x,
+                  const std::vector<Eigen::Vector3d>& pos, Near& scratch) {
+    for (std::size_t k = from; k < to; ++k) scratch.emplace_back((pos[list[k]] - pos[x]).squaredNorm(), list[k]);
+    std::sort(scratch.begin(), scratch.end());
+    for (std::size_t k = from; k < to; ++k) list[k] = scratch[k - from].second;
+    scratch.clear();
 }
 
 constexpr std::size_t kCellBlock = 64;          // cells per block of the threaded build
@@ -158,24 +166,27 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
         std::array<CellList::Neighbour, 14> stencil;
         std::vector<std::uint32_t>& nbr = part[b].nbr;
         std::vector<std::uint32_t>& hnbr = haloPart[b].nbr;
+        Near row, hrow;
         for (int c = int(c0); c < int(c1); ++c) {
             const std::uint32_t b0 = cells.start(c), b1 = cells.start(c + 1);
             if (b0 == b1) continue;
             const int m = cells.halfStencil(c, stencil);
             for (std::uint32_t x = b0; x < b1; ++x) {
                 const std::size_t from = nbr.size(), hfrom = hnbr.size();
+                const Eigen::Vector3d px = pos_[x];
                 for (int s = 0; s < m; ++s) {
                     const std::uint32_t e0 = cells.start(stencil[std::size_t(s)].cell);
                     const std::uint32_t e1 = cells.start(stencil[std::size_t(s)].cell + 1);
                     for (std::uint32_t y = (s == 0 ? x + 1 : e0); y < e1; ++y) {
-                        if ((pos_[y] - pos_[x]).squaredNorm() >= range2) continue;
+                        const double d2 = (pos_[y] - px).squaredNorm();
+                        if (d2 >= range2) continue;
                         const int k = kind(x, y);
-                        if (k == 1) nbr.push_back(y);
-                        if (k == 2) hnbr.push_back(y);
+                        if (k == 1) row.emplace_back(d2, y);
+                        if (k == 2) hrow.emplace_back(d2, y);
                     }
                 }
-                nearestFirst(nbr, std::uint32_t(from), x, pos_);
-                nearestFirst(hnbr, std::uint32_t(hfrom), x, pos_);
+                appendNearestFirst(row, nbr);
+                appendNearestFirst(hrow, hnbr);
                 pairs_.start[x + 1] = std::uint32_t(nbr.size() - from);  // the row's length, for now
                 haloPairs_.start[x + 1] = std::uint32_t(hnbr.size() - hfrom);
             }
@@ -236,8 +247,14 @@ void NeighbourList::buildWide(const Box& extended, const Wide& wide) {
         p.nbr.resize(found[k].size());
         std::vector<std::uint32_t> fill(p.start.begin(), p.start.end() - 1);
         for (const auto& [x, y] : found[k]) p.nbr[fill[x]++] = y;
-        forEachIndex(ne,
-                     [&](std::size_t e) { nearestFirst(p.nbr, p.start[e], std::uint32_t(e), pos_, p.start[e + 1]); });
+        forBlocks(
+            ne, kCellBlock,
+            [&](std::size_t, std::size_t e0, std::size_t e1) {
+                Near scratch;
+                for (std::size_t e = e0; e < e1; ++e)
+                    nearestFirst(p.nbr, p.start[e], p.start[e + 1], std::uint32_t(e), pos_, scratch);
+            },
+            1, true, true);
     }
     checkSize(widePairs_, wideHaloPairs_);
 }

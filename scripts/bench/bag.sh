@@ -17,7 +17,8 @@
 #                    timeline: surface from step 0, volume from step 1,500, 4,000 steps in all,
 #                    each stretched by SCALE / 2 above scale 2; an hour at 10^6 particles)
 #   BOP_BAG_STEPS    most steps from the built state (default 2000; fewer above 15k particles:
-#                    3e7 / particles, at least 20)
+#                    3e7 / particles, at least 200, so that list rebuilds and sorts come at
+#                    their own pace rather than the first steps' after the restart)
 #   BOP_BAG_APPEND=1 add rows to an existing CSV (a large scale run on its own) instead of a new one
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -71,7 +72,7 @@ for s in "${scales[@]}"; do
   fi
   [[ $method == place ]] || settle=-
   clone=$(sed -n 's/.*pair loops: \(.*\) clone.*/\1/p' "$out/build-$s.log" | head -1)
-  steps=$(awk -v n="$total" -v m="$max_steps" 'BEGIN {s = int(3e7 / n); if (s > m) s = m; if (s < 20) s = 20; print s}')
+  steps=$(awk -v n="$total" -v m="$max_steps" 'BEGIN {s = int(3e7 / n); if (s > m) s = m; if (s < 200) s = 200; print s}')
   for layout in "1 rank x 1 thread" "1 rank x 2 threads" "2 ranks x 1 thread"; do
     log=$out/step-$s-${layout// /_}.log
     case $layout in
