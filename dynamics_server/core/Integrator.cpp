@@ -62,12 +62,11 @@ double kick(const Model& model, const DragFactors& decay, Particles& p) {
 }
 
 double kineticEnergy(const Model& model, const Particles& p) {
-    double e = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        e += 0.5 * p.vel[i].squaredNorm();
+    return sumIndex(p.size(), [&](std::size_t i) {  // on the threads, in fixed blocks
+        double e = 0.5 * p.vel[i].squaredNorm();
         if (model.isSurface(p.species[i])) e += 0.5 * model.integration.inertia * p.omega[i].squaredNorm();
-    }
-    return e;
+        return e;
+    });
 }
 
 Eigen::Quaterniond rotationBy(const Eigen::Vector3d& theta) {

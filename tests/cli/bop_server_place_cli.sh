@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # A bag placed on its map (the torus scene without its construction timeline): the batch run ends
 # by itself once settled, well before its cap, with the placement's counts and the shape's
-# fidelity in its log; 1 and 2 ranks place the same particles and settle at the same step; a thin
+# fidelity in its log; 1 and 2 ranks place the same particles and settle at the same step, and 1
+# and 3 threads build the same bag to the last digit (the particles sorted as they move); a thin
 # shape is named before it is built.
 # Usage: bop_server_place_cli.sh PATH/TO/bop-server PATH/TO/mpiexec SOURCE_DIR
 set -u
@@ -19,8 +20,17 @@ rc1=$?
 bounded 150 "$work/p2.log" "$mpi" --oversubscribe -np 2 "$exe" "$work/placed.toml" --no-listen \
   --cache "$work/map.bopgm" -o "$work/p2"
 rc2=$?
+bounded 150 "$work/p3.log" "$exe" "$work/placed.toml" --no-listen --cache "$work/map.bopgm" -o "$work/p3" --threads 1
+rc3=$?
+bounded 150 "$work/p4.log" "$exe" "$work/placed.toml" --no-listen --cache "$work/map.bopgm" -o "$work/p4" --threads 3
+rc4=$?
 tail -4 "$work/p1.log"
 check "both runs end with exit code 0 (got $rc1 and $rc2)" "[ $rc1 -eq 0 ] && [ $rc2 -eq 0 ]"
+check "1 and 3 threads build the same bag to the last digit: every particle of final.xyz (exit codes $rc3, $rc4)" \
+  "[ $rc3 -eq 0 ] && [ $rc4 -eq 0 ] && grep -q 'layout: 1 rank x 1 thread ' '$work/p3.log' && \
+   grep -q 'layout: 1 rank x 3 threads ' '$work/p4.log' && \
+   cmp -s <(tail -n +3 '$work/p3/final.xyz') <(tail -n +3 '$work/p4/final.xyz') && \
+   [ \$(sed -n 's/^settled at step \\([0-9]*\\):.*/\\1/p' '$work/p3.log') = \$(sed -n 's/^settled at step \\([0-9]*\\):.*/\\1/p' '$work/p4.log') ]"
 settled1=$(sed -n 's/^settled at step \([0-9]*\):.*/\1/p' "$work/p1.log")
 settled2=$(sed -n 's/^settled at step \([0-9]*\):.*/\1/p' "$work/p2.log")
 check "the run ends by itself once settled, before the cap of 20000 steps (step ${settled1:-none})" \
