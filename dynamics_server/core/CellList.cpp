@@ -25,11 +25,8 @@ void CellList::build(const Box& box, double minCell, const std::vector<Eigen::Ve
     const int cells = n_[0] * n_[1] * n_[2];
     start_.assign(std::size_t(cells) + 1, 0);
     cellOfParticle_.resize(pos.size());
-    for (std::size_t i = 0; i < pos.size(); ++i) {
-        const int c = cellOf(pos[i]);
-        cellOfParticle_[i] = c;
-        ++start_[std::size_t(c) + 1];
-    }
+    forEachIndex(pos.size(), [&](std::size_t i) { cellOfParticle_[i] = cellOf(pos[i]); });
+    for (std::size_t i = 0; i < pos.size(); ++i) ++start_[std::size_t(cellOfParticle_[i]) + 1];
     for (int c = 0; c < cells; ++c) start_[std::size_t(c) + 1] += start_[std::size_t(c)];
     order_.resize(pos.size());
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);

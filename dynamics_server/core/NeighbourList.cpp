@@ -138,7 +138,7 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
     }
 
     std::vector<std::uint64_t> rawKey(raw.size());
-    for (std::size_t k = 0; k < raw.size(); ++k) rawKey[k] = key_[rawOwner[k]];
+    forEachIndex(raw.size(), [&](std::size_t k) { rawKey[k] = key_[rawOwner[k]]; });
     CellList cells;
     cells.build(extended, range, raw, &rawKey);  // an image never shares a cell with its owner
     const auto& order = cells.order();
@@ -147,12 +147,12 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
     pos_.resize(ne);
     shift_.resize(ne);
     image_.resize(ne);
-    for (std::size_t k = 0; k < ne; ++k) {
+    forEachIndex(ne, [&](std::size_t k) {
         owner_[k] = rawOwner[order[k]];
         pos_[k] = raw[order[k]];
         shift_[k] = pos_[k] - now_[owner_[k]];
         image_[k] = order[k] >= originals;
-    }
+    });
 
     // Rows on the threads, in fixed blocks of cells (rows of a block are contiguous entries),
     // each block's neighbours then joined in block order: the same list at any thread count.

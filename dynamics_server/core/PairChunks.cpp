@@ -15,6 +15,15 @@ constexpr std::size_t kMinChunks = 4;
 constexpr double kMaxBuffer = 3.0;
 using Clock = std::chrono::steady_clock;
 
+// f(k) for every chunk k, one chunk at a time on the threads.
+template <class F>
+void forEachChunk(std::size_t n, F&& f) {
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1) if (n > 1)
+#endif
+    for (std::size_t k = 0; k < n; ++k) f(k);
+}
+
 // The largest neighbour in rows [x0, x1) of p, or 0.
 std::uint32_t farthest(const NeighbourList::Pairs& p, std::uint32_t x0, std::uint32_t x1) {
     std::uint32_t hi = 0;
@@ -68,14 +77,17 @@ std::size_t PairChunks::cut(const NeighbourList& list, std::size_t count, double
         chunks_.push_back(c);
         c.x0 = c.x1;
     }
-    std::size_t offset = 0;
-    for (std::size_t k = 0; k < chunks_.size(); ++k) {
+    forEachChunk(chunks_.size(), [&](std::size_t k) {  // each chunk's reach, on the threads
         Chunk& ch = chunks_[k];
         std::uint32_t hi = ch.x1 > 0 ? ch.x1 - 1 : 0;
         hi = std::max({hi, farthest(list.pairs(), ch.x0, ch.x1), farthest(list.haloPairs(), ch.x0, ch.x1)});
         if (oriented_)
             hi = std::max({hi, farthest(list.widePairs(), ch.x0, ch.x1), farthest(list.wideHaloPairs(), ch.x0, ch.x1)});
         ch.hi = hi + 1;
+    });
+    std::size_t offset = 0;
+    for (std::size_t k = 0; k < chunks_.size(); ++k) {
+        Chunk& ch = chunks_[k];
         ch.offset = offset;
         offset += ch.hi - ch.x0;
         ch.firstCover = std::uint32_t(k);

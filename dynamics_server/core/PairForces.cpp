@@ -54,7 +54,7 @@ void PairForces::updateList(const Model& model, const Particles& p, const Halo* 
         if (oriented_) {  // the oriented terms' pairs: surface particles with weights, to their cutoff
             wide_.range = kernel_.weight().cutoff() + skin_;
             wide_.member.resize(p.size() + haloPos.size());
-            for (std::size_t i = 0; i < p.size(); ++i) wide_.member[i] = isWide_[p.species[i]];
+            forEachIndex(p.size(), [&](std::size_t i) { wide_.member[i] = isWide_[p.species[i]]; });
             for (std::size_t g = 0; g < haloPos.size(); ++g) wide_.member[p.size() + g] = isWide_[halo->species[g]];
         }
         keys_ = p.id;  // entries by id within a cell: the list does not depend on the particles' order
