@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Building and stepping a bag against its size: the torus scene (config/scenes/torus.toml) scaled by
-# SCALE (its mesh's mm per unit; particles grow about as SCALE^3: about 1,700 at 1, 13,000 at 2,
+# SCALE (its mesh's mm per unit; particles grow about as SCALE^3: about 1,700 at 1, 12,000 at 2,
 # 100,000 at 4.2 and 1.0 million at 9.1). Each is built by placement (its particles set on the map
 # at r0 spacing, then relaxed by the damped dynamics until settled: docs/physics.md §7.5), timed
 # from the server's start to its final state (map, placement, settling, files), then stepped from
@@ -19,6 +19,8 @@
 #   BOP_BAG_STEPS    most steps from the built state (default 2000; fewer above 15k particles:
 #                    3e7 / particles, at least 200, so that list rebuilds and sorts come at
 #                    their own pace rather than the first steps' after the restart)
+#   BOP_BAG_REPEATS  runs of each layout, in turns, the best rate kept (default 3 below 200,000
+#                    particles, else 1): two runs of one layout differ by up to 30% on a shared machine
 #   BOP_BAG_APPEND=1 add rows to an existing CSV (a large scale run on its own) instead of a new one
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -73,16 +75,29 @@ for s in "${scales[@]}"; do
   [[ $method == place ]] || settle=-
   clone=$(sed -n 's/.*pair loops: \(.*\) clone.*/\1/p' "$out/build-$s.log" | head -1)
   steps=$(awk -v n="$total" -v m="$max_steps" 'BEGIN {s = int(3e7 / n); if (s > m) s = m; if (s < 200) s = 200; print s}')
-  for layout in "1 rank x 1 thread" "1 rank x 2 threads" "2 ranks x 1 thread"; do
+  repeats=${BOP_BAG_REPEATS:-$(awk -v n="$total" 'BEGIN {print (n < 200000 ? 3 : 1)}')}
+  layouts=("1 rank x 1 thread" "1 rank x 2 threads" "2 ranks x 1 thread")
+  declare -A best=()
+  for ((rep = 1; rep <= repeats; rep++)); do  # the layouts in turn, the best rate of each kept
+    for layout in "${layouts[@]}"; do
+      log=$out/step-$s-${layout// /_}.log
+      case $layout in
+        "1 rank x 1 thread") run=(env OMP_NUM_THREADS=1 "$server") ;;
+        "1 rank x 2 threads") run=(env OMP_NUM_THREADS=2 "$server") ;;
+        *) run=(env OMP_NUM_THREADS=1 mpirun -np 2 --oversubscribe "$server") ;;
+      esac
+      "${run[@]}" "$out/step-torus-$s.toml" --restart "$out/build-$s/final.xyz" --steps "$steps" --no-listen \
+        -o "$out/step-$s" --cache "$out/build-$s/gradient-map.bopgm" --report-every "$steps" >"$log.$rep" 2>&1
+      rate=$(awk '/^this run/ {print $6}' "$log.$rep")
+      if [[ -z ${best[$layout]:-} ]] || awk -v a="$rate" -v b="${best[$layout]}" 'BEGIN {exit !(a > b)}'; then
+        best[$layout]=$rate
+        cp "$log.$rep" "$log"
+      fi
+    done
+  done
+  for layout in "${layouts[@]}"; do
     log=$out/step-$s-${layout// /_}.log
-    case $layout in
-      "1 rank x 1 thread") run=(env OMP_NUM_THREADS=1 "$server") ;;
-      "1 rank x 2 threads") run=(env OMP_NUM_THREADS=2 "$server") ;;
-      *) run=(env OMP_NUM_THREADS=1 mpirun -np 2 --oversubscribe "$server") ;;
-    esac
-    "${run[@]}" "$out/step-torus-$s.toml" --restart "$out/build-$s/final.xyz" --steps "$steps" --no-listen \
-      -o "$out/step-$s" --cache "$out/build-$s/gradient-map.bopgm" --report-every "$steps" >"$log" 2>&1
-    rate=$(awk '/^this run/ {print $6}' "$log")
+    rate=${best[$layout]}
     ns=$(awk -v r="$rate" -v n="$total" 'BEGIN {printf "%.0f", 1e9 / (r * n)}')
     pairs=$(awk '/^pairs / {print $2}' "$log")
     lj=$(sed -n 's/.*(\([0-9]*\) within the cutoff).*/\1/p' "$log")
