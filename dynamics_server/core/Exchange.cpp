@@ -10,7 +10,6 @@ void Exchange::sortIfDue(Particles& p, bool now) {
     if (sortEvery_ <= 0 || !(now || driftsSinceSort_ >= sortEvery_)) return;
     reorder(p, spatialOrder(sortBox_, sortCell_, p.pos, p.id));
     driftsSinceSort_ = 0;
-    ++sorts_;
 }
 
 // New cut planes (when `balance`), then the sort (when due, or `sortNow`), then the halo's plan,

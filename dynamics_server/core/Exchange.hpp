@@ -41,17 +41,17 @@ public:
     // (the birth front). Whether they may have moved (never for one process, which wraps them
     // into the box at every drift).
     bool widen(Particles& p, Halo& halo, double range);
-    // Particles in space-filling-curve order (SpatialOrder.hpp, cells of `cell` length units over
-    // `box`): sorted at start() and, once `everySteps` drifts have passed since the last sort, at
-    // the next rebuild (after migration, before the halo's plan). everySteps 0: never sorted. A
-    // sort moves particles only between indices: the neighbour list orders its entries by id
-    // within a cell, so a step's forces do not depend on it (docs/performance.md).
+    // Particles in the neighbour list's cell order (SpatialOrder.hpp, cells of at least `cell`
+    // length units over `box`): sorted at start() and, once `everySteps` drifts have passed since
+    // the last sort, at the next rebuild (after migration, before the halo's plan). everySteps 0:
+    // never sorted. A sort moves particles only between indices: the neighbour list orders its
+    // entries by id within a cell, so a step's forces do not depend on it (docs/dynamics.md,
+    // "Particle order").
     void sortParticles(const Box& box, double cell, long long everySteps) {
         sortBox_ = box;
         sortCell_ = cell;
         sortEvery_ = everySteps;
     }
-    std::size_t sorts() const { return sorts_; }  // sorts done on this process
 
     virtual int rank() const { return 0; }
     virtual int size() const { return 1; }
@@ -135,7 +135,6 @@ private:
     Box sortBox_;
     double sortCell_ = 1;
     long long sortEvery_ = 0, driftsSinceSort_ = 0;
-    std::size_t sorts_ = 0;
 };
 
 }  // namespace bop::core

@@ -67,7 +67,7 @@ struct SimulationOptions {
     long long firstStep = 0;                     // step number of the initial state
     std::optional<MapSource> map{};              // none: windows of model->map
     std::optional<Params> params{};              // none: the scene's weights and drags, the probe off
-    // Particles re-sorted in space-filling-curve order at the first neighbour-list rebuild this
+    // Particles re-sorted in the neighbour list's cell order at the first list rebuild this
     // many steps after the last sort (Exchange::sortParticles; 0: kept in their order).
     long long sortEverySteps = kSortEverySteps;
     static constexpr long long kSortEverySteps = 100;

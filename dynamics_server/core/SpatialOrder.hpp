@@ -1,12 +1,12 @@
 #pragma once
-// Particles in the neighbour list's order (docs/performance.md "Particle order"): the box cut into
+// Particles in the neighbour list's order (docs/dynamics.md, "Particle order"): the box cut into
 // the list's cells (CellList.hpp: cells at least the list's range wide, numbered with the axis of
 // fewest cells varying fastest), the particles sorted by cell, then by id within a cell. The pair
 // loops walk the list's entries in that order, so the gathers from the particles into the entries
 // and the forces folded back stream through memory rather than jump, and so do the integrator and
 // the map forces over neighbours; the cost per particle then does not grow with the bag. Sorting
 // by (cell, id) gives an order that depends on the positions and ids alone, not on the order
-// before. (A Hilbert curve over cells of r0 was measured slower, docs/performance.md: it keeps
+// before. (A Hilbert curve over cells of r0 was measured slower, docs/dynamics.md: it keeps
 // neighbours near in memory too, but in an order other than the loops'.)
 #include "Model.hpp"
 #include "Particles.hpp"

@@ -108,7 +108,8 @@ def bag(csv_path, png_path):
                 raise ValueError(f"{csv_path}: a row without particles, steps_per_s or ns_per_particle_step ({e})") from e
             by_layout.setdefault(row["layout"], []).append(point)
             if row.get("construction_s"):
-                built.setdefault(row.get("build") or "built", {})[n] = float(row["construction_s"])
+                how = {"place": "placement and settling", "birth": "birth and death"}.get(row.get("build"), "built")
+                built.setdefault(how, {})[n] = float(row["construction_s"])
             if row.get("cpu"):
                 machine.add(f"{row['cpu']}, {row.get('clone') or '?'} clone")
     if not by_layout:

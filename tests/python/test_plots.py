@@ -53,7 +53,7 @@ volume_csv = write("volume-cycle.csv", "phase,cavity_ml,particle_ml,ef_voxels,ef
                    "".join(f"{p},{120 - 60 * np.sin(np.pi * p)},{-1 if k % 4 == 3 else 118 - 55 * np.sin(np.pi * p)},0.5,0.466\n"
                            for k, p in enumerate(vphase)))
 bag_csv = write("bag.csv", "layout,particles,steps_per_s,ns_per_particle_step,construction_s,build,cpu,clone\n" +
-                "".join(f"{layout},{n},{1e9 / (200 * n)},{200 + 10 * k},{2 + n / 2e4},placed,AMD EPYC,x86-64-v4\n"
+                "".join(f"{layout},{n},{1e9 / (200 * n)},{200 + 10 * k},{2 + n / 2e4},place,AMD EPYC,x86-64-v4\n"
                         for layout in ("1x1", "1x2", "2x1") for k, n in enumerate((1363, 9208, 139703))))
 
 failures = 0
