@@ -48,8 +48,13 @@ Run::~Run() = default;
 void Run::step() {
     impl_->sim->step();  // sound, or it threw
     const long long n = impl_->sim->stepCount();
-    if (n % kSoundSnapshotEvery == 0)
-        impl_->sound = SoundSnapshot{impl_->sim->particles(), impl_->sim->construction(), n};
+    if (n % kSoundSnapshotEvery == 0) {
+        if (!impl_->sound) impl_->sound.emplace(SoundSnapshot{{}, impl_->sim->construction(), n});
+        // Copied into the last snapshot's arrays: no fresh pages for a 10^6-particle bag each time.
+        impl_->sound->particles = impl_->sim->particles();
+        impl_->sound->construction = impl_->sim->construction();
+        impl_->sound->step = n;
+    }
 }
 
 std::optional<SoundSnapshot> Run::lastSound() const {
