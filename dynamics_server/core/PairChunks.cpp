@@ -1,5 +1,7 @@
 #include "PairChunks.hpp"
 
+#include "Threads.hpp"
+
 #include <algorithm>
 #include <chrono>
 
@@ -14,15 +16,6 @@ constexpr std::size_t kMaxChunks = 64;
 constexpr std::size_t kMinChunks = 4;
 constexpr double kMaxBuffer = 3.0;
 using Clock = std::chrono::steady_clock;
-
-// f(k) for every chunk k, one chunk at a time on the threads.
-template <class F>
-void forEachChunk(std::size_t n, F&& f) {
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1) if (n > 1)
-#endif
-    for (std::size_t k = 0; k < n; ++k) f(k);
-}
 
 // The largest neighbour in rows [x0, x1) of p, or 0.
 std::uint32_t farthest(const NeighbourList::Pairs& p, std::uint32_t x0, std::uint32_t x1) {
@@ -77,7 +70,7 @@ std::size_t PairChunks::cut(const NeighbourList& list, std::size_t count, double
         chunks_.push_back(c);
         c.x0 = c.x1;
     }
-    forEachChunk(chunks_.size(), [&](std::size_t k) {  // each chunk's reach, on the threads
+    forBlocks(chunks_.size(), 1, [&](std::size_t k, std::size_t, std::size_t) {  // each chunk's reach, on the threads
         Chunk& ch = chunks_[k];
         std::uint32_t hi = ch.x1 > 0 ? ch.x1 - 1 : 0;
         hi = std::max({hi, farthest(list.pairs(), ch.x0, ch.x1), farthest(list.haloPairs(), ch.x0, ch.x1)});

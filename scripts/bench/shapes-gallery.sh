@@ -26,7 +26,7 @@ out=out/bench/shapes-gallery; rm -rf "$out"; mkdir -p "$out"
 csv=out/bench/shapes-gallery.csv
 echo "case,size_voxels,status,voxel_mL,solid_mL,volume_ratio,surface,surface_ideal,volume,volume_ideal,surface_fidelity,volume_fidelity,normal_deg,late_births_deaths,particles,build_s,note" >"$csv"
 echo "shapes-gallery: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores" >&2
-python3 scripts/bench/shapes-gallery.py synth "$out/synthetic"
+/usr/bin/python3 scripts/bench/shapes-gallery.py synth "$out/synthetic"
 
 cases=()
 for f in ../shared/data/meshes/*.obj "$out"/synthetic/*.obj "$out"/synthetic/*.nii; do [[ -e $f ]] && cases+=("$f"); done
@@ -35,7 +35,7 @@ for size in "${sizes[@]}"; do
   for file in "${cases[@]}"; do
     name=$(basename "${file%.*}")
     dir=$out/$name-$size; mkdir -p "$dir"
-    python3 scripts/bench/shapes-gallery.py scene "$file" "$size" "$steps" "$dir"
+    /usr/bin/python3 scripts/bench/shapes-gallery.py scene "$file" "$size" "$steps" "$dir"
     # the voxel volume, then the reference solid at twice the resolution
     note=""
     if ! build/dynamics_server/bop-shape "$dir/scene.toml" -o "$dir/map" --no-png --export labels >"$dir/shape.log" 2>&1; then
@@ -50,7 +50,7 @@ for size in "${sizes[@]}"; do
     build/dynamics_server/bop-server "$dir/scene.toml" --no-listen -o "$dir/run" --cache "$dir/run.bopgm" \
       --report-every $((steps / 10)) >"$dir/run.log" 2>&1 || { echo "$name,$size,failed,,,,,,,,,,,,,,see $dir/run.log" >>"$csv"; continue; }
     built=$(awk -v t0="$start" -v t1="$(date +%s.%N)" 'BEGIN {printf "%.1f", t1 - t0}')
-    python3 scripts/bench/shapes-gallery.py row "$name" "$size" "$dir" "$built" "$note" "$file" >>"$csv"
+    /usr/bin/python3 scripts/bench/shapes-gallery.py row "$name" "$size" "$dir" "$built" "$note" "$file" >>"$csv"
     tail -1 "$csv" | awk -F, '{printf "%-16s %4s  vol %5s  surf %5s/%-5s vol %6s/%-6s  fid %5s%% %5s%%  %4s deg  late %5s  %6s s\n", $1, $2, $6, $7, $8, $9, $10, $11, $12, $13, $14, $16}'
   done
 done
@@ -70,5 +70,5 @@ for dir in "$out"/*-*/; do
   kill "$server" 2>/dev/null || true
   wait "$server" 2>/dev/null || true
 done
-python3 scripts/bench/shapes-gallery.py sheet "$out" out/bench/shapes-gallery.png
+/usr/bin/python3 scripts/bench/shapes-gallery.py sheet "$out" out/bench/shapes-gallery.png
 echo "shapes-gallery: rows in $csv, contact sheet out/bench/shapes-gallery.png" >&2
