@@ -53,8 +53,8 @@ Eigen::Vector3d GmField::rule(std::size_t v, const Eigen::Vector3i& c, ParticleK
     return inward();
 }
 
-GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& position,
-                         const Eigen::Vector3d& normal) const {
+GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
+                         Memo* memo) const {
     const Dims& dm = map_.dims();
     const Dims& whole = map_.wholeDims();
     const Eigen::Vector3d pWhole = position / h_;
@@ -92,9 +92,15 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
             q.array().floor().cast<int>().min(Eigen::Array3i(dm.nx - 1, dm.ny - 1, dm.nz - 1)).matrix();
         const std::size_t v = dm.index(c.x(), c.y(), c.z());
         f = rule(v, c, kind, species, q);
-        const SurfaceVoxel& s = map_.nearestSurface(v);
-        n = s.normal.cast<double>();
-        cpWeight = s.cpWeight;
+        if (memo && memo->voxel != v) {  // the particle moved to another voxel, or no memo yet
+            const SurfaceVoxel& s = map_.nearestSurface(v);
+            memo->voxel = v;
+            memo->normal = s.normal;
+            memo->cpWeight = s.cpWeight;
+        }
+        const Eigen::Vector3f& nf = memo ? memo->normal : map_.nearestSurface(v).normal;
+        n = nf.cast<double>();
+        cpWeight = memo ? memo->cpWeight : map_.nearestSurface(v).cpWeight;
     } else {
         const Eigen::Vector3d s = q - Eigen::Vector3d::Constant(0.5);  // centre-based coordinates
         Eigen::Vector3i base = s.array().floor().cast<int>().matrix();

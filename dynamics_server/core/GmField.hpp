@@ -45,12 +45,26 @@ class GmField {
 public:
     GmField(const GradientMap& map, Interpolation interp = Interpolation::Mixed);
 
+    // What a surface particle read from the map at its last sample: the voxel holding it and that
+    // voxel's nearest surface's normal and co-planar weight. A sheet's particle stays in its
+    // voxel for many steps, and the look-up behind these (the voxel's nearest surface, then its
+    // record) is two dependent reads far apart in memory: the memo answers them while the
+    // particle stays, with the same values. The values are the voxel's, whoever asks: a memo
+    // needs no owner, only the same map.
+    struct Memo {
+        std::size_t voxel = ~std::size_t(0);  // this map's voxel index, none yet
+        Eigen::Vector3f normal{0, 0, 1};
+        float cpWeight = 1.0f;
+    };
+
     double voxelSize() const { return h_; }  // h, simulation length units per voxel
     const GradientMap& map() const { return map_; }
 
     // position: simulation units; normal: unit normal of a surface particle (ignored for volume).
-    GmSample sample(ParticleKind kind, int species, const Eigen::Vector3d& position,
-                    const Eigen::Vector3d& normal) const;
+    // memo: a surface particle's memo (may be null), read and updated on the paths that look up
+    // a single voxel's nearest surface (Nearest, and Mixed for surface particles).
+    GmSample sample(ParticleKind kind, int species, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
+                    Memo* memo = nullptr) const;
 
     // The per-voxel rule in voxel units for a particle at pVox (voxel coordinates, where the
     // centre of voxel (i,j,k) is (i+1/2, j+1/2, k+1/2)). Exposed for tests.

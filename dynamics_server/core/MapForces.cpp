@@ -23,7 +23,9 @@ void MapForces::set(const Model& model, Particles& p, ForceStats& stats, bool cu
     if (fieldMap_ != model.map) {
         field_ = std::make_unique<GmField>(*model.map, model.interpolation);
         fieldMap_ = model.map;
+        memo_.clear();  // voxels of the old map
     }
+    memo_.resize(p.size());
     if (blendMap_ && blendFieldMap_ != blendMap_) {
         blendField_ = std::make_unique<GmField>(*blendMap_, model.interpolation);
         blendFieldMap_ = blendMap_;
@@ -33,7 +35,10 @@ void MapForces::set(const Model& model, Particles& p, ForceStats& stats, bool cu
     const Eigen::Vector3d centre = 0.5 * Eigen::Vector3d(whole.nx, whole.ny, whole.nz) * field_->voxelSize();
     stats.wallVirial = sumIndex(p.size(), [&](std::size_t i) {  // each particle on its own: on the threads
         const Species& sp = model.species[p.species[i]];
-        GmSample g = field_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
+        // A memo by index: after a sort or a migration it may hold another particle's voxel, whose
+        // values are still that voxel's.
+        GmSample g = field_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i],
+                                    sp.kind == ParticleKind::Surface ? &memo_[i] : nullptr);
         if (w > 0) {  // keyframes: on the way to the next frame's shape
             const GmSample n = blendField_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
             g.force = (1 - w) * g.force + w * n.force;

@@ -38,6 +38,7 @@ private:
     const GradientMap* blendMap_ = nullptr;
     double blendW_ = 0;
     std::vector<float> curvature_;
+    std::vector<GmField::Memo> memo_;  // per particle index (surface particles'), of field_'s map
 };
 
 }  // namespace bop::core

@@ -4,6 +4,7 @@
 #include "Threads.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -14,22 +15,26 @@ namespace bop::core {
 
 namespace {
 
-// A row's neighbours with their squared distances, sorted nearest first (ties by index): the
-// pair loop's cutoff test then changes outcome once per entry, which the branch predictor
-// follows. Each distance is computed once, not in every comparison.
-using Near = std::vector<std::pair<double, std::uint32_t>>;
+// A row's neighbours sorted nearest first (ties by index): the pair loop's cutoff test then
+// changes outcome once per entry, which the branch predictor follows. Each neighbour is one
+// 64-bit key, its squared distance rounded to float above its index (a non-negative float's bits
+// order as its value), so that a row sorts as integers, its distances computed once.
+using Near = std::vector<std::uint64_t>;
+inline std::uint64_t nearKey(double d2, std::uint32_t y) {
+    return std::uint64_t(std::bit_cast<std::uint32_t>(float(d2))) << 32 | y;
+}
 void appendNearestFirst(Near& row, std::vector<std::uint32_t>& out) {
     std::sort(row.begin(), row.end());
-    for (const auto& [_, y] : row) out.push_back(y);
+    for (const std::uint64_t key : row) out.push_back(std::uint32_t(key));
     row.clear();
 }
 
 // Sorts entry x's neighbours [from, to) of list nearest first (ties by index).
 void nearestFirst(std::vector<std::uint32_t>& list, std::size_t from, std::size_t to, std::uint32_t x,
                   const std::vector<Eigen::Vector3d>& pos, Near& scratch) {
-    for (std::size_t k = from; k < to; ++k) scratch.emplace_back((pos[list[k]] - pos[x]).squaredNorm(), list[k]);
+    for (std::size_t k = from; k < to; ++k) scratch.push_back(nearKey((pos[list[k]] - pos[x]).squaredNorm(), list[k]));
     std::sort(scratch.begin(), scratch.end());
-    for (std::size_t k = from; k < to; ++k) list[k] = scratch[k - from].second;
+    for (std::size_t k = from; k < to; ++k) list[k] = std::uint32_t(scratch[k - from]);
     scratch.clear();
 }
 
@@ -157,6 +162,7 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
     // Rows on the threads, in fixed blocks of cells (rows of a block are contiguous entries),
     // each block's neighbours then joined in block order: the same list at any thread count.
     const double range2 = range * range;
+    const bool plain = ne == particles_;  // no images, no ghosts: every pair in range is a Newton pair
     pairs_.start.assign(ne + 1, 0);
     haloPairs_.start.assign(ne + 1, 0);
     const std::size_t cellCount = std::size_t(cells.cellCount());
@@ -180,9 +186,9 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
                     for (std::uint32_t y = (s == 0 ? x + 1 : e0); y < e1; ++y) {
                         const double d2 = (pos_[y] - px).squaredNorm();
                         if (d2 >= range2) continue;
-                        const int k = kind(x, y);
-                        if (k == 1) row.emplace_back(d2, y);
-                        if (k == 2) hrow.emplace_back(d2, y);
+                        const int k = plain ? 1 : kind(x, y);
+                        if (k == 1) row.push_back(nearKey(d2, y));
+                        if (k == 2) hrow.push_back(nearKey(d2, y));
                     }
                 }
                 appendNearestFirst(row, nbr);

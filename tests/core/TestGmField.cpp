@@ -170,3 +170,35 @@ TEST_CASE("trilinear samples blend the 8 voxels' rules, and carry the voxel's co
         CHECK(weightsBelowOne > 1000);  // the weights differ between voxels: a wrong voxel would show
     }
 }
+
+TEST_CASE("a surface particle's memo gives the map's own samples as the particle walks and jumps", "[shape][gm]") {
+    const GradientMap m = ball();
+    std::mt19937 rng(11);
+    std::normal_distribution<double> stepVoxels(0.0, 0.15);
+    std::uniform_real_distribution<double> anywhere(-3.0, 33.0), unit(0.0, 1.0);
+    for (const Interpolation interp : {Interpolation::Mixed, Interpolation::Nearest}) {
+        const GmField f(m, interp);
+        const double h = f.voxelSize();
+        GmField::Memo memo;
+        Eigen::Vector3d x(15.5, 15.5, 25.4);  // voxel units, near the ball's top
+        std::size_t same = 0, moved = 0, mismatches = 0;
+        for (int k = 0; k < 20000; ++k) {
+            // Mostly small steps (a sheet's particle), sometimes a jump anywhere, on and off the grid.
+            if (unit(rng) < 0.01)
+                x = Eigen::Vector3d(anywhere(rng), anywhere(rng), anywhere(rng));
+            else
+                x += Eigen::Vector3d(stepVoxels(rng), stepVoxels(rng), stepVoxels(rng));
+            const Eigen::Vector3d n = Eigen::Vector3d(unit(rng) - 0.5, unit(rng) - 0.5, 1.0).normalized();
+            const std::size_t before = memo.voxel;
+            const GmSample with = f.sample(ParticleKind::Surface, 1, x * h, n, &memo);
+            const GmSample without = f.sample(ParticleKind::Surface, 1, x * h, n);
+            (memo.voxel == before ? same : moved) += 1;
+            mismatches +=
+                with.force != without.force || with.torque != without.torque || with.cpWeight != without.cpWeight;
+        }
+        INFO("interpolation " << int(interp) << ": memo kept " << same << " times, renewed " << moved);
+        CHECK(mismatches == 0);  // to the bit
+        CHECK(same > 5000);      // both paths are exercised
+        CHECK(moved > 1000);
+    }
+}
