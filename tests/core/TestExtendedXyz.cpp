@@ -3,10 +3,12 @@
 #include "TestUtil.hpp"
 #include "app/files/ExtendedXyz.hpp"
 #include "bop/common/Error.hpp"
+#include "core/Threads.hpp"
 
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <random>
@@ -170,6 +172,28 @@ TEST_CASE("extended XYZ trajectory reads back bit-exactly", "[app][xyz]") {
         is >> step;
         CHECK(step == 1001);
     }
+}
+
+TEST_CASE("a large frame, formatted in blocks on the threads, is the same text at any thread count", "[app][xyz]") {
+    // More lines than one group of blocks (64 x 4,096 lines, ExtendedXyz.cpp), the last block short.
+    test::TempDir dir("xyz-large");
+    std::mt19937_64 rng(5);
+    const core::Particles p = randomParticles(rng, 64 * 4096 + 3 * 4096 + 17);
+    const XyzFrameInfo info = randomInfo(rng, 77);
+    const int before = core::threadCount();
+    std::string text[2];
+    for (int threads : {1, 2}) {
+        core::setThreadCount(threads);
+        std::ostringstream os;
+        app::writeExtendedXyz(os, p, kNames, info);
+        text[threads - 1] = os.str();
+    }
+    core::setThreadCount(before);
+    CHECK(text[0] == text[1]);
+    CHECK(std::size_t(std::count(text[0].begin(), text[0].end(), '\n')) == p.size() + 2);
+    const std::string path = dir.file("large.xyz");
+    std::ofstream(path, std::ios::binary) << text[1];
+    requireSame(app::readExtendedXyz(path, kNames), p, info);  // every line, in order, to the bit
 }
 
 TEST_CASE("extended XYZ files of other tools load with defaults", "[app][xyz]") {
