@@ -93,7 +93,8 @@ std::size_t PairChunks::cut(const NeighbourList& list, std::size_t count, double
 }
 
 void PairChunks::run(const PairKernel& kernel, const PrunedPairs::Sets& sets, PairInputs in, OrientedInputs o,
-                     bool energies, bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums, double seconds[2]) {
+                     bool energies, bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums, double seconds[2],
+                     FoldInto into) {
     Eigen::Vector3d* f = in.f;
     Eigen::Vector3d* t = o.t;
     const std::size_t n = chunks_.size();
@@ -139,8 +140,13 @@ void PairChunks::run(const PairKernel& kernel, const PrunedPairs::Sets& sets, Pa
                 fe += bf_[c.offset + (e - c.x0)];
                 if (oriented_) te += bt_[c.offset + (e - c.x0)];
             }
-            f[e] = fe;
-            if (oriented_) t[e] = te;
+            if (into.force) {
+                into.force[into.owner[e]] += fe;
+                if (oriented_) into.torque[into.owner[e]] += te;
+            } else {
+                f[e] = fe;
+                if (oriented_) t[e] = te;
+            }
         }
     }
     for (std::size_t k = 0; k < n; ++k) {

@@ -15,6 +15,15 @@
 
 namespace bop::core {
 
+// Where PairChunks::run may add each entry's force and torque: force[owner[e]], torque[owner[e]].
+// Only where every entry is its particle's one entry (a list without images or ghosts), so that
+// no two entries add to one particle.
+struct FoldInto {
+    Eigen::Vector3d* force = nullptr;
+    Eigen::Vector3d* torque = nullptr;  // when oriented
+    const std::uint32_t* owner = nullptr;
+};
+
 class PairChunks {
 public:
     // Cuts the rows of `list` (after each build); `oriented`: its wide pairs are used too.
@@ -25,8 +34,10 @@ public:
     // of them: the same rows, so the same chunks). Writes f (and t when oriented) for every entry, and the
     // sums of the pairs within the subdomain and of those with halo ghosts; adds the LJ and the
     // oriented loops' time, summed over threads, to seconds[0] and seconds[1].
+    // With `into` set, each entry's force (and torque) is added to its particle's (FoldInto)
+    // instead of written to f (and t).
     void run(const PairKernel& kernel, const PrunedPairs::Sets& sets, PairInputs in, OrientedInputs o, bool energies,
-             bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums, double seconds[2]);
+             bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums, double seconds[2], FoldInto into = {});
 
     std::size_t count() const { return chunks_.size(); }
 

@@ -116,23 +116,27 @@ void PairForces::add(const Model& model, Particles& p, const Halo* halo, const s
     const OrientedInputs o{e.normal.data(), e.curvature.data(), e.torque.data()};
     double loopSeconds[2] = {0, 0};
     const PrunedPairs::Sets sets = prune_ > 0 ? pruned_.sets() : PrunedPairs::whole(list_);
-    chunks_.run(kernel_, sets, in, o, energies, halo != nullptr, sums, haloSums, loopSeconds);
     // Forces on images go to their particles; forces on halo ghosts are their owners' business.
-    // Each particle has one entry that is not an image: those on the threads, then the images
-    // in entry order.
+    // Without images or ghosts each particle has one entry, and the chunks add to it directly;
+    // else each particle's entry that is not an image on the threads, then the images in entry order.
     const auto& owner = list_.owner();
-    const auto& image = list_.images();
-    const std::size_t ne = list_.entryCount(), n = p.size();
-    const auto fold = [&](std::size_t k) {
-        p.force[owner[k]] += e.force[k];
-        if (oriented_) p.torque[owner[k]] += e.torque[k];
-    };
-    forEachIndex(ne, [&](std::size_t k) {
-        if (owner[k] < n && !image[k]) fold(k);
-    });
-    if (list_.ghostCount() > 0)
+    const bool direct = list_.ghostCount() == 0;
+    FoldInto into;
+    if (direct) into = {p.force.data(), oriented_ ? p.torque.data() : nullptr, owner.data()};
+    chunks_.run(kernel_, sets, in, o, energies, halo != nullptr, sums, haloSums, loopSeconds, into);
+    if (!direct) {
+        const auto& image = list_.images();
+        const std::size_t ne = list_.entryCount(), n = p.size();
+        const auto fold = [&](std::size_t k) {
+            p.force[owner[k]] += e.force[k];
+            if (oriented_) p.torque[owner[k]] += e.torque[k];
+        };
+        forEachIndex(ne, [&](std::size_t k) {
+            if (owner[k] < n && !image[k]) fold(k);
+        });
         for (std::size_t k = 0; k < ne; ++k)
             if (owner[k] < n && image[k]) fold(k);
+    }
     stats.pairEnergy = energies ? sums.energy + 0.5 * haloSums.energy : 0.0;
     stats.virial = sums.virial + 0.5 * haloSums.virial;
     stats.virialVolume = sums.virialVolume + 0.5 * haloSums.virialVolume;
