@@ -63,7 +63,7 @@ template <bool OneSpecies, bool Energy>
 BOP_HOT_LOOP void ljForcePairs(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const PairInputs& in,
                                bool energies, std::size_t x0, std::size_t x1, PairKernel::Sums& sums) {
     if (pairs.start.size() < 2 || x0 >= x1) return;
-    const bool one = kernel.tableSide() == 2;
+    const bool one = kernel.tableSide() == 2 || kernel.ljUniform();  // one set of weights for every pair
     if (one && !energies) loop<true, false>(kernel, pairs, in, x0, x1, sums);
     if (one && energies) loop<true, true>(kernel, pairs, in, x0, x1, sums);
     if (!one && !energies) loop<false, false>(kernel, pairs, in, x0, x1, sums);

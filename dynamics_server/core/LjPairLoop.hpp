@@ -1,7 +1,7 @@
 #pragma once
 // The LJ pair loop: LJ forces over the short neighbour list (every pair within the LJ cutoff
 // plus skin), the hot loop of bulk material and of a bag's volume, with the species weights
-// looked up per pair only when there is more than one species. Its forces are LjForm's
+// looked up per pair only when they differ between species pairs. Its forces are LjForm's
 // forceOverR() whether or not energies are asked for, so a trajectory does not depend on the
 // steps that report. (Measured on this project's machine: two pairs at a time in SSE2 registers
 // and batches that vectorise f(r)/r were no faster; nor were four pairs at a time in AVX lanes

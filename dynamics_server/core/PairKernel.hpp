@@ -49,12 +49,20 @@ public:
                     (p.coNormal(a, b) != 0 || p.coNormal(b, a) != 0 || p.coPlanar(a, b) != 0 || p.coPlanar(b, a) != 0);
             }
         cutoff2_ = std::max(lj_.cutoff2(), m.hasSurfaceSpecies() ? weight_.cutoff2() : 0.0);
+        for (int a = 1; a < n_; ++a)
+            for (int b = 1; b < n_; ++b) {
+                const std::size_t k = std::size_t(a) * n_ + b, first = std::size_t(n_) + 1;
+                ljUniform_ = ljUniform_ && ljF_[k] == ljF_[first] && ljE_[k] == ljE_[first];
+            }
     }
 
     const LjForm& lj() const { return lj_; }
     int tableSide() const { return n_; }  // species tables are tableSide() x tableSide(), row a, column b
     const double* ljForceWeights() const { return ljF_.data(); }   // alpha_f^OP(a) * alpha_ab
     const double* ljEnergyWeights() const { return ljE_.data(); }  // (alpha_ab + alpha_ba) / 2
+    // Every species pair has the same LJ weights (a bag's surface and volume at the defaults):
+    // the loop may take pair (1, 1)'s for all, the same numbers without the look-ups.
+    bool ljUniform() const { return ljUniform_; }
     bool anyOriented() const {
         for (char o : oriented_)
             if (o) return true;
@@ -142,6 +150,7 @@ private:
     OrientedWeight weight_;
     int n_;
     bool useCurvature_;
+    bool ljUniform_ = true;
     double cutoff2_ = 0;
     std::vector<double> ljF_, ljE_, cnF_, cnT_, cpF_, cpT_, cnE_, cpE_;
     std::vector<char> oriented_;

@@ -16,7 +16,9 @@ using namespace bop::core;
 namespace {
 
 // The loops (in whichever clone this CPU runs) against the reference on the ellipsoid bag.
-void checkBagAgainstReference() {
+// uniformLj: every species pair with the same LJ weights (the loop's path without look-ups),
+// else asymmetric ones.
+void checkBagAgainstReference(bool uniformLj = false) {
     const Dims d{34, 26, 22};
     auto map = std::make_shared<GradientMap>(test::mapFrom(test::depthFrom(
         d, {[](const Eigen::Vector3d& x) {
@@ -30,13 +32,16 @@ void checkBagAgainstReference() {
     m->lj = WeightMatrix(3, 1.0);
     m->coNormal = WeightMatrix(3, 0.3);
     m->coPlanar = WeightMatrix(3, 0.3);
-    m->lj(1, 2) = 0.5;
-    m->lj(2, 1) = 1.5;
+    if (!uniformLj) {
+        m->lj(1, 2) = 0.5;
+        m->lj(2, 1) = 1.5;
+        m->species[3].alphaForceOp = 0.8;
+    }
     m->coNormal(1, 3) = 0.1;
     m->coPlanar(3, 1) = 0.7;
     m->coPlanar(3, 3) = 0.0;  // a surface pair with co-normal weight only
-    m->species[3].alphaForceOp = 0.8;
     m->species[1].alphaTorqueOp = 1.3;
+    REQUIRE(PairKernel(*m, Params(*m)).ljUniform() == uniformLj);
     m->map = map;
     m->curvatureWeighting = true;
     const double h = voxelLength(map->r0Voxels);
@@ -83,6 +88,11 @@ TEST_CASE("the bag's pair loops equal the O(N^2) reference with curvature weight
     checkBagAgainstReference();
 }
 
+TEST_CASE("with the same LJ weights for every species pair the loop takes them once and equals the reference",
+          "[core][cells][curvature]") {
+    checkBagAgainstReference(true);
+}
+
 // The AVX-512 clone (HotLoop.hpp) is the one the loader picks on a CPU that has x86-64-v4; there
 // it must agree with the reference as the others do.
 TEST_CASE("the x86-64-v4 (AVX-512) clone equals the O(N^2) reference where the CPU has it", "[core][cells][clones]") {
@@ -96,4 +106,5 @@ TEST_CASE("the x86-64-v4 (AVX-512) clone equals the O(N^2) reference where the C
     REQUIRE(__builtin_cpu_supports("avx512vl"));
 #endif
     checkBagAgainstReference();
+    checkBagAgainstReference(true);
 }
