@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # A bag placed on its map (the torus scene without its construction timeline): the batch run ends
 # by itself once settled, well before its cap, with the placement's counts and the shape's
-# fidelity in its log; 1 and 2 ranks place the same particles and settle at the same step, and 1
-# and 3 threads build the same bag to the last digit (the particles sorted as they move); a thin
-# shape is named before it is built.
+# fidelity in its log, stepping at its settle_time_step; 1 and 2 ranks place the same particles and
+# settle at the same step, and 1 and 3 threads build the same bag to the last digit (the particles
+# sorted as they move); a thin shape is named before it is built.
 # Usage: bop_server_place_cli.sh PATH/TO/bop-server PATH/TO/mpiexec SOURCE_DIR
 set -u
 exe=$1
@@ -35,6 +35,15 @@ settled1=$(sed -n 's/^settled at step \([0-9]*\):.*/\1/p' "$work/p1.log")
 settled2=$(sed -n 's/^settled at step \([0-9]*\):.*/\1/p' "$work/p2.log")
 check "the run ends by itself once settled, before the cap of 20000 steps (step ${settled1:-none})" \
   "[ -n '$settled1' ] && [ '$settled1' -lt 20000 ] && grep -q \"Step=$settled1 \" '$work/p1/final.xyz'"
+check "the run to the settled state steps at settle_time_step, by default 1.5 times the scene's 0.02: Time = 0.03 x Step" \
+  "grep -q 'until settled: time step 0.03 (settle_time_step; \[dynamics\] time_step 0.02)' '$work/p1.log' && \
+   awk 'NR == 2 {for (i = 1; i <= NF; ++i) {if (\$i ~ /^Time=/) t = substr(\$i, 6); if (\$i ~ /^Step=/) s = substr(\$i, 6)}}
+        END {exit !(s > 0 && t / s > 0.03 - 1e-12 && t / s < 0.03 + 1e-12)}' '$work/p1/final.xyz'"
+{ cat "$work/placed.toml"; printf '\n[construction]\nsettle_time_step = 0\n'; } >"$work/bad-dt.toml"
+bounded 60 "$work/bad-dt.log" "$exe" "$work/bad-dt.toml" --no-listen --steps 1 --cache "$work/map.bopgm" -o "$work/bad-dt"
+rcbad=$?
+check "settle_time_step = 0 is refused, naming the key and what it expects (exit $rcbad)" \
+  "[ $rcbad -ne 0 ] && grep -q 'settle_time_step.*expected a positive time step' '$work/bad-dt.log'"
 check "the log gives the counts placed against the ideal" \
   "grep -q 'placed on the map: torus-surface [0-9]* (1.0[0-9] of the' '$work/p1.log'"
 check "no births or deaths: the bag was full from the start" "grep -q '^births 0, deaths 0' '$work/p1.log'"

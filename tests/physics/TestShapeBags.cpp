@@ -83,6 +83,7 @@ TEST_CASE("a thin plate and two balls placed and settled within the targets", "[
         app::Scene scene = app::loadScene(writeScene(dir, s));
         REQUIRE(scene.placement);
         REQUIRE(scene.run.untilSettled);
+        app::applySettleTimeStep(scene);  // as bop-server's batch run settles it
         test::OneProcessRun run(scene);
         long long steps = 0;
         int calm = 0;

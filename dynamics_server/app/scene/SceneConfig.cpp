@@ -143,6 +143,9 @@ void readConstruction(const ConfigTable& root, Scene& s) {
         if (!(s.run.settleKinetic > 0)) t->fail("settle_kinetic", "expected a positive energy per particle");
         if (t) s.run.settleEverySteps = t->integer("settle_every_steps", s.run.settleEverySteps);
         if (s.run.settleEverySteps < 1) t->fail("settle_every_steps", "expected at least 1 step");
+        s.run.settleTimeStep = std::min(0.03, 1.5 * s.model->integration.dt);
+        if (t) s.run.settleTimeStep = t->number("settle_time_step", s.run.settleTimeStep);
+        if (!(s.run.settleTimeStep > 0)) t->fail("settle_time_step", "expected a positive time step");
     } else if (method == "place") {
         t->fail("method", "\"place\" sets particles on a [shape]'s map; the scene has none");
     }
@@ -221,6 +224,10 @@ void defaultSpecies(core::Model& m, int bags) {
     m.coNormal = core::WeightMatrix(n, 0.0);
     m.coPlanar = core::WeightMatrix(n, 0.0);
     for (int s = 1; s <= n; s += 2) m.coNormal(s, s) = m.coPlanar(s, s) = 0.3;  // docs/physics.md §7.4
+}
+
+void applySettleTimeStep(Scene& scene) {
+    if (scene.run.untilSettled) scene.model->integration.dt = scene.run.settleTimeStep;
 }
 
 Scene loadScene(const std::string& path) {

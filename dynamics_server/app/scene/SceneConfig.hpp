@@ -32,6 +32,10 @@ struct RunSettings {
     bool untilSettled = false;
     double settleKinetic = 1e-4;      // energy units (epsilon) per particle
     long long settleEverySteps = 50;  // steps between checks
+    // The time step of a batch run that ends once settled, simulation time units: the settling
+    // wants the minimum, not the trajectory to it (default 1.5 x [dynamics] time_step, at most
+    // 0.03, the paper's largest). applySettleTimeStep() puts it in the model.
+    double settleTimeStep = 0.03;
 };
 
 // The ventricle's blood-pressure curve and volumes (paper §5.2; app/CardiacSeries.hpp).
@@ -57,6 +61,11 @@ struct Scene {
     std::optional<PressureSettings> pressure;  // [pressure]: write the pressure curve and volumes
     std::uint64_t seed = 1;
 };
+
+// For a batch run that ends once settled (a placed bag's build): the model steps at the scene's
+// settleTimeStep instead of its time_step. A served run, or one that goes on past settling,
+// keeps time_step.
+void applySettleTimeStep(Scene& scene);
 
 // Reads and checks every table; bop::Error naming the file and key on any problem.
 Scene loadScene(const std::string& path);
