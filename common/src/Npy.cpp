@@ -10,6 +10,7 @@
 #include <iterator>
 #include <limits>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 namespace bop {
@@ -164,6 +165,32 @@ void writeFileAtomic(const std::string& path, const void* data, std::size_t size
     if (!err && std::fflush(f) != 0) err = errno;
     if (!err && ::fsync(::fileno(f)) != 0) err = errno;
     if (std::fclose(f) != 0 && !err) err = errno;
+    if (!err && std::rename(tmp.c_str(), path.c_str()) != 0) err = errno;
+    if (err) {
+        std::remove(tmp.c_str());
+        throwErrno(path, err);
+    }
+}
+
+void writeFileAtomic(const std::string& path, const std::function<void(std::ostream&)>& write) {
+    const std::string tmp = path + ".tmp";
+    int err = 0;
+    try {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throwErrno(path, errno);
+        write(out);
+        out.flush();
+        if (!out) err = errno ? errno : EIO;
+    } catch (...) {
+        std::remove(tmp.c_str());
+        throw;
+    }
+    if (!err) {  // to disk through a descriptor of its own: a stream shows none
+        const int fd = ::open(tmp.c_str(), O_RDONLY);
+        if (fd < 0) err = errno;
+        if (fd >= 0 && ::fsync(fd) != 0) err = errno;
+        if (fd >= 0) ::close(fd);
+    }
     if (!err && std::rename(tmp.c_str(), path.c_str()) != 0) err = errno;
     if (err) {
         std::remove(tmp.c_str());

@@ -180,6 +180,35 @@ TEST_CASE("writeNpy reports an unwritable path", "[npy]") {
     CHECK_THROWS_WITH(bop::writeNpy(path, &b, {1}), Catch::Contains(path) && Catch::Contains("cannot write"));
 }
 
+TEST_CASE("a file written atomically from a stream: whole when done, the old one kept on a failure", "[npy]") {
+    const std::string path = tempPath("atomic_stream.txt");
+    bop::writeFileAtomic(path, [](std::ostream& os) {
+        for (int i = 0; i < 100000; ++i) os << i << '\n';  // about 0.6 MB, several buffers' worth
+    });
+    std::ifstream in(path);
+    int n = 0, v = 0, bad = 0;
+    while (in >> v) bad += v != n++;
+    CHECK(n == 100000);
+    CHECK(bad == 0);
+    CHECK_FALSE(fs::exists(path + ".tmp"));
+    // A writer that fails half-way: an error, no temporary left, the earlier file as it was.
+    CHECK_THROWS_WITH(bop::writeFileAtomic(path,
+                                           [](std::ostream& os) {
+                                               os << "half";
+                                               throw bop::Error("writer", "stopped");
+                                           }),
+                      Catch::Contains("stopped"));
+    CHECK_FALSE(fs::exists(path + ".tmp"));
+    std::ifstream again(path);
+    int kept = 0;
+    while (again >> v) ++kept;
+    CHECK(kept == 100000);
+    const std::string nowhere = tempPath("no_such_dir") + "/x.txt";
+    CHECK_THROWS_WITH(bop::writeFileAtomic(nowhere, [](std::ostream& os) { os << 1; }),
+                      Catch::Contains(nowhere) && Catch::Contains("cannot write"));
+    fs::remove(path);
+}
+
 TEST_CASE("numpy.load reads what writeNpy wrote", "[npy][python]") {
     const std::string python = pythonWithNumpy();
     if (python.empty()) {

@@ -3,7 +3,7 @@
 #include "app/scene/SimulationSetup.hpp"
 #include "bop/common/Npy.hpp"  // writeFileAtomic
 
-#include <sstream>
+#include <ostream>
 
 namespace bop::app {
 
@@ -23,10 +23,7 @@ void writeCheckpoint(const std::string& path, const core::Particles& all, const 
     info.births.assign(construction.birthSwitches().begin() + 1, construction.birthSwitches().end());
     info.seeds = static_cast<long long>(construction.seedCount());
     info.nextId = static_cast<long long>(construction.nextId());
-    std::ostringstream text;
-    writeExtendedXyz(text, all, speciesNames(model), info);
-    const std::string s = text.str();
-    writeFileAtomic(path, s.data(), s.size());
+    writeFileAtomic(path, [&](std::ostream& os) { writeExtendedXyz(os, all, speciesNames(model), info); });
 }
 
 }  // namespace bop::app

@@ -118,10 +118,14 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
     };
     // A checkpoint of every particle (by id), and the run goes on from it exactly as a restart
     // from the file would: the gathered values are the file's (%.17g reads back exactly).
+    std::optional<core::Particles> lastState;  // the last checkpoint's particles: the final state's too
     const auto takeCheckpoint = [&](bool goOn) {
-        const core::Particles all = run.gather();
+        core::Particles all = run.gather();
         if (root) writeCheckpoint(checkpoint, all, model, run.construction(), run.stepNumber());
-        if (!goOn) return;
+        if (!goOn) {  // the run ends here: its final state is these particles (forces are not written)
+            lastState = std::move(all);
+            return;
+        }
         core::Construction construction(scene.construction, scene.timeline, model.speciesCount());
         construction.restore({run.construction().birthSwitches().begin() + 1, run.construction().birthSwitches().end()},
                              run.construction().seedCount(), run.construction().nextId());
@@ -195,7 +199,7 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
                       << std::endl;
     }
     const double seconds = secondsSince(t0);
-    const core::Particles all = run.gather();
+    const core::Particles all = lastState ? std::move(*lastState) : run.gather();
     const std::string finalFile = o.outDir + "/final.xyz";
     if (root) {
         fs::remove(finalFile);

@@ -5,6 +5,8 @@
 // Errors are bop::Error(path, what).
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -41,5 +43,8 @@ NpyArray readNpy(const std::string& path);
 // Writes size bytes to path atomically (path + ".tmp", fsync, rename).
 // Throws bop::Error(path, "cannot write: <strerror>"). Shared by writeNpy and Canvas.
 void writeFileAtomic(const std::string& path, const void* data, std::size_t size);
+// The same for text written to a stream as it is made (a state of 10^6 particles is 184 MB of
+// text, better not held twice in memory): `write` fills the stream of path + ".tmp".
+void writeFileAtomic(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 }  // namespace bop
