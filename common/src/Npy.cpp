@@ -156,22 +156,6 @@ std::string npyDescr<double>() {
     return "<f8";
 }
 
-void writeFileAtomic(const std::string& path, const void* data, std::size_t size) {
-    const std::string tmp = path + ".tmp";
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) throwErrno(path, errno);
-    int err = 0;
-    if (size > 0 && std::fwrite(data, 1, size, f) != size) err = errno ? errno : EIO;
-    if (!err && std::fflush(f) != 0) err = errno;
-    if (!err && ::fsync(::fileno(f)) != 0) err = errno;
-    if (std::fclose(f) != 0 && !err) err = errno;
-    if (!err && std::rename(tmp.c_str(), path.c_str()) != 0) err = errno;
-    if (err) {
-        std::remove(tmp.c_str());
-        throwErrno(path, err);
-    }
-}
-
 void writeFileAtomic(const std::string& path, const std::function<void(std::ostream&)>& write) {
     const std::string tmp = path + ".tmp";
     int err = 0;
@@ -196,6 +180,10 @@ void writeFileAtomic(const std::string& path, const std::function<void(std::ostr
         std::remove(tmp.c_str());
         throwErrno(path, err);
     }
+}
+
+void writeFileAtomic(const std::string& path, const void* data, std::size_t size) {
+    writeFileAtomic(path, [&](std::ostream& os) { os.write(static_cast<const char*>(data), std::streamsize(size)); });
 }
 
 template <class T>

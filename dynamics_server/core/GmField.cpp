@@ -92,15 +92,14 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
             q.array().floor().cast<int>().min(Eigen::Array3i(dm.nx - 1, dm.ny - 1, dm.nz - 1)).matrix();
         const std::size_t v = dm.index(c.x(), c.y(), c.z());
         f = rule(v, c, kind, species, q);
-        if (memo && memo->voxel != v) {  // the particle moved to another voxel, or no memo yet
+        Memo once;  // without a caller's memo, read afresh
+        Memo& m = memo ? *memo : once;
+        if (m.voxel != v) {  // the particle moved to another voxel, or no memo yet
             const SurfaceVoxel& s = map_.nearestSurface(v);
-            memo->voxel = v;
-            memo->normal = s.normal;
-            memo->cpWeight = s.cpWeight;
+            m = {v, s.normal, s.cpWeight};
         }
-        const Eigen::Vector3f& nf = memo ? memo->normal : map_.nearestSurface(v).normal;
-        n = nf.cast<double>();
-        cpWeight = memo ? memo->cpWeight : map_.nearestSurface(v).cpWeight;
+        n = m.normal.cast<double>();
+        cpWeight = m.cpWeight;
     } else {
         const Eigen::Vector3d s = q - Eigen::Vector3d::Constant(0.5);  // centre-based coordinates
         Eigen::Vector3i base = s.array().floor().cast<int>().matrix();
