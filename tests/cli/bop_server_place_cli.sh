@@ -44,6 +44,14 @@ bounded 60 "$work/bad-dt.log" "$exe" "$work/bad-dt.toml" --no-listen --steps 1 -
 rcbad=$?
 check "settle_time_step = 0 is refused, naming the key and what it expects (exit $rcbad)" \
   "[ $rcbad -ne 0 ] && grep -q 'settle_time_step.*expected a positive time step' '$work/bad-dt.log'"
+{ cat "$work/placed.toml"; printf '\n[construction]\nsettle_calm_steps = -1\n'; } >"$work/bad-calm.toml"
+bounded 60 "$work/bad-calm.log" "$exe" "$work/bad-calm.toml" --no-listen --steps 1 --cache "$work/map.bopgm" -o "$work/bad-calm"
+rccalm=$?
+check "settle_calm_steps = -1 is refused, naming the key and what it expects (exit $rccalm)" \
+  "[ $rccalm -ne 0 ] && grep -q 'settle_calm_steps.*expected 0 steps or more' '$work/bad-calm.log'"
+check "settled by checks 10 steps apart, calm over 50 steps (step ${settled1:-none})" \
+  "[ -n '$settled1' ] && [ \$(( ${settled1:-1} % 10 )) -eq 0 ] && \
+   grep -q 'at every check over 50 steps, 10 steps apart' '$work/p1.log'"
 check "the log gives the counts placed against the ideal" \
   "grep -q 'placed on the map: torus-surface [0-9]* (1.0[0-9] of the' '$work/p1.log'"
 check "no births or deaths: the bag was full from the start" "grep -q '^births 0, deaths 0' '$work/p1.log'"

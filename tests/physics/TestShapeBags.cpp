@@ -1,14 +1,15 @@
 // Bags of shapes with thin parts and several pieces. Placed on their maps and relaxed until
 // settled (core/Placement.hpp, scene without a construction timeline): a plate a tenth as thick
-// as it is wide and a label of two separate balls, each within the real-shapes targets: >= 95% of surface particles in
-// surface voxels,
-// >= 98% of volume particles in volume voxels, median normal angle <= 10 deg, counts within 10%
-// of a hexagonal sheet at r0 over the analytic area and of an fcc lattice at r0 over the volume
-// voxels, and settled (kinetic energy per particle <= 1e-4 at two checks 50 steps apart). Built by
+// as it is wide and a label of two separate balls, each within the real-shapes targets: >= 95% of
+// surface particles in surface voxels, >= 98% of volume particles in volume voxels, median normal
+// angle <= 10 deg, counts within 10% of a hexagonal sheet at r0 over the analytic area and of an
+// fcc lattice at r0 over the volume voxels, and settled (kinetic energy per particle <= 1e-4 at
+// every check over 50 steps, app/runs/SettleWatch.hpp). Built by
 // birth and death from the torus scene's timeline (app/scene/PieceSeeds.hpp): each ball grows
 // its sheet and its volume from seeds of its own.
 #include "OneProcessRun.hpp"
 #include "TestUtil.hpp"
+#include "app/runs/SettleWatch.hpp"
 #include "app/scene/SimulationSetup.hpp"
 
 #include <catch2/catch.hpp>
@@ -67,6 +68,28 @@ Shape twoBalls() {
 
 }  // namespace
 
+TEST_CASE("a bag is settled once its kinetic energy stays low over the calm span, not at a passing dip",
+          "[physics][placement]") {
+    // Checks 10 steps apart over 50 steps: six calm checks in a row.
+    app::SettleWatch watch(1e-4, 10, 50);
+    CHECK(watch.checksNeeded() == 6);
+    for (int k = 0; k < 5; ++k) CHECK_FALSE(watch.observe(5e-5));
+    CHECK_FALSE(watch.observe(2e-4));  // the dip ends: the count starts again
+    for (int k = 0; k < 5; ++k) CHECK_FALSE(watch.observe(1e-4));
+    CHECK(watch.observe(1e-4));  // at the threshold counts as calm; six in a row span 50 steps
+    CHECK(watch.settled());
+    // Checks as far apart as the span: two calm checks, the rule of checks every 50 steps.
+    app::SettleWatch sparse(1e-4, 50, 50);
+    CHECK(sparse.checksNeeded() == 2);
+    CHECK_FALSE(sparse.observe(1e-5));
+    CHECK(sparse.observe(1e-5));
+    // No span: the first calm check; a span not a multiple of the period rounds up.
+    CHECK(app::SettleWatch(1e-4, 10, 0).observe(0.0));
+    CHECK(app::SettleWatch(1e-4, 20, 50).checksNeeded() == 4);
+    CHECK(watch.due(30));
+    CHECK_FALSE(watch.due(35));
+}
+
 TEST_CASE("a thin plate and two balls placed and settled within the targets", "[physics][placement]") {
     const std::vector<Shape> shapes = {
         {"plate",
@@ -86,12 +109,12 @@ TEST_CASE("a thin plate and two balls placed and settled within the targets", "[
         app::applySettleTimeStep(scene);  // as bop-server's batch run settles it
         test::OneProcessRun run(scene);
         long long steps = 0;
-        int calm = 0;
-        while (calm < 2 && steps < scene.run.steps) {
-            run.run().run(50);
-            steps += 50;
+        app::SettleWatch watch(scene.run.settleKinetic, scene.run.settleEverySteps, scene.run.settleCalmSteps);
+        while (!watch.settled() && steps < scene.run.steps) {
+            run.run().run(int(watch.everySteps()));
+            steps += watch.everySteps();
             const core::Totals t = run.run().totals();
-            calm = t.kinetic / t.particles <= scene.run.settleKinetic ? calm + 1 : 0;
+            watch.observe(t.kinetic / t.particles);
         }
         const core::Particles& p = run->particles();
         const GradientMap map = run.wholeMap();
@@ -108,7 +131,7 @@ TEST_CASE("a thin plate and two balls placed and settled within the targets", "[
                     << "), " << f.volume << " volume (ideal " << volumeIdeal << "); " << 100 * f.surfaceInOwnVoxels
                     << "% / " << 100 * f.volumeInOwnVoxels << "% in their voxels, median normal angle "
                     << f.medianNormalAngleDeg << " deg");
-        CHECK(calm == 2);
+        CHECK(watch.settled());
         CHECK(f.surfaceInOwnVoxels >= 0.95);
         CHECK(f.volumeInOwnVoxels >= 0.98);
         CHECK(f.medianNormalAngleDeg <= 10.0);

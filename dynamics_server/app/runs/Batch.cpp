@@ -5,6 +5,7 @@
 #include "app/files/ExtendedXyz.hpp"
 #include "app/runs/BatchReport.hpp"
 #include "app/runs/ExitCodes.hpp"
+#include "app/runs/SettleWatch.hpp"
 #include "bop/common/GradientMapCrop.hpp"
 #include "bop/common/GradientMapFile.hpp"
 #include "shape/GradientMapFileView.hpp"
@@ -138,7 +139,7 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
     if (scene.pressure && header) cardiac.emplace(scene, *header, run.frameVolumes());
     long long done = 0;
     bool stopped = false, settled = false;
-    int calmChecks = 0;                       // settle checks in a row at or below the kinetic energy
+    SettleWatch watch(o.settleKinetic, o.settleEvery, o.settleCalm);
     double lastSettleLine = 0;                // wall time of the last settling line, s since t0
     if (o.steps == 0) takeCheckpoint(false);  // nothing to step: the start itself is the checkpoint
     installBatchSignals();                    // from here a signal ends the run with a checkpoint
@@ -164,25 +165,24 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
         }
         // Rank 0's signal decides for every rank (mpirun passes SIGTERM to them all, not at once).
         stopped = run.agree({batchStopRequested() ? 1 : 0}).stop != 0;
-        if (!settled && o.untilSettled && step % o.settleEvery == 0) {
+        if (!settled && o.untilSettled && watch.due(step)) {
             const core::Totals t = run.totals();  // the same on every process
             const double perParticle = t.kinetic / std::max(1.0, t.particles);
-            calmChecks = perParticle <= o.settleKinetic ? calmChecks + 1 : 0;
-            settled = calmChecks >= 2;
+            settled = watch.observe(perParticle);
             // Settling shows its progress: at most one line every 2 s of wall time.
             const double now = secondsSince(t0);
             if (!settled && root && now >= lastSettleLine + 2.0) {
                 lastSettleLine = now;
                 std::cout << "settling: step " << step << ", kinetic energy " << std::scientific << std::setprecision(2)
-                          << perParticle << " per particle (settled at " << o.settleKinetic << " twice in a row), "
-                          << std::defaultfloat << std::setprecision(3) << double(s) / now << " steps/s"
+                          << perParticle << " per particle (settled at " << o.settleKinetic << " over " << o.settleCalm
+                          << " steps), " << std::defaultfloat << std::setprecision(3) << double(s) / now << " steps/s"
                           << std::setprecision(6) << std::endl;
             }
             if (settled && root)
                 std::cout << "settled at step " << step << ": kinetic energy " << std::scientific
                           << std::setprecision(2) << perParticle << " per particle (at most " << o.settleKinetic
-                          << " at two checks " << o.settleEvery << " steps apart)" << std::defaultfloat
-                          << std::setprecision(6) << std::endl;
+                          << " at every check over " << o.settleCalm << " steps, " << o.settleEvery << " steps apart)"
+                          << std::defaultfloat << std::setprecision(6) << std::endl;
         }
         const bool last = stopped || settled || s == o.steps;
         if ((o.checkpointEvery > 0 && step % o.checkpointEvery == 0) || last) takeCheckpoint(!last);

@@ -19,7 +19,8 @@ struct BatchOptions {
     std::string cache;              // the gradient-map cache (rank 0 reads the map in force from it at the end)
     bool untilSettled = false;      // end once settled (Scene's RunSettings), `steps` the cap
     double settleKinetic = 1e-4;    // mean kinetic energy per particle, epsilon
-    long long settleEvery = 50;     // steps between settle checks
+    long long settleEvery = 10;     // steps between settle checks
+    long long settleCalm = 50;      // steps the checks must stay calm over (SettleWatch.hpp)
 };
 
 // Collective: every process calls it with the same scene and start, and the exchanges of its

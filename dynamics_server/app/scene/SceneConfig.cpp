@@ -143,6 +143,8 @@ void readConstruction(const ConfigTable& root, Scene& s) {
         if (!(s.run.settleKinetic > 0)) t->fail("settle_kinetic", "expected a positive energy per particle");
         if (t) s.run.settleEverySteps = t->integer("settle_every_steps", s.run.settleEverySteps);
         if (s.run.settleEverySteps < 1) t->fail("settle_every_steps", "expected at least 1 step");
+        if (t) s.run.settleCalmSteps = t->integer("settle_calm_steps", s.run.settleCalmSteps);
+        if (s.run.settleCalmSteps < 0) t->fail("settle_calm_steps", "expected 0 steps or more");
         s.run.settleTimeStep = std::min(0.03, 1.5 * s.model->integration.dt);
         if (t) s.run.settleTimeStep = t->number("settle_time_step", s.run.settleTimeStep);
         if (!(s.run.settleTimeStep > 0)) t->fail("settle_time_step", "expected a positive time step");

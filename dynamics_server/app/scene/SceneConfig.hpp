@@ -27,11 +27,13 @@ struct RunSettings {
     long long snapshotEverySteps = 0;  // extended XYZ snapshot period, steps (0 = none)
     long long reportEverySteps = 0;    // progress line period, steps (0 = about 10 per run)
     // A bag built by placement ends its run once settled: the mean kinetic energy per particle,
-    // checked every settleEverySteps steps, at or below settleKinetic twice in a row (steps then
-    // caps the run). docs/scene-format.md [construction].
+    // checked every settleEverySteps steps, at or below settleKinetic at every check over
+    // settleCalmSteps steps (steps then caps the run; app/runs/SettleWatch.hpp).
+    // docs/scene-format.md [construction].
     bool untilSettled = false;
     double settleKinetic = 1e-4;      // energy units (epsilon) per particle
-    long long settleEverySteps = 50;  // steps between checks
+    long long settleEverySteps = 10;  // steps between checks
+    long long settleCalmSteps = 50;   // steps the checks must stay calm over
     // The time step of a batch run that ends once settled, simulation time units: the settling
     // wants the minimum, not the trajectory to it (default 1.5 x [dynamics] time_step, at most
     // 0.03, the paper's largest). applySettleTimeStep() puts it in the model.

@@ -160,6 +160,7 @@ int run(int argc, char** argv) {
     batch.untilSettled = scene.run.untilSettled;  // a placed bag: `steps` is then the cap
     batch.settleKinetic = scene.run.settleKinetic;
     batch.settleEvery = scene.run.settleEverySteps;
+    batch.settleCalm = scene.run.settleCalmSteps;
     return app::runBatch(scene, std::move(start), batch, std::move(exchanges));
 }
 
