@@ -4,7 +4,6 @@
 #include "Threads.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -15,45 +14,18 @@ namespace bop::core {
 
 namespace {
 
-// A row's neighbours sorted nearest first (ties by index): the pair loop's cutoff test then
-// changes outcome once per entry, which the branch predictor follows. Each neighbour is one
-// 64-bit key, its squared distance rounded to float above its index (a non-negative float's bits
-// order as its value), so that a row sorts as integers, its distances computed once.
-using Near = std::vector<std::uint64_t>;
-inline std::uint64_t nearKey(double d2, std::uint32_t y) {
-    return std::uint64_t(std::bit_cast<std::uint32_t>(float(d2))) << 32 | y;
-}
-void appendNearestFirst(Near& row, std::vector<std::uint32_t>& out) {
-    std::sort(row.begin(), row.end());
-    for (const std::uint64_t key : row) out.push_back(std::uint32_t(key));
-    row.clear();
-}
-
-// Sorts entry x's neighbours [from, to) of list nearest first (ties by index).
-void nearestFirst(std::vector<std::uint32_t>& list, std::size_t from, std::size_t to, std::uint32_t x,
-                  const std::vector<Eigen::Vector3d>& pos, Near& scratch) {
-    for (std::size_t k = from; k < to; ++k) scratch.push_back(nearKey((pos[list[k]] - pos[x]).squaredNorm(), list[k]));
-    std::sort(scratch.begin(), scratch.end());
-    for (std::size_t k = from; k < to; ++k) list[k] = std::uint32_t(scratch[k - from]);
-    scratch.clear();
-}
-
 constexpr std::size_t kCellBlock = 64;          // cells per block of the threaded build
 constexpr std::size_t kThreadedEntries = 4096;  // fewer entries: one thread builds the list
 
 // Row lengths in p.start[1..] become offsets, and the blocks' neighbours are laid end to end.
-void join(std::vector<NeighbourList::Pairs>& parts, NeighbourList::Pairs& p) {
+void join(const std::vector<std::vector<std::uint32_t>>& parts, NeighbourList::Pairs& p) {
     std::size_t total = 0;
-    for (const auto& q : parts) total += q.nbr.size();
+    for (const auto& q : parts) total += q.size();
     if (total >= std::numeric_limits<std::uint32_t>::max())
         throw std::length_error("neighbour list: more than 2^32 pairs in one process; use more ranks");
     for (std::size_t e = 1; e < p.start.size(); ++e) p.start[e] += p.start[e - 1];
-    p.nbr.clear();
-    p.nbr.reserve(total);
-    for (auto& q : parts) {
-        p.nbr.insert(p.nbr.end(), q.nbr.begin(), q.nbr.end());
-        q = {};
-    }
+    concatenate(
+        parts.size(), [&](std::size_t b) -> const std::vector<std::uint32_t>& { return parts[b]; }, p.nbr);
 }
 
 void checkSize(const NeighbourList::Pairs& a, const NeighbourList::Pairs& b) {
@@ -81,7 +53,7 @@ int NeighbourList::kind(std::uint32_t x, std::uint32_t y) const {
 
 void NeighbourList::build(const Box& box, double range, const std::vector<Eigen::Vector3d>& pos,
                           const std::vector<Eigen::Vector3d>& halo, const Wide* wide,
-                          const std::vector<std::uint64_t>* keys) {
+                          const std::vector<std::uint64_t>* keys, double tier) {
     if (wide && wide->member.size() != pos.size() + halo.size())
         throw std::invalid_argument("neighbour list: wide members given for " + std::to_string(wide->member.size()) +
                                     " entries, not the " + std::to_string(pos.size() + halo.size()) +
@@ -161,18 +133,21 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
 
     // Rows on the threads, in fixed blocks of cells (rows of a block are contiguous entries),
     // each block's neighbours then joined in block order: the same list at any thread count.
-    const double range2 = range * range;
+    const double range2 = range * range, tier2 = tier * tier;
     const bool plain = ne == particles_;  // no images, no ghosts: every pair in range is a Newton pair
     pairs_.start.assign(ne + 1, 0);
     haloPairs_.start.assign(ne + 1, 0);
     const std::size_t cellCount = std::size_t(cells.cellCount());
     const std::size_t blocks = blockCount(cellCount, kCellBlock);
-    std::vector<Pairs> part(blocks), haloPart(blocks);  // per block: nbr only; row lengths go to start
+    rowParts_.resize(blocks);  // per block: the rows' neighbours; row lengths go to start
+    haloRowParts_.resize(blocks);
     const auto rows = [&](std::size_t b, std::size_t c0, std::size_t c1) {
         std::array<CellList::Neighbour, 14> stencil;
-        std::vector<std::uint32_t>& nbr = part[b].nbr;
-        std::vector<std::uint32_t>& hnbr = haloPart[b].nbr;
-        Near row, hrow;
+        std::vector<std::uint32_t>& nbr = rowParts_[b];
+        std::vector<std::uint32_t>& hnbr = haloRowParts_[b];
+        nbr.clear();
+        hnbr.clear();
+        std::vector<std::uint32_t> far, hfar;  // a row's neighbours at `tier` or beyond
         for (int c = int(c0); c < int(c1); ++c) {
             const std::uint32_t b0 = cells.start(c), b1 = cells.start(c + 1);
             if (b0 == b1) continue;
@@ -187,20 +162,22 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
                         const double d2 = (pos_[y] - px).squaredNorm();
                         if (d2 >= range2) continue;
                         const int k = plain ? 1 : kind(x, y);
-                        if (k == 1) row.push_back(nearKey(d2, y));
-                        if (k == 2) hrow.push_back(nearKey(d2, y));
+                        if (k == 1) (d2 < tier2 ? nbr : far).push_back(y);
+                        if (k == 2) (d2 < tier2 ? hnbr : hfar).push_back(y);
                     }
                 }
-                appendNearestFirst(row, nbr);
-                appendNearestFirst(hrow, hnbr);
+                nbr.insert(nbr.end(), far.begin(), far.end());
+                hnbr.insert(hnbr.end(), hfar.begin(), hfar.end());
+                far.clear();
+                hfar.clear();
                 pairs_.start[x + 1] = std::uint32_t(nbr.size() - from);  // the row's length, for now
                 haloPairs_.start[x + 1] = std::uint32_t(hnbr.size() - hfrom);
             }
         }
     };
     forBlocks(cellCount, kCellBlock, rows, 1, ne >= kThreadedEntries);
-    join(part, pairs_);
-    join(haloPart, haloPairs_);  // each join checks its size
+    join(rowParts_, pairs_);
+    join(haloRowParts_, haloPairs_);  // each join checks its size
     widePairs_ = {};
     wideHaloPairs_ = {};
     if (wide) buildWide(extended, *wide);
@@ -241,26 +218,20 @@ void NeighbourList::buildWide(const Box& extended, const Wide& wide) {
         }
     };
     forBlocks(cellCount, kCellBlock, rows, 1, members.size() >= kThreadedEntries);
-    Found found[2];
-    for (auto& q : part)
-        for (int k = 0; k < 2; ++k) found[k].insert(found[k].end(), q[std::size_t(k)].begin(), q[std::size_t(k)].end());
     Pairs* out[2] = {&widePairs_, &wideHaloPairs_};
-    for (int k = 0; k < 2; ++k) {  // by the smaller entry, then nearest first
+    for (int k = 0; k < 2; ++k) {  // by the smaller entry, in the order found
         Pairs& p = *out[k];
         p.start.assign(ne + 1, 0);
-        for (const auto& [x, _] : found[k]) ++p.start[x + 1];
+        std::size_t total = 0;
+        for (const auto& q : part) {
+            total += q[std::size_t(k)].size();
+            for (const auto& [x, _] : q[std::size_t(k)]) ++p.start[x + 1];
+        }
         for (std::size_t e = 0; e < ne; ++e) p.start[e + 1] += p.start[e];
-        p.nbr.resize(found[k].size());
+        p.nbr.resize(total);
         std::vector<std::uint32_t> fill(p.start.begin(), p.start.end() - 1);
-        for (const auto& [x, y] : found[k]) p.nbr[fill[x]++] = y;
-        forBlocks(
-            ne, kCellBlock,
-            [&](std::size_t, std::size_t e0, std::size_t e1) {
-                Near scratch;
-                for (std::size_t e = e0; e < e1; ++e)
-                    nearestFirst(p.nbr, p.start[e], p.start[e + 1], std::uint32_t(e), pos_, scratch);
-            },
-            1, true, true);
+        for (const auto& q : part)
+            for (const auto& [x, y] : q[std::size_t(k)]) p.nbr[fill[x]++] = y;
     }
     checkSize(widePairs_, wideHaloPairs_);
 }

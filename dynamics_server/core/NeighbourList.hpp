@@ -47,10 +47,13 @@ public:
     // particle, then per ghost (their ids): entries within a cell follow them, and a pair of a
     // particle with an image of another is kept on the side of the smaller key, so that the
     // list, and the sums over it, do not depend on the order of the particles. Without keys,
-    // their indices serve.
+    // their indices serve. tier (length units): each row of pairs() and haloPairs() lists its
+    // neighbours closer than this at the build first, then the others, each part in the order
+    // of cells and keys; a pair loop whose cutoff is `tier` then sees its cutoff test change
+    // outcome about once per row. The wide rows are sorted nearest first.
     void build(const Box& box, double range, const std::vector<Eigen::Vector3d>& pos,
                const std::vector<Eigen::Vector3d>& halo = {}, const Wide* wide = nullptr,
-               const std::vector<std::uint64_t>* keys = nullptr);
+               const std::vector<std::uint64_t>* keys = nullptr, double tier = 0);
 
     // Displacements since the build. Returns false when the particle count differs from the
     // build or a particle moved farther than maxMove (then build again).
@@ -97,6 +100,8 @@ private:
     std::vector<Eigen::Vector3d> pos_, shift_;  // entry positions now; entry minus owner at the build
     std::vector<Eigen::Vector3d> built_;        // particle positions at the build
     std::vector<Eigen::Vector3d> now_;          // particles (unwrapped since the build), then halo
+    // Per block of cells, the rows' neighbours of the last build (scratch, kept for its capacity).
+    std::vector<std::vector<std::uint32_t>> rowParts_, haloRowParts_;
 };
 
 }  // namespace bop::core

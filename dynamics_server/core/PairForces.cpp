@@ -60,7 +60,8 @@ void PairForces::updateList(const Model& model, const Particles& p, const Halo* 
         keys_ = p.id;  // entries by id within a cell: the list does not depend on the particles' order
         if (halo) keys_.insert(keys_.end(), halo->id.begin(), halo->id.end());
         keys_.resize(p.size() + haloPos.size());
-        list_.build(model.box, kernel_.lj().cutoff() + skin_, p.pos, haloPos, oriented_ ? &wide_ : nullptr, &keys_);
+        list_.build(model.box, kernel_.lj().cutoff() + skin_, p.pos, haloPos, oriented_ ? &wide_ : nullptr, &keys_,
+                    kernel_.lj().cutoff());
         list_.measure(model.box, p.pos, 0.5 * skin_);
         revision_ = p.revision;
     }

@@ -10,17 +10,21 @@ constexpr std::size_t kThreadedEntries = 4096;  // fewer entries: one thread pru
 
 // The pairs of `from` closer than sqrt(range2) at `pos`, row by row in the list's order; rows
 // in fixed blocks joined in block order, so the copy does not depend on the thread count.
+// parts: one vector per block, kept between calls with their capacity.
 void keep(const NeighbourList::Pairs& from, const std::vector<Eigen::Vector3d>& pos, double range2,
-          NeighbourList::Pairs& to) {
+          NeighbourList::Pairs& to, std::vector<std::vector<std::uint32_t>>& parts) {
     to.start.assign(from.start.size(), 0);
-    to.nbr.clear();
-    if (from.start.size() < 2) return;
+    if (from.start.size() < 2) {
+        to.nbr.clear();
+        return;
+    }
     const std::size_t rows = from.start.size() - 1;
-    std::vector<std::vector<std::uint32_t>> parts(blockCount(rows, kRowBlock));
+    parts.resize(blockCount(rows, kRowBlock));
     forBlocks(
         rows, kRowBlock,
         [&](std::size_t b, std::size_t x0, std::size_t x1) {
             std::vector<std::uint32_t>& kept = parts[b];
+            kept.clear();
             kept.reserve(from.start[x1] - from.start[x0]);
             for (std::size_t x = x0; x < x1; ++x) {
                 const Eigen::Vector3d px = pos[x];
@@ -32,18 +36,18 @@ void keep(const NeighbourList::Pairs& from, const std::vector<Eigen::Vector3d>& 
         },
         1, rows >= kThreadedEntries, true);
     for (std::size_t x = 1; x < to.start.size(); ++x) to.start[x] += to.start[x - 1];
-    to.nbr.reserve(to.start.back());
-    for (const auto& part : parts) to.nbr.insert(to.nbr.end(), part.begin(), part.end());
+    concatenate(
+        parts.size(), [&](std::size_t b) -> const std::vector<std::uint32_t>& { return parts[b]; }, to.nbr);
 }
 
 }  // namespace
 
 void PrunedPairs::prune(const NeighbourList& list, double ljRange, double wideRange, double maxMove) {
     const std::vector<Eigen::Vector3d>& pos = list.positions();
-    keep(list.pairs(), pos, ljRange * ljRange, lj_);
-    keep(list.haloPairs(), pos, ljRange * ljRange, ljHalo_);
-    keep(list.widePairs(), pos, wideRange * wideRange, wide_);
-    keep(list.wideHaloPairs(), pos, wideRange * wideRange, wideHalo_);
+    keep(list.pairs(), pos, ljRange * ljRange, lj_, parts_);
+    keep(list.haloPairs(), pos, ljRange * ljRange, ljHalo_, parts_);
+    keep(list.widePairs(), pos, wideRange * wideRange, wide_, parts_);
+    keep(list.wideHaloPairs(), pos, wideRange * wideRange, wideHalo_, parts_);
     at_ = pos;
     maxMove2_ = maxMove * maxMove;
     build_ = list.builds();

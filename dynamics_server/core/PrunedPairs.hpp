@@ -8,6 +8,8 @@
 #include "NeighbourList.hpp"
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 namespace bop::core {
 
@@ -36,7 +38,8 @@ public:
 
 private:
     NeighbourList::Pairs lj_, ljHalo_, wide_, wideHalo_;
-    std::vector<Eigen::Vector3d> at_;  // entry positions at the pruning
+    std::vector<Eigen::Vector3d> at_;                // entry positions at the pruning
+    std::vector<std::vector<std::uint32_t>> parts_;  // per block of rows: the pairs kept (scratch)
     double maxMove2_ = 0;
     std::size_t build_ = 0, prunes_ = 0;
 };

@@ -75,6 +75,26 @@ void forBlocks(std::size_t n, std::size_t block, F&& f, std::size_t grain = 1, b
     for (std::size_t b = 0; b < blocks; ++b) f(b, b * block, std::min(n, (b + 1) * block));
 }
 
+// The vectors part(0) .. part(parts - 1) laid end to end in `out` (sized to their total; its
+// earlier contents are overwritten, its capacity kept), each part copied on the threads.
+template <class T, class Part>
+void concatenate(std::size_t parts, Part&& part, std::vector<T>& out) {
+    std::vector<std::size_t> at(parts + 1, 0);
+    for (std::size_t b = 0; b < parts; ++b) at[b + 1] = at[b] + part(b).size();
+    if (at.back() > out.capacity()) {  // a new buffer with room to grow, the old one freed first, not copied
+        out = std::vector<T>();
+        out.reserve(at.back() + at.back() / 16);
+    }
+    out.resize(at.back());  // from its old size: only the growth is filled
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1) if (at.back() >= 16 * kThreadMin)
+#endif
+    for (std::size_t b = 0; b < parts; ++b) {
+        const std::vector<T>& from = part(b);
+        std::copy(from.begin(), from.end(), out.begin() + std::ptrdiff_t(at[b]));
+    }
+}
+
 // The sum of f(i) over [0, n) in blocks of kSumBlock: the same at any thread count.
 template <class F>
 double sumIndex(std::size_t n, F&& f) {
