@@ -86,6 +86,37 @@ int CellList::halfStencil(int c, std::array<Neighbour, 14>& out) const {
     return count;
 }
 
+void CellList::forwardRanges(int c, int reach, std::vector<std::array<std::uint32_t, 2>>& out) const {
+    if (periodic_[0] || periodic_[1] || periodic_[2])
+        throw std::logic_error("cell list: forward ranges of a periodic list would need image shifts");
+    out.clear();
+    const auto x = coords(c);
+    const int f = axis_[0], m = axis_[1], s = axis_[2];
+    for (int ds = 0; ds <= reach && x[std::size_t(s)] + ds < n_[s]; ++ds)
+        for (int dm = ds == 0 ? 0 : -reach; dm <= reach; ++dm) {
+            const int ym = x[std::size_t(m)] + dm;
+            if (ym < 0 || ym >= n_[m]) continue;
+            // Along the fastest axis: from c itself in its own row, else `reach` cells either side.
+            const int f0 = std::max(0, x[std::size_t(f)] - (ds == 0 && dm == 0 ? 0 : reach));
+            const int f1 = std::min(n_[f] - 1, x[std::size_t(f)] + reach);
+            int y[3];
+            y[f] = f0, y[m] = ym, y[s] = x[std::size_t(s)] + ds;
+            const int first = index(y[0], y[1], y[2]);  // the row's cells are consecutive indices
+            out.push_back({start_[std::size_t(first)], start_[std::size_t(first + f1 - f0 + 1)]});
+        }
+}
+
+std::vector<std::array<int, 2>> CellList::forwardOffsets(int reach) const {
+    std::vector<std::array<int, 2>> out;
+    const int stepM = n_[axis_[0]], stepS = n_[axis_[0]] * n_[axis_[1]];
+    for (int ds = 0; ds <= reach; ++ds)
+        for (int dm = ds == 0 ? 0 : -reach; dm <= reach; ++dm) {
+            const int row = ds * stepS + dm * stepM;
+            out.push_back({row + (ds == 0 && dm == 0 ? 0 : -reach), row + reach});
+        }
+    return out;
+}
+
 void CellList::around(int c, int reach, std::vector<Neighbour>& out) const {
     out.clear();
     const auto x = coords(c);

@@ -48,6 +48,21 @@ public:
     };
     // The half stencil of cell c: itself first (shift 0), then up to 13 distinct neighbours.
     int halfStencil(int c, std::array<Neighbour, 14>& out) const;
+    // The cells "forward" of c within `reach` cells along every axis (the half stencil of that
+    // reach) as ranges [first, last) of order(), one per row of cells along the fastest axis,
+    // the first starting at c itself (pairing an entry of c with those after it, start past it).
+    // Non-periodic lists only: the ranges carry no image shifts.
+    void forwardRanges(int c, int reach, std::vector<std::array<std::uint32_t, 2>>& out) const;
+    // The same rows for a cell at least `reach` cells from every face (interior()), as cell index
+    // offsets from it, first and last cell of each row: such a cell's ranges are
+    // [start(c + first), start(c + last + 1)), found without its coordinates.
+    std::vector<std::array<int, 2>> forwardOffsets(int reach) const;
+    bool interior(int c, int reach) const {
+        const auto x = coords(c);
+        for (int a = 0; a < 3; ++a)
+            if (x[std::size_t(a)] < reach || x[std::size_t(a)] >= n_[a] - reach) return false;
+        return true;
+    }
     // Every cell within `reach` cells of c (for range queries), with periodic shifts.
     void around(int c, int reach, std::vector<Neighbour>& out) const;
 

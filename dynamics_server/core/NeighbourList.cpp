@@ -14,7 +14,7 @@ namespace bop::core {
 
 namespace {
 
-constexpr std::size_t kCellBlock = 64;          // cells per block of the threaded build
+constexpr std::size_t kCellBlock = 64;          // cells per block of the threaded build (kCellsPerRange 1)
 constexpr std::size_t kThreadedEntries = 4096;  // fewer entries: one thread builds the list
 
 // Row lengths in p.start[1..] become offsets, and the blocks' neighbours are laid end to end.
@@ -117,7 +117,7 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
     std::vector<std::uint64_t> rawKey(raw.size());
     forEachIndex(raw.size(), [&](std::size_t k) { rawKey[k] = key_[rawOwner[k]]; });
     CellList cells;
-    cells.build(extended, range, raw, &rawKey);  // an image never shares a cell with its owner
+    cells.build(extended, range / kCellsPerRange, raw, &rawKey);  // an image never shares a cell with its owner
     const auto& order = cells.order();
     const std::size_t ne = raw.size();
     owner_.resize(ne);
@@ -141,27 +141,59 @@ void NeighbourList::build(const Box& box, double range, const std::vector<Eigen:
     const std::size_t blocks = blockCount(cellCount, kCellBlock);
     rowParts_.resize(blocks);  // per block: the rows' neighbours; row lengths go to start
     haloRowParts_.resize(blocks);
+    const std::vector<std::array<int, 2>> offsets = cells.forwardOffsets(kCellsPerRange);
     const auto rows = [&](std::size_t b, std::size_t c0, std::size_t c1) {
-        std::array<CellList::Neighbour, 14> stencil;
+        std::vector<std::array<std::uint32_t, 2>> ahead;  // the cell's forward entries, in ranges
         std::vector<std::uint32_t>& nbr = rowParts_[b];
         std::vector<std::uint32_t>& hnbr = haloRowParts_[b];
         nbr.clear();
         hnbr.clear();
         std::vector<std::uint32_t> far, hfar;  // a row's neighbours at `tier` or beyond
+        std::vector<std::uint32_t> cand;       // a row's candidates, those in range first
+        std::vector<double> candD2;            // and their squared distances
         for (int c = int(c0); c < int(c1); ++c) {
             const std::uint32_t b0 = cells.start(c), b1 = cells.start(c + 1);
             if (b0 == b1) continue;
-            const int m = cells.halfStencil(c, stencil);
+            if (cells.interior(c, kCellsPerRange)) {
+                ahead.clear();
+                for (const auto& [first, last] : offsets)
+                    ahead.push_back({cells.start(c + first), cells.start(c + last + 1)});
+            } else {
+                cells.forwardRanges(c, kCellsPerRange, ahead);
+            }
+            if (plain) {  // every pair in range a Newton pair: candidates kept without branches
+                std::size_t most = 0;
+                for (const auto& r : ahead) most += r[1] - r[0];
+                cand.resize(most);
+                candD2.resize(most);
+                for (std::uint32_t x = b0; x < b1; ++x) {
+                    const Eigen::Vector3d px = pos_[x];
+                    std::size_t n = 0;
+                    for (std::size_t r = 0; r < ahead.size(); ++r)
+                        for (std::uint32_t y = (r == 0 ? x + 1 : ahead[r][0]); y < ahead[r][1]; ++y) {
+                            const double d2 = (pos_[y] - px).squaredNorm();
+                            cand[n] = y;
+                            candD2[n] = d2;
+                            n += d2 < range2;
+                        }
+                    const std::size_t from = nbr.size();
+                    nbr.resize(from + n + 1);  // one more: each pass writes before it decides
+                    std::size_t w = from;      // those within tier first, then the others
+                    for (std::size_t k = 0; k < n; ++k) nbr[w] = cand[k], w += candD2[k] < tier2;
+                    for (std::size_t k = 0; k < n; ++k) nbr[w] = cand[k], w += !(candD2[k] < tier2);
+                    nbr.pop_back();
+                    pairs_.start[x + 1] = std::uint32_t(n);  // the row's length, for now
+                }
+                continue;
+            }
             for (std::uint32_t x = b0; x < b1; ++x) {
                 const std::size_t from = nbr.size(), hfrom = hnbr.size();
                 const Eigen::Vector3d px = pos_[x];
-                for (int s = 0; s < m; ++s) {
-                    const std::uint32_t e0 = cells.start(stencil[std::size_t(s)].cell);
-                    const std::uint32_t e1 = cells.start(stencil[std::size_t(s)].cell + 1);
-                    for (std::uint32_t y = (s == 0 ? x + 1 : e0); y < e1; ++y) {
+                for (std::size_t r = 0; r < ahead.size(); ++r) {
+                    for (std::uint32_t y = (r == 0 ? x + 1 : ahead[r][0]); y < ahead[r][1]; ++y) {
                         const double d2 = (pos_[y] - px).squaredNorm();
                         if (d2 >= range2) continue;
-                        const int k = plain ? 1 : kind(x, y);
+                        const int k = kind(x, y);
                         if (k == 1) (d2 < tier2 ? nbr : far).push_back(y);
                         if (k == 2) (d2 < tier2 ? hnbr : hfar).push_back(y);
                     }

@@ -54,8 +54,9 @@ public:
     const PrunedPairs& pruned() const { return pruned_; }
     double pruneSkin() const { return prune_; }  // length units; 0: the loops read the whole list
     std::size_t chunks() const { return chunks_.count(); }
-    double listRange() const;                                           // the largest cutoff + skin, length units
-    double cellWidth() const { return kernel_.lj().cutoff() + skin_; }  // the LJ list's least cell width, length
+    double listRange() const;  // the largest cutoff + skin, length units
+    // The LJ list's least cell width, length units.
+    double cellWidth() const { return (kernel_.lj().cutoff() + skin_) / NeighbourList::kCellsPerRange; }
     static double listRange(const Model& model, const Params& params);  // the same of any model
 
     // Reference O(N^2) pair forces (tests): PairKernel::apply pair by pair, the scene's weights,

@@ -2,6 +2,7 @@
 // periodic faces included), forces equal to brute force while particles move, cross periodic
 // faces, appear and disappear, and the LJ-only fast path against the general one.
 #include "BruteForce.hpp"
+#include "core/CellList.hpp"
 #include "core/ForceField.hpp"
 #include "core/Threads.hpp"
 
@@ -123,6 +124,71 @@ TEST_CASE("the neighbour list holds every pair within range exactly once", "[cor
         CHECK(list.range() == wide.range);
         CHECK((list.ghostCount() > 0) == periodic);
     }
+}
+
+TEST_CASE("a row lists its neighbours within the tier first", "[core][neighbours]") {
+    for (bool periodic : {false, true}) {  // the branch-free rows of a plain list, and the general ones
+        Box box;
+        box.hi = Eigen::Vector3d(13, 12, 15);
+        box.periodic = {periodic, periodic, periodic};
+        const auto pts = randomPoints(box, 800, 11);
+        NeighbourList list;
+        list.build(box, 3.3, pts, {}, nullptr, nullptr, 2.1);
+        std::size_t near = 0, far = 0, misplaced = 0;
+        const NeighbourList::Pairs& pairs = list.pairs();
+        for (std::size_t e = 0; e < list.entryCount(); ++e) {
+            bool seenFar = false;
+            for (std::uint32_t k = pairs.start[e]; k < pairs.start[e + 1]; ++k) {
+                const bool isNear = (list.positions()[pairs.nbr[k]] - list.positions()[e]).norm() < 2.1;
+                misplaced += isNear && seenFar;
+                seenFar = seenFar || !isNear;
+                (isNear ? near : far) += 1;
+            }
+        }
+        INFO("periodic " << periodic << ": " << near << " pairs within the tier, " << far << " beyond");
+        CHECK(misplaced == 0);
+        CHECK(near > 1000);
+        CHECK(far > 1000);
+    }
+}
+
+TEST_CASE("a cell's forward ranges cover its half stencil, by offsets away from the faces", "[core][neighbours]") {
+    Box box;
+    box.hi = Eigen::Vector3d(20, 13, 17);  // 6 x 3 x 5 cells of 3.3: the axes in another order
+    const auto pts = randomPoints(box, 1500, 5);
+    CellList cells;
+    cells.build(box, 3.3, pts);
+    const auto offsets = cells.forwardOffsets(1);
+    std::size_t interior = 0;
+    std::vector<std::array<std::uint32_t, 2>> ranges;
+    std::array<CellList::Neighbour, 14> stencil;
+    for (int c = 0; c < cells.cellCount(); ++c) {
+        cells.forwardRanges(c, 1, ranges);
+        std::set<std::uint32_t> fromRanges, fromStencil;
+        for (const auto& [first, last] : ranges)
+            for (std::uint32_t k = first; k < last; ++k) fromRanges.insert(k);
+        const int m = cells.halfStencil(c, stencil);
+        for (int s = 0; s < m; ++s)
+            for (std::uint32_t k = cells.start(stencil[std::size_t(s)].cell);
+                 k < cells.start(stencil[std::size_t(s)].cell + 1); ++k)
+                fromStencil.insert(k);
+        INFO("cell " << c);
+        CHECK(fromRanges == fromStencil);
+        REQUIRE(!ranges.empty());
+        CHECK(ranges[0][0] == cells.start(c));  // the cell's own entries open the first range
+        if (!cells.interior(c, 1)) continue;
+        ++interior;
+        REQUIRE(offsets.size() == ranges.size());
+        for (std::size_t r = 0; r < ranges.size(); ++r) {
+            CHECK(cells.start(c + offsets[r][0]) == ranges[r][0]);
+            CHECK(cells.start(c + offsets[r][1] + 1) == ranges[r][1]);
+        }
+    }
+    CHECK(interior == 4 * 1 * 3);
+    Box periodic = box;
+    periodic.periodic = {true, false, false};
+    cells.build(periodic, 3.3, pts);
+    CHECK_THROWS_WITH(cells.forwardRanges(0, 1, ranges), Catch::Contains("periodic"));
 }
 
 TEST_CASE("the neighbour list is the same at 1, 2 and 3 threads, and complete", "[core][neighbours][threads]") {
