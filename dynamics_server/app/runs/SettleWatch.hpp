@@ -21,8 +21,6 @@ public:
     // Calm checks in a row that span calmSteps: 1 + ceil(calmSteps / everySteps).
     long long checksNeeded() const { return 1 + (calmSteps_ + every_ - 1) / every_; }
     long long everySteps() const { return every_; }
-    long long calmSteps() const { return calmSteps_; }
-    double kinetic() const { return kinetic_; }
 
 private:
     double kinetic_;
