@@ -1,7 +1,9 @@
 #include "Integrator.hpp"
 
+#include "SoundState.hpp"
 #include "Threads.hpp"
 
+#include <array>
 #include <cmath>
 
 namespace bop::core {
@@ -46,19 +48,35 @@ void kickDrift(const Model& model, const DragFactors& decay, Particles& p, bool 
     });
 }
 
-double kick(const Model& model, const DragFactors& decay, Particles& p) {
+namespace {
+
+// B and O of particle i (half: dt / 2; invI: 1 / I); returns its v^2 + I omega^2 (twice its
+// kinetic energy, unit mass).
+inline double kickOne(const Model& model, const DragFactors& decay, double half, double invI, Particles& p,
+                      std::size_t i) {
+    const int s = p.species[i];
+    p.vel[i] = decay.v[std::size_t(s)] * (p.vel[i] + half * p.force[i]);
+    limit(p.vel[i], decay.maxSpeed2);
+    const double v2 = p.vel[i].squaredNorm();
+    if (!model.isSurface(s)) return v2;
+    p.omega[i] = decay.w[std::size_t(s)] * (p.omega[i] + half * invI * p.torque[i]);
+    limit(p.omega[i], decay.maxSpin2);
+    return v2 + model.integration.inertia * p.omega[i].squaredNorm();
+}
+
+}  // namespace
+
+KickSums kickAndSum(const Model& model, const DragFactors& decay, Particles& p) {
+    const SoundBounds bounds(model);
     const double half = 0.5 * model.integration.dt, invI = 1.0 / model.integration.inertia;
-    const double twiceKinetic = sumIndex(p.size(), [&](std::size_t i) {  // on the threads, summed in fixed blocks
-        const int s = p.species[i];
-        p.vel[i] = decay.v[std::size_t(s)] * (p.vel[i] + half * p.force[i]);
-        limit(p.vel[i], decay.maxSpeed2);
-        const double v2 = p.vel[i].squaredNorm();
-        if (!model.isSurface(s)) return v2;
-        p.omega[i] = decay.w[std::size_t(s)] * (p.omega[i] + half * invI * p.torque[i]);
-        limit(p.omega[i], decay.maxSpin2);
-        return v2 + model.integration.inertia * p.omega[i].squaredNorm();
+    // On the threads, each sum in fixed blocks.
+    const std::array<double, 4> sums = sumsIndex<4>(p.size(), [&](std::size_t i) {
+        const double twiceKinetic = kickOne(model, decay, half, invI, p, i);
+        const bool volume = !model.isSurface(p.species[i]);
+        return std::array<double, 4>{twiceKinetic, volume ? p.vel[i].squaredNorm() : 0.0, volume ? 1.0 : 0.0,
+                                     bounds.term(p, i)};
     });
-    return 0.5 * twiceKinetic;
+    return {0.5 * sums[0], sums[1], sums[2], sums[3]};
 }
 
 double kineticEnergy(const Model& model, const Particles& p) {

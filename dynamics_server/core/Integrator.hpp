@@ -24,9 +24,14 @@ struct DragFactors {
 // O, B and A; wraps positions into the box along periodic axes unless wrap = false (a
 // decomposed run wraps when particles migrate, so halo positions stay continuous in between).
 void kickDrift(const Model& model, const DragFactors& drag, Particles& p, bool wrap = true);
-// B and O with the forces of the new positions; returns the kinetic energy afterwards (the
-// value of kineticEnergy(), in the same pass).
-double kick(const Model& model, const DragFactors& drag, Particles& p);
+// B and O with the forces of the new positions, and in the same pass the sums a step ends with,
+// each the same bits as its own pass would give: the kinetic energy afterwards (the value of
+// kineticEnergy()), the volume particles' sum of m v^2 and their count (bloodSums()), and the
+// particles' soundness sum (SoundBounds::term; sound() adds the probe's reaction).
+struct KickSums {
+    double kinetic = 0, volumeMv2 = 0, volumeCount = 0, soundTerms = 0;
+};
+KickSums kickAndSum(const Model& model, const DragFactors& drag, Particles& p);
 
 // Kinetic energy: sum of v^2/2 + I omega^2/2 over particles, energy units.
 double kineticEnergy(const Model& model, const Particles& p);

@@ -155,10 +155,11 @@ void Simulation::step() {
     forces(energiesNext_ || stats_.step % energyEvery_ == 0);
     energiesNext_ = false;
     t0 = PhaseClock::now();
-    stats_.kinetic = kick(*local_, drag_, p_);
-    stats_.blood = bloodSums(*local_, p_);
+    const KickSums k = kickAndSum(*local_, drag_, p_);  // one pass: kinetic, blood and soundness sums
+    stats_.kinetic = k.kinetic;
+    stats_.blood = {k.volumeMv2, k.volumeCount};
     times_.integrate += secondsSince(t0);
-    if (!ex_->allTrue(sound(*model_, p_, stats_.forces.probeReaction))) throwUnsound();
+    if (!ex_->allTrue(std::isfinite(stats_.forces.probeReaction.sum() + k.soundTerms))) throwUnsound();
 }
 
 bool Simulation::soundEverywhere() const {

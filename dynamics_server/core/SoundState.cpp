@@ -5,30 +5,11 @@
 #include <cmath>
 
 namespace bop::core {
-namespace {
-
-struct Bounds {
-    Eigen::Array3d lo, hi;
-    double maxSpeed2;  // (length / time)^2
-    explicit Bounds(const Model& m)
-        : lo(m.box.lo.array() - kRunawayLength),
-          hi(m.box.hi.array() + kRunawayLength),
-          maxSpeed2(std::pow(kRunawayLength / m.integration.dt, 2)) {}
-    bool inside(const Eigen::Vector3d& x) const {
-        return (x.array() >= lo).all() && (x.array() <= hi).all();
-    }  // false for NaN
-    bool slow(const Eigen::Vector3d& v) const { return v.squaredNorm() <= maxSpeed2; }
-};
-
-}  // namespace
 
 bool sound(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction) {
-    const Bounds b(model);
+    const SoundBounds b(model);
     // Any NaN or infinity makes the sum so, and so does a particle out of bounds (on the threads).
-    const double sum = probeReaction.sum() + sumIndex(p.size(), [&](std::size_t i) {
-                           if (!(b.inside(p.pos[i]) && b.slow(p.vel[i]))) return std::nan("");
-                           return p.vel[i].sum() + p.omega[i].sum() + p.force[i].sum() + p.torque[i].sum();
-                       });
+    const double sum = probeReaction.sum() + sumIndex(p.size(), [&](std::size_t i) { return b.term(p, i); });
     return std::isfinite(sum);
 }
 
@@ -50,7 +31,7 @@ std::string Unsoundness::text() const {
 
 Unsoundness findUnsound(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction) {
     if (sound(model, p, probeReaction)) return {};
-    const Bounds b(model);
+    const SoundBounds b(model);
     for (std::size_t i = 0; i < p.size(); ++i) {
         const auto at = [&](Unsoundness::What w) { return Unsoundness{w, p.id[i], p.species[i]}; };
         if (!p.pos[i].allFinite()) return at(Unsoundness::Position);

@@ -9,6 +9,7 @@
 #include "Model.hpp"
 #include "Particles.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -17,6 +18,27 @@ namespace bop::core {
 
 inline constexpr double kRunawayLength = 1e6;          // how far beyond the box a particle may be, length
 inline constexpr long long kSoundSnapshotEvery = 100;  // steps between copies of the last sound state
+
+// The bounds of a sound particle, and its share of the soundness sum: NaN where the particle is
+// out of bounds or too fast, else a sum of its velocity, angular velocity, force and torque,
+// which a NaN or infinity makes so. A state is sound where the probe's reaction plus the sum
+// over the particles is finite.
+struct SoundBounds {
+    Eigen::Array3d lo, hi;
+    double maxSpeed2;  // (length / time)^2
+    explicit SoundBounds(const Model& m)
+        : lo(m.box.lo.array() - kRunawayLength),
+          hi(m.box.hi.array() + kRunawayLength),
+          maxSpeed2(std::pow(kRunawayLength / m.integration.dt, 2)) {}
+    bool inside(const Eigen::Vector3d& x) const {
+        return (x.array() >= lo).all() && (x.array() <= hi).all();
+    }  // false for NaN
+    bool slow(const Eigen::Vector3d& v) const { return v.squaredNorm() <= maxSpeed2; }
+    double term(const Particles& p, std::size_t i) const {
+        if (!(inside(p.pos[i]) && slow(p.vel[i]))) return std::nan("");
+        return p.vel[i].sum() + p.omega[i].sum() + p.force[i].sum() + p.torque[i].sum();
+    }
+};
 
 // One pass over the particles, without a branch per particle.
 bool sound(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction);

@@ -4,6 +4,7 @@
 // fixed blocks of kSumBlock items, each summed in order, and the block sums in order, so that the
 // same bits come out at 1, 2 or 16 threads. Without OpenMP the loops run on the calling thread.
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -93,6 +94,30 @@ void concatenate(std::size_t parts, Part&& part, std::vector<T>& out) {
         const std::vector<T>& from = part(b);
         std::copy(from.begin(), from.end(), out.begin() + std::ptrdiff_t(at[b]));
     }
+}
+
+// The sums of f(i)'s K components over [0, n) in one pass, each component summed as sumIndex
+// sums it alone (the same blocks, the same order): the same bits as K separate sums.
+template <std::size_t K, class F>
+std::array<double, K> sumsIndex(std::size_t n, F&& f) {
+    const std::size_t blocks = (n + kSumBlock - 1) / kSumBlock;
+    std::vector<std::array<double, K>> part(blocks);
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) if (n >= kThreadMin)  // a range of blocks each
+#endif
+    for (std::size_t b = 0; b < blocks; ++b) {
+        std::array<double, K> s{};
+        const std::size_t end = std::min(n, (b + 1) * kSumBlock);
+        for (std::size_t i = b * kSumBlock; i < end; ++i) {
+            const std::array<double, K> v = f(i);
+            for (std::size_t k = 0; k < K; ++k) s[k] += v[k];
+        }
+        part[b] = s;
+    }
+    std::array<double, K> total{};
+    for (const auto& s : part)
+        for (std::size_t k = 0; k < K; ++k) total[k] += s[k];
+    return total;
 }
 
 // The sum of f(i) over [0, n) in blocks of kSumBlock: the same at any thread count.

@@ -1,11 +1,15 @@
 // The dynamics core without a shape: cell lists against brute force, momentum conservation,
 // energy conservation of an undamped LJ cluster, exact drag and rotation, and deterministic runs.
 #include "BruteForce.hpp"
+#include "core/BloodPressure.hpp"
+#include "core/Integrator.hpp"
 #include "core/Simulation.hpp"
+#include "core/SoundState.hpp"
 #include "core/Threads.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <limits>
 #include <random>
 
 using namespace bop;
@@ -228,4 +232,57 @@ TEST_CASE("a run's trajectory is the same to the last bit at 1, 2 and 3 threads"
     double moved = 0;
     for (std::size_t i = 0; i < p.size(); ++i) moved = std::max(moved, (ends[0].pos[i] - p.pos[i]).norm());
     CHECK(moved > 0.01);
+}
+
+TEST_CASE("the step's closing kick gives each of its sums to the bit as its own pass would",
+          "[core][dynamics][threads]") {
+    const auto m = mixedModel(false, true, false, 20);
+    const DragFactors drag(*m, Params(*m));
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> u(-1, 1);
+    Particles start;
+    for (std::uint64_t k = 0; k < 3000; ++k) {  // several sum blocks, on the threads
+        start.add(Eigen::Vector3d(u(rng) + 10, u(rng) + 10, u(rng) + 10) * kR0, 1 + int(k % 3), k + 1);
+        start.vel.back() = {u(rng), u(rng), u(rng)};
+        start.omega.back() = {u(rng), u(rng), u(rng)};
+        start.force.back() = {u(rng), u(rng), u(rng)};
+        start.torque.back() = {u(rng), u(rng), u(rng)};
+    }
+    const SoundBounds bounds(*m);
+    std::vector<KickSums> at;
+    const int before = threadCount();
+    for (int threads : {1, 2, 3}) {
+        setThreadCount(threads);
+        Particles p = start;
+        const KickSums k = kickAndSum(*m, drag, p);
+        at.push_back(k);
+        // Each sum again, in its own pass over the kicked particles.
+        const double twice = sumIndex(p.size(), [&](std::size_t i) {
+            const double v2 = p.vel[i].squaredNorm();
+            return m->isSurface(p.species[i]) ? v2 + m->integration.inertia * p.omega[i].squaredNorm() : v2;
+        });
+        const BloodSums blood = bloodSums(*m, p);
+        const double soundTerms = sumIndex(p.size(), [&](std::size_t i) { return bounds.term(p, i); });
+        CHECK(k.kinetic == 0.5 * twice);
+        CHECK(k.kinetic == Approx(kineticEnergy(*m, p)).epsilon(1e-13));
+        CHECK(k.volumeMv2 == blood.mv2);
+        CHECK(k.volumeCount == blood.count);
+        CHECK(k.volumeCount == 1000);
+        CHECK(k.soundTerms == soundTerms);
+        CHECK(std::isfinite(k.soundTerms));
+        CHECK(sound(*m, p, Eigen::Vector3d::Zero()));
+    }
+    setThreadCount(before);
+    for (const KickSums& k : at) {  // the same bits at 1, 2 and 3 threads
+        CHECK(k.kinetic == at[0].kinetic);
+        CHECK(k.volumeMv2 == at[0].volumeMv2);
+        CHECK(k.soundTerms == at[0].soundTerms);
+    }
+    // A force that is not finite, or a particle far beyond the box, makes the soundness sum so.
+    Particles bad = start;
+    bad.force[1234].y() = std::numeric_limits<double>::infinity();
+    CHECK_FALSE(std::isfinite(kickAndSum(*m, drag, bad).soundTerms));
+    bad = start;
+    bad.pos[77].x() = 2 * kRunawayLength;
+    CHECK_FALSE(std::isfinite(kickAndSum(*m, drag, bad).soundTerms));
 }
