@@ -159,7 +159,7 @@ void Simulation::step() {
     stats_.kinetic = k.kinetic;
     stats_.blood = {k.volumeMv2, k.volumeCount};
     times_.integrate += secondsSince(t0);
-    if (!ex_->allTrue(std::isfinite(stats_.forces.probeReaction.sum() + k.soundTerms))) throwUnsound();
+    if (!ex_->allTrue(soundSum(stats_.forces.probeReaction, k.soundTerms))) throwUnsound();
 }
 
 bool Simulation::soundEverywhere() const {

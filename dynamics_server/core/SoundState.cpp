@@ -9,8 +9,7 @@ namespace bop::core {
 bool sound(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction) {
     const SoundBounds b(model);
     // Any NaN or infinity makes the sum so, and so does a particle out of bounds (on the threads).
-    const double sum = probeReaction.sum() + sumIndex(p.size(), [&](std::size_t i) { return b.term(p, i); });
-    return std::isfinite(sum);
+    return soundSum(probeReaction, sumIndex(p.size(), [&](std::size_t i) { return b.term(p, i); }));
 }
 
 std::string Unsoundness::text() const {

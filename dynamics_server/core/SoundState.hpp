@@ -40,6 +40,10 @@ struct SoundBounds {
     }
 };
 
+// Whether a state whose particles' SoundBounds terms sum to `terms` is sound.
+inline bool soundSum(const Eigen::Vector3d& probeReaction, double terms) {
+    return std::isfinite(probeReaction.sum() + terms);
+}
 // One pass over the particles, without a branch per particle.
 bool sound(const Model& model, const Particles& p, const Eigen::Vector3d& probeReaction);
 // What is wrong with a state, the first thing found.

@@ -96,8 +96,9 @@ void concatenate(std::size_t parts, Part&& part, std::vector<T>& out) {
     }
 }
 
-// The sums of f(i)'s K components over [0, n) in one pass, each component summed as sumIndex
-// sums it alone (the same blocks, the same order): the same bits as K separate sums.
+// The sums of f(i)'s K components over [0, n) in one pass, each in blocks of kSumBlock summed in
+// order, the blocks then in order: the same bits at any thread count, and for each component
+// the same as a pass of its own (sumIndex).
 template <std::size_t K, class F>
 std::array<double, K> sumsIndex(std::size_t n, F&& f) {
     const std::size_t blocks = (n + kSumBlock - 1) / kSumBlock;
@@ -123,20 +124,7 @@ std::array<double, K> sumsIndex(std::size_t n, F&& f) {
 // The sum of f(i) over [0, n) in blocks of kSumBlock: the same at any thread count.
 template <class F>
 double sumIndex(std::size_t n, F&& f) {
-    const std::size_t blocks = (n + kSumBlock - 1) / kSumBlock;
-    std::vector<double> part(blocks, 0.0);
-#if defined(_OPENMP)
-#pragma omp parallel for schedule(static) if (n >= kThreadMin)  // a range of blocks each
-#endif
-    for (std::size_t b = 0; b < blocks; ++b) {
-        double s = 0;
-        const std::size_t end = std::min(n, (b + 1) * kSumBlock);
-        for (std::size_t i = b * kSumBlock; i < end; ++i) s += f(i);
-        part[b] = s;
-    }
-    double total = 0;
-    for (double s : part) total += s;
-    return total;
+    return sumsIndex<1>(n, [&](std::size_t i) { return std::array<double, 1>{f(i)}; })[0];
 }
 
 }  // namespace bop::core
