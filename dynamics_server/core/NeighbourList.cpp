@@ -24,8 +24,7 @@ void join(const std::vector<std::vector<std::uint32_t>>& parts, NeighbourList::P
     if (total >= std::numeric_limits<std::uint32_t>::max())
         throw std::length_error("neighbour list: more than 2^32 pairs in one process; use more ranks");
     for (std::size_t e = 1; e < p.start.size(); ++e) p.start[e] += p.start[e - 1];
-    concatenate(
-        parts.size(), [&](std::size_t b) -> const std::vector<std::uint32_t>& { return parts[b]; }, p.nbr);
+    concatenate(parts, p.nbr);
 }
 
 void checkSize(const NeighbourList::Pairs& a, const NeighbourList::Pairs& b) {

@@ -60,7 +60,7 @@ public:
     // their indices serve. tier (length units): each row of pairs() and haloPairs() lists its
     // neighbours closer than this at the build first, then the others, each part in the order
     // of cells and keys; a pair loop whose cutoff is `tier` then sees its cutoff test change
-    // outcome about once per row. The wide rows are sorted nearest first.
+    // outcome about once per row. The wide rows keep the order their pairs are found in.
     void build(const Box& box, double range, const std::vector<Eigen::Vector3d>& pos,
                const std::vector<Eigen::Vector3d>& halo = {}, const Wide* wide = nullptr,
                const std::vector<std::uint64_t>* keys = nullptr, double tier = 0);

@@ -36,8 +36,7 @@ void keep(const NeighbourList::Pairs& from, const std::vector<Eigen::Vector3d>& 
         },
         1, rows >= kThreadedEntries, true);
     for (std::size_t x = 1; x < to.start.size(); ++x) to.start[x] += to.start[x - 1];
-    concatenate(
-        parts.size(), [&](std::size_t b) -> const std::vector<std::uint32_t>& { return parts[b]; }, to.nbr);
+    concatenate(parts, to.nbr);
 }
 
 }  // namespace

@@ -76,12 +76,12 @@ void forBlocks(std::size_t n, std::size_t block, F&& f, std::size_t grain = 1, b
     for (std::size_t b = 0; b < blocks; ++b) f(b, b * block, std::min(n, (b + 1) * block));
 }
 
-// The vectors part(0) .. part(parts - 1) laid end to end in `out` (sized to their total; its
-// earlier contents are overwritten, its capacity kept), each part copied on the threads.
-template <class T, class Part>
-void concatenate(std::size_t parts, Part&& part, std::vector<T>& out) {
-    std::vector<std::size_t> at(parts + 1, 0);
-    for (std::size_t b = 0; b < parts; ++b) at[b + 1] = at[b] + part(b).size();
+// The vectors of `parts` laid end to end in `out` (sized to their total; its earlier contents
+// are overwritten, its capacity kept), each part copied on the threads.
+template <class T>
+void concatenate(const std::vector<std::vector<T>>& parts, std::vector<T>& out) {
+    std::vector<std::size_t> at(parts.size() + 1, 0);
+    for (std::size_t b = 0; b < parts.size(); ++b) at[b + 1] = at[b] + parts[b].size();
     if (at.back() > out.capacity()) {  // a new buffer with room to grow, the old one freed first, not copied
         out = std::vector<T>();
         out.reserve(at.back() + at.back() / 16);
@@ -90,10 +90,8 @@ void concatenate(std::size_t parts, Part&& part, std::vector<T>& out) {
 #if defined(_OPENMP)
 #pragma omp parallel for schedule(dynamic, 1) if (at.back() >= 16 * kThreadMin)
 #endif
-    for (std::size_t b = 0; b < parts; ++b) {
-        const std::vector<T>& from = part(b);
-        std::copy(from.begin(), from.end(), out.begin() + std::ptrdiff_t(at[b]));
-    }
+    for (std::size_t b = 0; b < parts.size(); ++b)
+        std::copy(parts[b].begin(), parts[b].end(), out.begin() + std::ptrdiff_t(at[b]));
 }
 
 // The sums of f(i)'s K components over [0, n) in one pass, each in blocks of kSumBlock summed in
