@@ -17,23 +17,31 @@ inline void limit(Eigen::Vector3d& v, double max2) {
 
 }  // namespace
 
-DragFactors::DragFactors(const Model& m, const Params& p) : v(m.species.size(), 1.0), w(m.species.size(), 1.0) {
-    const double dt = m.integration.dt;
-    maxSpeed2 = std::pow(m.integration.maxStepR0 * kR0 / dt, 2);
-    maxSpin2 = std::pow(m.integration.maxTurn / dt, 2);
+DragFactors::DragFactors(const Model& m, const Params& p, double step)
+    : dt(step),
+      v(m.species.size(), 1.0),
+      w(m.species.size(), 1.0),
+      maxSpeed2(std::pow(m.integration.maxStepR0 * kR0 / step, 2)),
+      maxSpin2(std::pow(m.integration.maxTurn / step, 2)) {
     for (std::size_t s = 1; s < m.species.size(); ++s) {
         v[s] = std::exp(-p.drag[s].v * dt / 2.0);
         w[s] = std::exp(-p.drag[s].w * dt / (2.0 * m.integration.inertia));
     }
 }
 
-void kickDrift(const Model& model, const DragFactors& decay, Particles& p, bool wrap) {
-    const double dt = model.integration.dt, half = 0.5 * dt, invI = 1.0 / model.integration.inertia;
+void kickDrift(const Model& model, const DragFactors& decay, Particles& p, bool wrap, const FireKick* fire) {
+    const double dt = decay.dt, half = 0.5 * dt, invI = 1.0 / model.integration.inertia;
     const Eigen::Vector3d lo = model.box.lo, hi = model.box.hi, L = model.box.size();
     const bool anyPeriodic = wrap && (model.box.periodic[0] || model.box.periodic[1] || model.box.periodic[2]);
     forEachIndex(p.size(), [&](std::size_t i) {  // each particle on its own: on the threads
         const int s = p.species[i];
+        if (fire && fire->stop) {
+            p.pos[i] -= fire->back * p.vel[i];
+            p.vel[i].setZero();
+            p.omega[i].setZero();
+        }
         p.vel[i] = decay.v[std::size_t(s)] * p.vel[i] + half * p.force[i];
+        if (fire) p.vel[i] = fire->keep * p.vel[i] + fire->alongForce * p.force[i];
         limit(p.vel[i], decay.maxSpeed2);
         p.pos[i] += dt * p.vel[i];
         if (anyPeriodic)
@@ -42,6 +50,7 @@ void kickDrift(const Model& model, const DragFactors& decay, Particles& p, bool 
                     p.pos[i][a] -= L[a] * std::floor((p.pos[i][a] - lo[a]) / L[a]);
         if (!model.isSurface(s)) return;
         p.omega[i] = decay.w[std::size_t(s)] * p.omega[i] + half * invI * p.torque[i];
+        if (fire) p.omega[i] = fire->keep * p.omega[i] + fire->alongTorque * p.torque[i];
         limit(p.omega[i], decay.maxSpin2);
         p.q[i] = (rotationBy(dt * p.omega[i]) * p.q[i]).normalized();
         p.normal[i] = p.q[i] * Eigen::Vector3d::UnitZ();
@@ -68,7 +77,7 @@ inline double kickOne(const Model& model, const DragFactors& decay, double half,
 
 KickSums kickAndSum(const Model& model, const DragFactors& decay, Particles& p) {
     const SoundBounds bounds(model);
-    const double half = 0.5 * model.integration.dt, invI = 1.0 / model.integration.inertia;
+    const double half = 0.5 * decay.dt, invI = 1.0 / model.integration.inertia;
     // On the threads, each sum in fixed blocks.
     const std::array<double, 4> sums = sumsIndex<4>(p.size(), [&](std::size_t i) {
         const double twiceKinetic = kickOne(model, decay, half, invI, p, i);

@@ -19,6 +19,8 @@ struct Run::Impl {
     std::unique_ptr<Exchange> ex;
     std::unique_ptr<Simulation> sim;
     long long energyEvery = 1;
+    std::optional<FireParams> fire;     // the minimiser steps (a reseat carries its state, as a checkpoint does)
+    std::optional<FireState> fireFrom;  // the state the next start's minimiser goes on from
     // This process's counters of the simulations a reseat let go (the run's totals go on).
     double carriedMigrations = 0, carriedRebuilds = 0, carriedExchange = 0, carriedRebalances = 0;
     std::optional<SoundSnapshot> sound;  // this process's particles of the last sound state
@@ -32,6 +34,7 @@ struct Run::Impl {
         ex.reset();
         ex = exchanges(model->box, haloReach(*model, o));
         sim = std::make_unique<Simulation>(model, all, std::move(o), *ex);
+        if (fire) sim->minimise(fire, fireFrom);
     }
     void keepIfSound() {  // collective
         if (sim->soundEverywhere())
@@ -78,6 +81,16 @@ void Run::setEnergyEvery(long long n) {
     impl_->energyEvery = n;
     impl_->sim->setEnergyEvery(n);
 }
+void Run::minimise(std::optional<FireParams> fire, const std::optional<FireState>& from) {
+    impl_->fire = fire;
+    impl_->sim->minimise(fire, from);
+}
+bool Run::minimising() const {
+    return impl_->fire.has_value();
+}
+std::optional<FireState> Run::minimiserState() const {
+    return impl_->sim->minimiserState();
+}
 const Construction& Run::construction() const {
     return impl_->sim->construction();
 }
@@ -93,6 +106,7 @@ void Run::reseat(const Particles& all, const Construction& construction, long lo
     i.carriedRebuilds += double(i.sim->rebuilds());
     i.carriedExchange += i.sim->exchangeSeconds();
     i.carriedRebalances += double(i.ex->counts().rebalances);
+    i.fireFrom = i.sim->minimiserState();
     i.start(all, std::move(o));
     i.sim->setTimes(times);
     i.sim->setEnergyEvery(i.energyEvery);

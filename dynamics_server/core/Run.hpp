@@ -68,6 +68,11 @@ public:
     void energiesNextStep();                 // the next step computes energies too
     bool energiesCurrent() const;            // the last forces came with energies (the same everywhere)
     void setProbe(const ProbeState& probe);  // the same on every process
+    // The minimiser steps from here on (Simulation::minimise: afresh, or from the state `from`; a
+    // reseat carries its state); none: the damped dynamics again, from rest.
+    void minimise(std::optional<FireParams> fire, const std::optional<FireState>& from = std::nullopt);
+    bool minimising() const;
+    std::optional<FireState> minimiserState() const;  // the same on every process
     // On rank 0 only: a command every process applies at the start of the next step
     // (std::invalid_argument if it is refused, std::logic_error on other ranks).
     void submit(const Command& command);

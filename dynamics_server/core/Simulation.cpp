@@ -142,7 +142,14 @@ void Simulation::step() {
     if (forcesStale_) forces(true);  // the step starts from forces of today's weights and particles
 
     t0 = PhaseClock::now();
-    kickDrift(*local_, drag_, p_, ex_->wrapsEveryDrift());
+    std::optional<FireKick> kick;
+    std::optional<DragFactors> stepDrag;  // the drags over the minimiser's step
+    if (fire_) {                          // the minimiser's decision, from every process's sums
+        kick = fire_->next(sumInOrder(ex_->allGather(std::vector{firePower(*local_, p_)})));
+        stepDrag = DragFactors(*local_, params_, kick->dt);
+    }
+    const DragFactors& drag = stepDrag ? *stepDrag : drag_;
+    kickDrift(*local_, drag, p_, ex_->wrapsEveryDrift(), kick ? &*kick : nullptr);
     times_.integrate += secondsSince(t0);
     const bool holds = field_.listHolds(*local_, p_);
     t0 = PhaseClock::now();
@@ -155,11 +162,21 @@ void Simulation::step() {
     forces(energiesNext_ || stats_.step % energyEvery_ == 0);
     energiesNext_ = false;
     t0 = PhaseClock::now();
-    const KickSums k = kickAndSum(*local_, drag_, p_);  // one pass: kinetic, blood and soundness sums
+    const KickSums k = kickAndSum(*local_, drag, p_);  // one pass: kinetic, blood and soundness sums
     stats_.kinetic = k.kinetic;
     stats_.blood = {k.volumeMv2, k.volumeCount};
     times_.integrate += secondsSince(t0);
     if (!ex_->allTrue(soundSum(stats_.forces.probeReaction, k.soundTerms))) throwUnsound();
+}
+
+void Simulation::minimise(std::optional<FireParams> fire, const std::optional<FireState>& from) {
+    if (fire) {
+        fire_.emplace(*fire, model_->integration.dt, from);
+        return;
+    }
+    fire_.reset();
+    for (std::size_t i = 0; i < p_.size(); ++i) p_.vel[i].setZero(), p_.omega[i].setZero();
+    stats_.kinetic = 0;
 }
 
 bool Simulation::soundEverywhere() const {

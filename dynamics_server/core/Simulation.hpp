@@ -99,6 +99,11 @@ public:
     void submit(const Command& command);
     // Forces again for the current state, with energies. Collective.
     void refreshForces();
+    // Steps by the minimiser from here on (Fire.hpp: a placed bag's settling), with the scene's
+    // time step as its first or from the state `from`; none: the damped dynamics again, from rest.
+    void minimise(std::optional<FireParams> fire, const std::optional<FireState>& from = std::nullopt);
+    bool minimising() const { return fire_.has_value(); }
+    std::optional<FireState> minimiserState() const { return fire_ ? std::optional(fire_->state()) : std::nullopt; }
     // Compute the LJ pair energy only every n steps (1 = every step, the default); the stats of
     // other steps leave it out. Batch runs set their report period here.
     void setEnergyEvery(long long n) { energyEvery_ = n > 0 ? n : 1; }
@@ -161,7 +166,8 @@ private:
     Box region_;                          // this process's region of the box (state: the exchange moves it)
     std::shared_ptr<const Model> local_;  // the scene over region_, the window of the map in force
     ForceField field_;
-    DragFactors drag_;  // of params_.drag
+    DragFactors drag_;          // of params_.drag
+    std::optional<Fire> fire_;  // the minimiser, while it steps
     Particles p_;
     Halo halo_;
     Construction construction_;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Checkpoints of bop-server batch runs: a run stopped at a checkpoint and restarted from it ends
 # bit for bit where an uninterrupted run ends (1 rank and 2 ranks; the torus built by births, its
-# volume seeded after the restart; the four bags of the organs scene); SIGTERM to mpirun writes a
+# volume seeded after the restart; the four bags of the organs scene, stopped while it settles);
+# SIGTERM to mpirun writes a
 # whole checkpoint and stops; a restart at 1 and at 3 ranks holds every particle of it.
 # Usage: bop_server_checkpoint_cli.sh PATH/TO/bop-server PATH/TO/mpiexec SOURCE_DIR
 set -u
@@ -33,17 +34,27 @@ for ranks in 1 2; do
     "[ \$(grep -c '^torus-volume ' '$work/c$ranks/final.xyz') -gt 10 ]"
 done
 
-# Several bags (the organs scene: four bags, one inside another, placed and relaxed): stopped at a
-# checkpoint and restarted, at 1 and 2 ranks, it ends as the uninterrupted run does.
+# Several bags (the organs scene: four bags, one inside another, placed and settled, the
+# minimiser's steps first, then the dynamics' from about step 180): stopped at a checkpoint in
+# either part and restarted, at 1 and 2 ranks, it ends as the uninterrupted run does, at the
+# same step (the checkpoint carries the settling's state, Settle=). Every run takes its checkpoints
+# at the same steps: each one starts the run afresh from the file's values (core::Run::reseat).
 scene=$src/config/scenes/organs.toml
 for ranks in 1 2; do
-  server "$ranks" "$work/oa$ranks.log" --steps 600 --checkpoint-every 300 -o "$work/oa$ranks"
-  server "$ranks" "$work/ob$ranks.log" --steps 300 -o "$work/ob$ranks"
-  server "$ranks" "$work/oc$ranks.log" --steps 300 -o "$work/oc$ranks" --restart "$work/ob$ranks/checkpoint.xyz"
+  server "$ranks" "$work/oa$ranks.log" --steps 600 --checkpoint-every 100 -o "$work/oa$ranks"
+  for at in 100 200; do
+    server "$ranks" "$work/ob$ranks-$at.log" --steps $at --checkpoint-every 100 -o "$work/ob$ranks-$at"
+    server "$ranks" "$work/oc$ranks-$at.log" --steps 600 --checkpoint-every 100 -o "$work/oc$ranks-$at" \
+      --restart "$work/ob$ranks-$at/checkpoint.xyz"
+    check "organs, $ranks rank(s): the checkpoint at $at says where the settling is ($(grep -o 'Settle="[a-z]*' \
+      "$work/ob$ranks-$at/checkpoint.xyz"))" "grep -q 'Settle=\"\\(fire\\|dynamics\\) ' '$work/ob$ranks-$at/checkpoint.xyz'"
+    check "organs, $ranks rank(s): stopped at $at and restarted, the run ends bit for bit as the uninterrupted one" \
+      "cmp -s '$work/oa$ranks/final.xyz' '$work/oc$ranks-$at/final.xyz'"
+  done
   check "organs, $ranks rank(s): every bag's species in the checkpoint" \
-    "[ \$(awk 'NR > 2 {print \$1}' '$work/ob$ranks/checkpoint.xyz' | sort -u | wc -l) -eq 8 ]"
-  check "organs, $ranks rank(s): stopped at 300 and restarted, the run ends bit for bit as the uninterrupted one" \
-    "cmp -s '$work/oa$ranks/final.xyz' '$work/oc$ranks/final.xyz'"
+    "[ \$(awk 'NR > 2 {print \$1}' '$work/ob$ranks-100/checkpoint.xyz' | sort -u | wc -l) -eq 8 ]"
+  check "organs, $ranks rank(s): the checkpoints at 100 and 200 are in the minimiser's part and the dynamics'" \
+    "grep -q 'Settle=\"fire ' '$work/ob$ranks-100/checkpoint.xyz' && grep -q 'Settle=\"dynamics ' '$work/ob$ranks-200/checkpoint.xyz'"
 done
 scene=$src/config/scenes/torus.toml
 

@@ -4,12 +4,14 @@
 // surface particles in surface voxels, >= 98% of volume particles in volume voxels, median normal
 // angle <= 10 deg, counts within 10% of a hexagonal sheet at r0 over the analytic area and of an
 // fcc lattice at r0 over the volume voxels, and settled (kinetic energy per particle <= 1e-4 at
-// every check over 50 steps, app/runs/SettleWatch.hpp). Built by
+// every check over 50 steps, app/runs/SettleWatch.hpp; by the minimiser, then the dynamics,
+// app/runs/Settling.hpp). Built by
 // birth and death from the torus scene's timeline (app/scene/PieceSeeds.hpp): each ball grows
 // its sheet and its volume from seeds of its own.
 #include "OneProcessRun.hpp"
 #include "TestUtil.hpp"
 #include "app/runs/SettleWatch.hpp"
+#include "app/runs/Settling.hpp"
 #include "app/scene/SimulationSetup.hpp"
 
 #include <catch2/catch.hpp>
@@ -109,12 +111,12 @@ TEST_CASE("a thin plate and two balls placed and settled within the targets", "[
         app::applySettleTimeStep(scene);  // as bop-server's batch run settles it
         test::OneProcessRun run(scene);
         long long steps = 0;
-        app::SettleWatch watch(scene.run.settleKinetic, scene.run.settleEverySteps, scene.run.settleCalmSteps);
-        while (!watch.settled() && steps < scene.run.steps) {
-            run.run().run(int(watch.everySteps()));
-            steps += watch.everySteps();
-            const core::Totals t = run.run().totals();
-            watch.observe(t.kinetic / t.particles);
+        app::Settling settling(run.run(), scene.run);  // the minimiser, then the dynamics, as bop-server settles it
+        REQUIRE(run.run().minimising());
+        while (!settling.settled() && steps < scene.run.steps) {
+            run.run().step();
+            ++steps;
+            settling.afterStep(run.run());
         }
         const core::Particles& p = run->particles();
         const GradientMap map = run.wholeMap();
@@ -131,7 +133,9 @@ TEST_CASE("a thin plate and two balls placed and settled within the targets", "[
                     << "), " << f.volume << " volume (ideal " << volumeIdeal << "); " << 100 * f.surfaceInOwnVoxels
                     << "% / " << 100 * f.volumeInOwnVoxels << "% in their voxels, median normal angle "
                     << f.medianNormalAngleDeg << " deg");
-        CHECK(watch.settled());
+        CHECK(settling.settled());
+        CHECK(settling.minimiserSteps() > 0);
+        CHECK_FALSE(run.run().minimising());
         CHECK(f.surfaceInOwnVoxels >= 0.95);
         CHECK(f.volumeInOwnVoxels >= 0.98);
         CHECK(f.medianNormalAngleDeg <= 10.0);

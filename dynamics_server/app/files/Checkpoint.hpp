@@ -18,7 +18,8 @@ XyzFrameInfo snapshotInfo(const core::Model& model, long long step);
 
 // all: every particle of the run (sorted by id, as a decomposed run gathers them).
 // bop::Error naming the file when it cannot be written.
+// settle: the settling's state (app/runs/Settling.hpp), empty when the run does not settle.
 void writeCheckpoint(const std::string& path, const core::Particles& all, const core::Model& model,
-                     const core::Construction& construction, long long step);
+                     const core::Construction& construction, long long step, const std::string& settle = {});
 
 }  // namespace bop::app

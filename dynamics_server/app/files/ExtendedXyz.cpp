@@ -89,6 +89,11 @@ std::string commentLine(const XyzFrameInfo& info) {
         s += " NextId=";
         putInteger(s, info.nextId);
     }
+    if (!info.settle.empty()) {
+        s += " Settle=\"";
+        s += info.settle;
+        s += '"';
+    }
     s += " pbc=\"";
     for (int k = 0; k < 3; ++k) {
         if (k > 0) s += ' ';

@@ -44,6 +44,9 @@ struct XyzFrameInfo {
     std::vector<char> births;  // empty: not recorded
     long long seeds = -1;      // -1: not recorded
     long long nextId = 0;      // the id the next new particle takes; 0: not recorded
+    // Settle: where a placed bag's settling is (app/runs/Settling.hpp), words without quotes;
+    // empty: not recorded.
+    std::string settle;
 };
 
 struct XyzFrame {

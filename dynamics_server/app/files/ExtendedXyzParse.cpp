@@ -122,6 +122,7 @@ XyzFrameInfo parseInfo(const Reader& r, long long line, const KeyValues& kv) {
     if (auto n = kv.find("nextid");
         n != kv.end() && (!parseWhole(std::string_view(n->second), info.nextId) || info.nextId < 1))
         r.fail(line, "NextId=" + n->second + ", expected an id of 1 or more");
+    if (auto st = kv.find("settle"); st != kv.end()) info.settle = st->second;
     return info;
 }
 

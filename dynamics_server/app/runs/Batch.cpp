@@ -5,7 +5,7 @@
 #include "app/files/ExtendedXyz.hpp"
 #include "app/runs/BatchReport.hpp"
 #include "app/runs/ExitCodes.hpp"
-#include "app/runs/SettleWatch.hpp"
+#include "app/runs/Settling.hpp"
 #include "bop/common/GradientMapCrop.hpp"
 #include "bop/common/GradientMapFile.hpp"
 #include "shape/GradientMapFileView.hpp"
@@ -120,9 +120,13 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
     // A checkpoint of every particle (by id), and the run goes on from it exactly as a restart
     // from the file would: the gathered values are the file's (%.17g reads back exactly).
     std::optional<core::Particles> lastState;  // the last checkpoint's particles: the final state's too
+    std::optional<Settling> settling;          // a placed bag's, with its state in the checkpoints
+    if (o.settle) settling.emplace(run, *o.settle, start.settle, start.settleFile);
     const auto takeCheckpoint = [&](bool goOn) {
         core::Particles all = run.gather();
-        if (root) writeCheckpoint(checkpoint, all, model, run.construction(), run.stepNumber());
+        if (root)
+            writeCheckpoint(checkpoint, all, model, run.construction(), run.stepNumber(),
+                            settling ? settling->state(run) : std::string());
         if (!goOn) {  // the run ends here: its final state is these particles (forces are not written)
             lastState = std::move(all);
             return;
@@ -139,7 +143,6 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
     if (scene.pressure && header) cardiac.emplace(scene, *header, run.frameVolumes());
     long long done = 0;
     bool stopped = false, settled = false;
-    SettleWatch watch(o.settleKinetic, o.settleEvery, o.settleCalm);
     double lastSettleLine = 0;                // wall time of the last settling line, s since t0
     if (o.steps == 0) takeCheckpoint(false);  // nothing to step: the start itself is the checkpoint
     installBatchSignals();                    // from here a signal ends the run with a checkpoint
@@ -165,33 +168,39 @@ int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::Ex
         }
         // Rank 0's signal decides for every rank (mpirun passes SIGTERM to them all, not at once).
         stopped = run.agree({batchStopRequested() ? 1 : 0}).stop != 0;
-        if (!settled && o.untilSettled && watch.due(step)) {
-            const core::Totals t = run.totals();  // the same on every process
-            const double perParticle = t.kinetic / std::max(1.0, t.particles);
-            settled = watch.observe(perParticle);
+        if (settling && !settled) {
+            const bool minimising = run.minimising();
+            settled = settling->afterStep(run);
             // Settling shows its progress: at most one line every 2 s of wall time.
             const double now = secondsSince(t0);
-            if (!settled && root && now >= lastSettleLine + 2.0) {
+            const RunSettings& r = *o.settle;
+            if (!settled && root && now >= lastSettleLine + 2.0 && step % settling->everySteps() == 0) {
                 lastSettleLine = now;
-                std::cout << "settling: step " << step << ", kinetic energy " << std::scientific << std::setprecision(2)
-                          << perParticle << " per particle (settled at " << o.settleKinetic << " over " << o.settleCalm
+                std::cout << "settling" << (minimising ? " (FIRE)" : "") << ": step " << step << ", kinetic energy "
+                          << std::scientific << std::setprecision(2) << settling->lastPerParticle()
+                          << " per particle (settled at " << r.settleKinetic << " over " << r.settleCalmSteps
                           << " steps), " << std::defaultfloat << std::setprecision(3) << double(s) / now << " steps/s"
                           << std::setprecision(6) << std::endl;
             }
             if (settled && root)
                 std::cout << "settled at step " << step << ": kinetic energy " << std::scientific
-                          << std::setprecision(2) << perParticle << " per particle (at most " << o.settleKinetic
-                          << " at every check over " << o.settleCalm << " steps, " << o.settleEvery << " steps apart)"
-                          << std::defaultfloat << std::setprecision(6) << std::endl;
+                          << std::setprecision(2) << settling->lastPerParticle() << " per particle (at most "
+                          << r.settleKinetic << " at every check over " << r.settleCalmSteps << " steps, "
+                          << r.settleEverySteps << " steps apart)" << std::defaultfloat << std::setprecision(6)
+                          << (settling->minimiserSteps() > 0
+                                  ? "; the FIRE minimiser's first " + std::to_string(settling->minimiserSteps()) +
+                                        " steps, then the damped dynamics"
+                                  : "")
+                          << std::endl;
         }
         const bool last = stopped || settled || s == o.steps;
         if ((o.checkpointEvery > 0 && step % o.checkpointEvery == 0) || last) takeCheckpoint(!last);
         if (last) break;
     }
-    if (o.untilSettled && !settled && !stopped && root)
+    if (settling && !settled && !stopped && root)
         std::cout << "not settled after " << done << " steps (the run's cap): the kinetic energy per particle "
-                  << "stayed above " << std::scientific << std::setprecision(2) << o.settleKinetic << std::defaultfloat
-                  << std::setprecision(6) << std::endl;
+                  << "stayed above " << std::scientific << std::setprecision(2) << o.settle->settleKinetic
+                  << std::defaultfloat << std::setprecision(6) << std::endl;
     if (stopped || settled) run.refreshForces();  // the summary's energies of this state
     if (stopped) {
         if (root)

@@ -17,10 +17,8 @@ struct BatchOptions {
     long long checkpointEvery = 0;  // steps between checkpoints (0: only on SIGINT/SIGTERM)
     std::string outDir;             // final.xyz and trajectory.xyz go here
     std::string cache;              // the gradient-map cache (rank 0 reads the map in force from it at the end)
-    bool untilSettled = false;      // end once settled (Scene's RunSettings), `steps` the cap
-    double settleKinetic = 1e-4;    // mean kinetic energy per particle, epsilon
-    long long settleEvery = 10;     // steps between settle checks
-    long long settleCalm = 50;      // steps the checks must stay calm over (SettleWatch.hpp)
+    // A placed bag: end once settled by these settings (Settling.hpp), `steps` the cap.
+    std::optional<RunSettings> settle;
 };
 
 // Collective: every process calls it with the same scene and start, and the exchanges of its

@@ -18,6 +18,8 @@ public:
         return settled();
     }
     bool settled() const { return calm_ >= checksNeeded(); }
+    long long calmChecks() const { return calm_; }             // calm checks in a row so far
+    void resume(long long calmChecks) { calm_ = calmChecks; }  // from a checkpoint's count (0: afresh)
     // Calm checks in a row that span calmSteps: 1 + ceil(calmSteps / everySteps).
     long long checksNeeded() const { return 1 + (calmSteps_ + every_ - 1) / every_; }
     long long everySteps() const { return every_; }

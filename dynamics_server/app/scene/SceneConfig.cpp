@@ -148,6 +148,12 @@ void readConstruction(const ConfigTable& root, Scene& s) {
         s.run.settleTimeStep = std::min(0.03, 1.5 * s.model->integration.dt);
         if (t) s.run.settleTimeStep = t->number("settle_time_step", s.run.settleTimeStep);
         if (!(s.run.settleTimeStep > 0)) t->fail("settle_time_step", "expected a positive time step");
+        if (t && t->choice("settle_method", {"fire", "dynamics"}, "fire") == "dynamics") s.run.settleFire.reset();
+        if (t && s.run.settleFire) {
+            double& f = s.run.settleFire->dtMaxFactor;
+            f = t->number("fire_dt_max", f * s.run.settleTimeStep) / s.run.settleTimeStep;
+            if (!(f >= 1)) t->fail("fire_dt_max", "expected a time step of at least settle_time_step");
+        }
     } else if (method == "place") {
         t->fail("method", "\"place\" sets particles on a [shape]'s map; the scene has none");
     }

@@ -3,6 +3,7 @@
 // table, interspecies weights, dynamics parameters, probe, construction timeline and run
 // settings. See docs/scene-format.md for every key and its unit.
 #include "core/Construction.hpp"
+#include "core/Fire.hpp"
 #include "core/ForceField.hpp"
 #include "core/Model.hpp"
 #include "core/Placement.hpp"
@@ -38,6 +39,10 @@ struct RunSettings {
     // wants the minimum, not the trajectory to it (default 1.5 x [dynamics] time_step, at most
     // 0.03, the paper's largest). applySettleTimeStep() puts it in the model.
     double settleTimeStep = 0.03;
+    // How the bag settles: by the minimiser (core/Fire.hpp, the default), its state settled when
+    // the terminal kinetic energy per particle (core::Simulation::terminalKinetic) meets the same
+    // rule, the velocities then set to zero; or by the damped dynamics alone.
+    std::optional<core::FireParams> settleFire = core::FireParams{};
 };
 
 // The ventricle's blood-pressure curve and volumes (paper §5.2; app/CardiacSeries.hpp).

@@ -36,8 +36,9 @@ void placeInMap(Scene& scene, const GradientMap& map) {
 }  // namespace
 
 core::Particles initialParticles(const Scene& scene, const std::string& restart, long long& firstStep,
-                                 core::Construction& construction) {
+                                 core::Construction& construction, std::string& settle) {
     firstStep = 0;
+    settle.clear();
     construction = core::Construction(scene.construction, scene.timeline, scene.model->speciesCount());
     if (!restart.empty()) {
         XyzFrame f = readExtendedXyz(restart, speciesNames(*scene.model));
@@ -45,6 +46,7 @@ core::Particles initialParticles(const Scene& scene, const std::string& restart,
         if (const core::Unsoundness u = core::findUnsound(*scene.model, f.particles, Eigen::Vector3d::Zero()); u.what)
             throw Error(restart, "not a state a run can start from: " + u.text());
         firstStep = f.info.step;
+        settle = f.info.settle;
         if (!f.info.births.empty()) {
             try {
                 construction.restore(f.info.births, std::uint64_t(std::max(0LL, f.info.seeds)),
@@ -103,7 +105,8 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
         }
     }
     core::Construction construction({}, {}, scene.model->speciesCount());
-    core::Particles fromFile = initialParticles(scene, restart, s.firstStep, construction);
+    core::Particles fromFile = initialParticles(scene, restart, s.firstStep, construction, s.settle);
+    s.settleFile = restart;
     if (!place) s.particles = std::move(fromFile);
     s.options.firstStep = s.firstStep;
     s.options.construction = std::move(construction);

@@ -21,15 +21,18 @@ struct RunStart {
     core::Particles particles;
     long long firstStep = 0;
     core::SimulationOptions options;
+    // A restart file's settling state (its Settle=, app/runs/Settling.hpp) and the file's name;
+    // empty: settle from the start.
+    std::string settle, settleFile;
 };
 RunStart startRun(Scene& scene, const std::string& cache, const std::string& restart, bool root,
                   const std::function<void()>& waitForAll, const shape::ProgressFn& progress = {});
 
 // The particles to start from (a restart file's, a bulk lattice, or none) and the construction:
 // the scene's timeline, with a checkpoint's birth switches and seed count when the restart file
-// is one (app/Checkpoint.hpp). firstStep: the file's step, else 0.
+// is one (app/Checkpoint.hpp). firstStep: the file's step, else 0; settle: the file's Settle=.
 core::Particles initialParticles(const Scene& scene, const std::string& restart, long long& firstStep,
-                                 core::Construction& construction);
+                                 core::Construction& construction, std::string& settle);
 
 // "placed on the map: ..." with each species' count against its ideal at r0 spacing.
 std::string placementReport(const core::Model& model, const std::vector<core::PlacedSpecies>& placed);

@@ -156,11 +156,8 @@ int run(int argc, char** argv) {
         if (!replayInputs.empty()) serve.replay = protocol::readSession(replayInputs);
         return app::runServed(scene, std::move(start), serve, std::move(exchanges));
     }
-    app::BatchOptions batch{steps, snapshotEvery, reportEvery, checkpointEvery, outDir, cache};
-    batch.untilSettled = scene.run.untilSettled;  // a placed bag: `steps` is then the cap
-    batch.settleKinetic = scene.run.settleKinetic;
-    batch.settleEvery = scene.run.settleEverySteps;
-    batch.settleCalm = scene.run.settleCalmSteps;
+    app::BatchOptions batch{steps, snapshotEvery, reportEvery, checkpointEvery, outDir, cache, std::nullopt};
+    if (scene.run.untilSettled) batch.settle = scene.run;  // a placed bag: `steps` is then the cap
     return app::runBatch(scene, std::move(start), batch, std::move(exchanges));
 }
 
