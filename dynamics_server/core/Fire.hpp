@@ -32,6 +32,10 @@ struct FireParams {
     double alphaStart = 0.1;    // the weight of the force's direction in the velocity after a stop
     double alphaShrink = 0.99;  // its decay each step of positive power after delaySteps
     long long delaySteps = 5;   // steps of positive power before the step grows
+    // The most steps it takes before it hands the run to the dynamics (app/runs/Settling.hpp)
+    // even if not calm: where jumps of the map's forces keep the kinetic energy up, the damped
+    // dynamics' shorter step holds it lower.
+    long long maxSteps = 600;
 };
 
 // One process's sums of the state after a step: the power and the squared norms of the

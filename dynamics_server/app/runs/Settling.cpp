@@ -9,7 +9,8 @@
 namespace bop::app {
 
 Settling::Settling(core::Run& run, const RunSettings& s, const std::string& from, const std::string& file)
-    : watch_(s.settleKinetic, s.settleEverySteps, s.settleCalmSteps) {
+    : watch_(s.settleKinetic, s.settleEverySteps, s.settleCalmSteps),
+      maxSteps_(s.settleFire ? s.settleFire->maxSteps : 0) {
     if (from.empty()) {
         if (s.settleFire) run.minimise(s.settleFire);
         return;
@@ -35,9 +36,12 @@ bool Settling::afterStep(core::Run& run) {
     if (watch_.settled() || !watch_.due(run.stepNumber())) return watch_.settled();
     const core::Totals t = run.totals();  // the same on every process
     last_ = t.kinetic / std::max(1.0, t.particles);
-    if (!watch_.observe(last_) || !run.minimising()) return watch_.settled();
-    // Calm under the minimiser: the damped dynamics, from rest, must find it calm too.
-    minimiserSteps_ = run.minimiserState()->steps;
+    const bool calm = watch_.observe(last_);
+    if (!run.minimising()) return calm;
+    const long long steps = run.minimiserState()->steps;
+    if (!calm && steps < maxSteps_) return false;
+    // Calm under the minimiser, or at its most steps: the damped dynamics, from rest, must find it calm.
+    minimiserSteps_ = steps;
     run.minimise(std::nullopt);
     watch_.resume(0);
     return false;

@@ -1,8 +1,9 @@
 #pragma once
 // A placed bag's settling (docs/physics.md §7.5), the same in a batch run and the tests, by the
 // SettleWatch rule on the kinetic energy per particle. With the minimiser (core/Fire.hpp, the
-// default), it steps first until the rule holds under it; then the damped dynamics, from rest,
-// steps until the rule holds again: the bag is settled when today's dynamics says so.
+// default), it steps first until the rule holds under it (or for at most FireParams::maxSteps);
+// then the damped dynamics, from rest, steps until the rule holds again: the bag is settled when
+// today's dynamics says so.
 //
 // Its state goes into checkpoints (Settle=, docs/file-formats.md), so that a run restarted from
 // one settles as the uninterrupted run does: "fire CALM DT ALPHA STEPS SINCE" (the calm checks in
@@ -33,6 +34,7 @@ private:
     SettleWatch watch_;
     double last_ = 0;
     long long minimiserSteps_ = 0;
+    long long maxSteps_;  // the minimiser's most steps (FireParams::maxSteps)
 };
 
 }  // namespace bop::app

@@ -153,6 +153,9 @@ void readConstruction(const ConfigTable& root, Scene& s) {
             double& f = s.run.settleFire->dtMaxFactor;
             f = t->number("fire_dt_max", f * s.run.settleTimeStep) / s.run.settleTimeStep;
             if (!(f >= 1)) t->fail("fire_dt_max", "expected a time step of at least settle_time_step");
+            long long& m = s.run.settleFire->maxSteps;
+            m = t->integer("fire_max_steps", m);
+            if (m < 1) t->fail("fire_max_steps", "expected at least 1 step");
         }
     } else if (method == "place") {
         t->fail("method", "\"place\" sets particles on a [shape]'s map; the scene has none");

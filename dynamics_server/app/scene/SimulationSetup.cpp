@@ -133,9 +133,20 @@ void printFidelity(std::ostream& out, const Fidelity& f) {
         out << "  bag '" << b.name << "': " << std::setprecision(3) << 100 * b.surfaceInOwnVoxels << "% of its "
             << b.surface << " surface particles in its surface voxels, " << 100 * b.volumeInOwnVoxels << "% of its "
             << b.volume << " volume particles in its volume voxels, " << std::setprecision(4) << 100 * b.insideBag
-            << "% of its particles inside it\n"
+            << "% of its particles inside it, median normal angle " << std::setprecision(2) << b.medianNormalAngleDeg
+            << " deg\n"
             << std::setprecision(6);
 }
+
+namespace {
+
+double median(std::vector<double>& v) {  // 0 for none; the upper one of an even count
+    if (v.empty()) return 0;
+    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+}  // namespace
 
 Fidelity measureFidelity(const core::Model& model, const core::Particles& p) {
     Fidelity f;
@@ -144,10 +155,12 @@ Fidelity measureFidelity(const core::Model& model, const core::Particles& p) {
     const double h = voxelLength(m.r0Voxels);
     std::size_t surfaceIn = 0, volumeIn = 0;
     std::vector<double> angles;
+    std::vector<std::vector<double>> bagAngles;  // per bag of a map of several
     const int bags = m.bagCount > 1 ? std::min(m.bagCount, (model.speciesCount() + 1) / 2) : 0;
     std::vector<std::size_t> ownSurface(std::size_t(bags) + 1, 0), ownVolume(std::size_t(bags) + 1, 0),
         inside(std::size_t(bags) + 1, 0);
     f.bags.resize(std::size_t(bags));
+    bagAngles.resize(std::size_t(bags) + 1);
     for (std::size_t i = 0; i < p.size(); ++i) {
         const std::int64_t voxel = m.voxelHolding(p.pos[i] / h);
         const bool inGrid = voxel >= 0;
@@ -166,6 +179,8 @@ Fidelity measureFidelity(const core::Model& model, const core::Particles& p) {
             if (inGrid) {
                 const double cosA = std::clamp(p.normal[i].dot(m.nearestSurface(idx).normal.cast<double>()), -1.0, 1.0);
                 angles.push_back(std::acos(cosA) * 180.0 / M_PI);
+                if (const int bag = bagOfSpecies(p.species[i]); bag <= bags)
+                    bagAngles[std::size_t(bag)].push_back(angles.back());
             }
         } else {
             ++f.volume;
@@ -182,10 +197,9 @@ Fidelity measureFidelity(const core::Model& model, const core::Particles& p) {
         b.volumeInOwnVoxels = b.volume ? double(ownVolume[std::size_t(bag)]) / double(b.volume) : 0;
         b.insideBag = b.surface + b.volume ? double(inside[std::size_t(bag)]) / double(b.surface + b.volume) : 0;
     }
-    if (!angles.empty()) {
-        std::nth_element(angles.begin(), angles.begin() + long(angles.size() / 2), angles.end());
-        f.medianNormalAngleDeg = angles[angles.size() / 2];
-    }
+    f.medianNormalAngleDeg = median(angles);
+    for (int bag = 1; bag <= bags; ++bag)
+        f.bags[std::size_t(bag) - 1].medianNormalAngleDeg = median(bagAngles[std::size_t(bag)]);
     return f;
 }
 

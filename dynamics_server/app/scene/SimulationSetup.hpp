@@ -47,9 +47,10 @@ std::vector<std::string> speciesNames(const core::Model& model);
 struct BagFidelity {
     std::string name;  // the bag's surface species' name without "-surface"
     std::size_t surface = 0, volume = 0;
-    double surfaceInOwnVoxels = 0;  // fraction
-    double volumeInOwnVoxels = 0;   // fraction
-    double insideBag = 0;           // fraction of the bag's particles in the bag's own voxels (no mixing)
+    double surfaceInOwnVoxels = 0;    // fraction
+    double volumeInOwnVoxels = 0;     // fraction
+    double insideBag = 0;             // fraction of the bag's particles in the bag's own voxels (no mixing)
+    double medianNormalAngleDeg = 0;  // its surface particles' normals against the map's, degrees
 };
 struct Fidelity {
     double surfaceInOwnVoxels = 0;    // fraction
