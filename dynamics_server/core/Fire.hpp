@@ -9,7 +9,7 @@
 //
 // The drag stays on (FIRE is usually run without one): the map's forces jump where a particle
 // crosses a voxel face, and those jumps feed energy in that the drag takes out. Without it, the
-// 21-bag synthetic scan kept 7e-4 ε of kinetic energy per particle for 2,000 steps.
+// 21-bag synthetic scan (at --scale 1) kept 7e-4 ε of kinetic energy per particle for 2,000 steps.
 //
 // The decision of a step reads sums over every process (FirePower, added in rank order), so every
 // process takes the same one.
@@ -52,8 +52,8 @@ struct FireKick {
     bool stop = false;       // velocities to zero first, positions back by `back` times them
     double back = 0;         // time units (half the new step)
     double keep = 1;         // v <- keep v + alongForce F after the first half kick
-    double alongForce = 0;   // time units
-    double alongTorque = 0;  // omega <- keep omega + alongTorque tau, 1 / (inertia time)
+    double alongForce = 0;   // (length / time) / force
+    double alongTorque = 0;  // omega <- keep omega + alongTorque tau, (radians / time) / torque
 };
 
 // Where the minimiser is: what a checkpoint keeps so that a restart goes on as the run would.
@@ -70,9 +70,7 @@ public:
     Fire(const FireParams& params, double dt, const std::optional<FireState>& from = std::nullopt);
     // The next step, from the sums of the state the last step ended in (every process's).
     FireKick next(const FirePower& sums);
-    double dt() const { return dt_; }
     FireState state() const { return {dt_, alpha_, steps_, sincePositive_}; }
-    const FireParams& params() const { return params_; }
 
 private:
     FireParams params_;
