@@ -9,7 +9,8 @@
 //
 // The drag stays on (FIRE is usually run without one): the map's forces jump where a particle
 // crosses a voxel face, and those jumps feed energy in that the drag takes out. Without it, the
-// 21-bag synthetic scan (at --scale 1) kept 7e-4 ε of kinetic energy per particle for 2,000 steps.
+// 21-bag synthetic scan (at --scale 1) ran up to 0.25 ε of kinetic energy per particle with
+// LAMMPS's constants, and swung for 1,160 steps with these (docs/physics.md §7.5).
 //
 // The decision of a step reads sums over every process (FirePower, added in rank order), so every
 // process takes the same one.
