@@ -4,7 +4,9 @@ run's figures in front and each bag's verdict against the real-scans targets:
   - an organ that is not thin: >= 95% of surface and >= 98% of volume particles in their own
     voxels, median normal angle <= 6 deg;
   - a thin organ (a quarter or more of its voxels in parts thinner than 2 r0, as the run's
-    warning says): >= 99% of its particles inside it.
+    warning says): >= 99% of its particles inside it;
+  - the ball nested in another bag (case "nested", bag "ball"): >= 95% of its surface particles in
+    its surface voxels and >= 99% of its particles inside it.
   scan.py row CASE LOG WALL_S      rows for one run
   scan.py targets CSV               the run targets, met or missed, and the bags that miss theirs
 """
@@ -41,7 +43,10 @@ def rows(case, log, wall):
         found = [(name, m.group(1), surface, m.group(2), volume, "", m.group(3))] if m else []
     for name, surf, ns, vol, nv, inside, angle in found:
         thin_pct = float(thin.get(name, 0))
-        if thin_pct >= THIN_SHARE:
+        if case == "nested" and name == "ball":
+            kind = "nested"
+            met = float(surf) >= 95 and inside != "" and float(inside) >= 99
+        elif thin_pct >= THIN_SHARE:
             kind = "thin"
             met = inside != "" and float(inside) >= 99
         else:
@@ -71,8 +76,10 @@ def targets(path):
     if "stomach" in runs:
         r = runs["stomach"]
         ok = r["settled_step"].isdigit() and float(r["wall_s"]) <= 15
+        sized = 30000 <= int(r["particles"]) <= 60000  # the target is for an organ of about 45,000
         lines.append(f"thin-walled organ alone ({r['particles']} particles; the target's is about 45,000) ready in "
-                     f"{r['wall_s']} s (target <= 15): {verdict(ok)}")
+                     f"{r['wall_s']} s (target <= 15): "
+                     + (verdict(ok) if sized else "not shown (the organ is too small to judge it)"))
     missed = [f"{t['case']}/{t['bag']} ({t['kind']})" for t in table if t["verdict"] == "missed"]
     lines.append(f"bags within their fidelity targets: {sum(t['verdict'] == 'met' for t in table)} of {len(table)}"
                  + (f"; missed: {', '.join(missed)}" if missed else ""))

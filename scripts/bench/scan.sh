@@ -3,7 +3,8 @@
 # scripts/make-scan-image.py (21 labels at 1 x 1 x 1.5 mm, organs touching, a hollow stomach with
 # walls 1-3 voxels thick, a thin branching vessel tree, thin adrenal plates, specks, bumpy
 # staircase boundaries) built at the defaults of config/scenes/scan.toml: every label as a bag,
-# then the stomach alone (the thin-walled organ) and the liver alone. Each is placed and settled by
+# then the stomach alone (the thin-walled organ) and the liver alone, and a ball of radius 2.5 r0
+# nested in another bag. Each is placed and settled by
 # a batch run of bop-server, timed from start to its final state, and gives one row per bag:
 # map and ready time, the step it settled at (and the minimiser's part), steps/s and particle-
 # steps/s, each bag's surface and volume particles in their voxels, particles inside it and
@@ -27,9 +28,25 @@ sed -e "s|\"\\.\\./data/scan.nii.gz\"|\"$PWD/$out/scan.nii.gz\"|" -e "s|\"\\.\\.
   config/scenes/scan.toml >"$out/scan.toml"
 sed 's|^labels = "all".*|labels = [2]|' "$out/scan.toml" >"$out/stomach.toml"
 sed 's|^labels = "all".*|labels = [1]|' "$out/scan.toml" >"$out/liver.toml"
+# A ball of radius 2.5 r0 (5 voxels) nested off-centre in another, at the defaults.
+cat >"$out/nested.toml" <<'EOF'
+[grid]
+voxel_size_mm = 1.0
+
+[[shape.bag]]
+name = "outer"
+source = "sphere"
+radius_mm = 16.0
+
+[[shape.bag]]
+name = "ball"
+source = "sphere"
+radius_mm = 5.0
+center_mm = [4.0, 2.0, 1.0]
+EOF
 
 /usr/bin/python3 scripts/bench/scan.py header >"$csv"
-for case in scan stomach liver; do
+for case in scan stomach liver nested; do
   t0=$(date +%s.%N)
   build/dynamics_server/bop-server "$out/$case.toml" --no-listen -o "$out/$case" --cache "$out/$case.bopgm" \
     >"$out/$case.log" 2>&1 || { tail -20 "$out/$case.log" >&2; echo "scan: $case failed" >&2; exit 1; }
