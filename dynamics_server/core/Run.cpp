@@ -19,8 +19,8 @@ struct Run::Impl {
     std::unique_ptr<Exchange> ex;
     std::unique_ptr<Simulation> sim;
     long long energyEvery = 1;
-    std::optional<FireParams> fire;     // the minimiser steps (a reseat carries its state, as a checkpoint does)
-    std::optional<FireState> fireFrom;  // the state the next start's minimiser goes on from
+    std::optional<FireParams>
+        fire;  // the minimiser's, while it steps (a reseat carries its state, as a checkpoint does)
     // This process's counters of the simulations a reseat let go (the run's totals go on).
     double carriedMigrations = 0, carriedRebuilds = 0, carriedExchange = 0, carriedRebalances = 0;
     std::optional<SoundSnapshot> sound;  // this process's particles of the last sound state
@@ -34,7 +34,6 @@ struct Run::Impl {
         ex.reset();
         ex = exchanges(model->box, haloReach(*model, o));
         sim = std::make_unique<Simulation>(model, all, std::move(o), *ex);
-        if (fire) sim->minimise(fire, fireFrom);
     }
     void keepIfSound() {  // collective
         if (sim->soundEverywhere())
@@ -86,7 +85,7 @@ void Run::minimise(std::optional<FireParams> fire, const std::optional<FireState
     impl_->sim->minimise(fire, from);
 }
 bool Run::minimising() const {
-    return impl_->fire.has_value();
+    return impl_->sim->minimising();
 }
 std::optional<FireState> Run::minimiserState() const {
     return impl_->sim->minimiserState();
@@ -106,8 +105,9 @@ void Run::reseat(const Particles& all, const Construction& construction, long lo
     i.carriedRebuilds += double(i.sim->rebuilds());
     i.carriedExchange += i.sim->exchangeSeconds();
     i.carriedRebalances += double(i.ex->counts().rebalances);
-    i.fireFrom = i.sim->minimiserState();
+    const std::optional<FireState> fire = i.sim->minimiserState();
     i.start(all, std::move(o));
+    if (fire) i.sim->minimise(i.fire, fire);
     i.sim->setTimes(times);
     i.sim->setEnergyEvery(i.energyEvery);
     i.keepIfSound();

@@ -92,7 +92,7 @@ void Simulation::apply(const Command& c) {
         field_.setParams(*local_, params_);
         forcesStale_ = true;
     }
-    if (c.kind == Command::Kind::Drag) drag_ = DragFactors(*local_, params_);
+    if (c.kind == Command::Kind::Drag) drag_ = DragFactors(*local_, params_), fireDrag_.reset();
 }
 
 void Simulation::forces(bool energies) {
@@ -143,12 +143,11 @@ void Simulation::step() {
 
     t0 = PhaseClock::now();
     std::optional<FireKick> kick;
-    std::optional<DragFactors> stepDrag;  // the drags over the minimiser's step
-    if (fire_) {                          // the minimiser's decision, from every process's sums
+    if (fire_) {  // the minimiser's decision, from every process's sums
         kick = fire_->next(sumInOrder(ex_->allGather(std::vector{firePower(*local_, p_)})));
-        stepDrag = DragFactors(*local_, params_, kick->dt);
+        if (!fireDrag_ || fireDrag_->dt != kick->dt) fireDrag_ = DragFactors(*local_, params_, kick->dt);
     }
-    const DragFactors& drag = stepDrag ? *stepDrag : drag_;
+    const DragFactors& drag = kick ? *fireDrag_ : drag_;
     kickDrift(*local_, drag, p_, ex_->wrapsEveryDrift(), kick ? &*kick : nullptr);
     times_.integrate += secondsSince(t0);
     const bool holds = field_.listHolds(*local_, p_);
@@ -175,6 +174,7 @@ void Simulation::minimise(std::optional<FireParams> fire, const std::optional<Fi
         return;
     }
     fire_.reset();
+    fireDrag_.reset();
     for (std::size_t i = 0; i < p_.size(); ++i) p_.vel[i].setZero(), p_.omega[i].setZero();
     stats_.kinetic = 0;
 }

@@ -166,8 +166,9 @@ private:
     Box region_;                          // this process's region of the box (state: the exchange moves it)
     std::shared_ptr<const Model> local_;  // the scene over region_, the window of the map in force
     ForceField field_;
-    DragFactors drag_;          // of params_.drag
-    std::optional<Fire> fire_;  // the minimiser, while it steps
+    DragFactors drag_;                     // of params_.drag
+    std::optional<Fire> fire_;             // the minimiser, while it steps
+    std::optional<DragFactors> fireDrag_;  // of params_.drag over the minimiser's last step length
     Particles p_;
     Halo halo_;
     Construction construction_;

@@ -2,8 +2,8 @@
 # Checkpoints of bop-server batch runs: a run stopped at a checkpoint and restarted from it ends
 # bit for bit where an uninterrupted run ends (1 rank and 2 ranks; the torus built by births, its
 # volume seeded after the restart; the four bags of the organs scene, stopped while it settles);
-# SIGTERM to mpirun writes a
-# whole checkpoint and stops; a restart at 1 and at 3 ranks holds every particle of it.
+# SIGTERM to mpirun writes a whole checkpoint and stops; a restart at 1 and at 3 ranks holds every
+# particle of it.
 # Usage: bop_server_checkpoint_cli.sh PATH/TO/bop-server PATH/TO/mpiexec SOURCE_DIR
 set -u
 exe=$1

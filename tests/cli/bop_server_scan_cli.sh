@@ -4,7 +4,8 @@
 # (a grid of 1 mm voxels), makes one bag per label from the label table, skips the speck too small
 # for a bag with a warning naming it, names the thin-walled stomach, the vessel tree and the
 # adrenal plates as thin, places every bag and settles them by the minimiser and the dynamics,
-# every bag's particles mostly inside it (227,223 particles: about 80 s at one thread).
+# every bag's particles mostly inside it, each bag's median normal angle bracketing the whole's
+# (227,223 particles: about 80 s at one thread).
 # Usage: bop_server_scan_cli.sh PATH/TO/bop-server SOURCE_DIR
 set -u
 exe=$1
@@ -37,4 +38,11 @@ check "the scan settles: the minimiser's steps, then the dynamics' ($(grep -o 's
   "grep -q \"^settled at step .*the FIRE minimiser's first\" '$work/place.log'"
 check "every bag keeps at least 90% of its particles inside it" \
   "grep \"^  bag '\" '$work/place.log' | awk '{for (k = 1; k <= NF; ++k) if (\$k == \"inside\") {v = \$(k - 4); sub(/%/, \"\", v); n++; if (v + 0 < 90) bad = 1}} END {exit bad || n != 21}'"
+# Each bag's median normal angle (the per-bag line's last figure): the median over every surface
+# particle lies between the smallest and the largest of the bags' medians.
+angles=$(sed -n "s/^  bag '.*median normal angle \([0-9.]*\) deg$/\1/p" "$work/place.log" | sort -g | sed -n '1p;$p' | tr '\n' ' ')
+overall=$(sed -n 's/^shape fidelity: .*median normal angle \([0-9.]*\) deg$/\1/p' "$work/place.log")
+check "the scan's median normal angle ($overall deg) lies within its bags' medians ($angles)" \
+  "[ \$(grep -c \"^  bag '.*median normal angle [0-9.]* deg\$\" '$work/place.log') -eq 21 ] && \
+   awk -v o='$overall' -v r='$angles' 'BEGIN {split(r, a, \" \"); exit !(o != \"\" && o + 0 >= a[1] + 0 && o + 0 <= a[2] + 0 && a[2] > a[1])}'"
 exit $fail

@@ -68,25 +68,23 @@ TEST_CASE("FIRE from a checkpoint's state goes on as the minimiser it was taken 
 
 namespace {
 
-// A periodic fcc box of 4 x 3^3 LJ particles, each moved up to `jitter` r0 off its site.
-std::shared_ptr<const core::Model> jitteredBox(core::Particles& p, double jitter) {
+// A periodic fcc box of 4 x 3^3 LJ particles, each moved up to 0.15 r0 off its site.
+std::shared_ptr<const core::Model> jitteredBox(core::Particles& p) {
     test::TempDir dir("fire-box");
     const std::string path =
         test::writeText(dir.file("box.toml"),
                         "[box]\nsize_r0 = [4.242640687119285, 4.242640687119285, 4.242640687119285]\n"
-                        "spacing_r0 = 1.0\njitter_r0 = " +
-                            std::to_string(jitter) +
-                            "\nperiodic = true\n"
-                            "[[species]]\nname = \"bulk\"\nkind = \"volume\"\n[dynamics]\ntime_step = 0.02\n");
+                        "spacing_r0 = 1.0\njitter_r0 = 0.15\nperiodic = true\n"
+                        "[[species]]\nname = \"bulk\"\nkind = \"volume\"\n[dynamics]\ntime_step = 0.02\n");
     const app::Scene scene = app::loadScene(path);
     p = app::bulkLattice(scene);
     return scene.model;
 }
 
 // The pair energy per particle after `steps` steps of the minimiser or the damped dynamics.
-double pairEnergyAfter(bool minimise, int steps, double jitter = 0.15) {
+double pairEnergyAfter(bool minimise, int steps) {
     core::Particles p;
-    const auto model = jitteredBox(p, jitter);
+    const auto model = jitteredBox(p);
     core::Simulation sim(model, p);
     if (minimise) sim.minimise(core::FireParams{});
     sim.run(steps);

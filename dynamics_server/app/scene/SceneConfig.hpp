@@ -39,9 +39,9 @@ struct RunSettings {
     // wants the minimum, not the trajectory to it (default 1.5 x [dynamics] time_step, at most
     // 0.03, the paper's largest). applySettleTimeStep() puts it in the model.
     double settleTimeStep = 0.03;
-    // How the bag settles: by the minimiser (core/Fire.hpp, the default), its state settled when
-    // the terminal kinetic energy per particle (core::Simulation::terminalKinetic) meets the same
-    // rule, the velocities then set to zero; or by the damped dynamics alone.
+    // How the bag settles: by the minimiser (core/Fire.hpp, the default) until the rule above
+    // holds under it, then by the damped dynamics from rest until it holds again
+    // (app/runs/Settling.hpp); none: by the damped dynamics alone.
     std::optional<core::FireParams> settleFire = core::FireParams{};
 };
 
