@@ -227,6 +227,7 @@ std::vector<BagSpec> labelBags(const ConfigTable& t, const GridSpec& grid, std::
         table = readLabelTable(path);
     }
     const std::string base = t.string("name", "label");
+    const double smoothing = readBoundarySmoothing(t, kind);
     // The least a bag holds: a ball of radius r0 (a sheet around one volume particle), in image voxels.
     const Eigen::Vector3d h = img.frames.front().spacingMm;
     const double voxelMm = grid.voxelMm > 0 ? grid.voxelMm : h.minCoeff();
@@ -249,6 +250,7 @@ std::vector<BagSpec> labelBags(const ConfigTable& t, const GridSpec& grid, std::
         bag.key = t.prefix();
         bag.name = name;
         if (entry != table.end()) bag.colour = entry->second.colour;
+        bag.boundarySmoothingVoxels = smoothing;
         bag.source = imageBag(t, cutToSelection(img, sel), sel, largest);
         if (const std::string w = bag.source->warning(); !w.empty())
             warnings.push_back(bag.key + ": " + name + ": " + w);

@@ -1,9 +1,11 @@
 #include "ShapeBuilder.hpp"
 
+#include "BoundarySmoothing.hpp"
 #include "DistanceTransform.hpp"
 #include "Labels.hpp"
 #include "bop/common/GradientMapFile.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -25,6 +27,27 @@ void addTiming(std::vector<StageTiming>* t, const std::string& stage, double s, 
             return;
         }
     t->push_back({stage, s, items});
+}
+
+// One line on what the boundary smoothing moved: voxels over all bags, the largest volume change.
+std::string describeSmoothing(const ShapeSpec& spec, const std::vector<BoundarySmoothingReport>& reps) {
+    std::size_t removed = 0, added = 0, kept = 0, worst = 0;
+    double worstChange = 0;
+    for (std::size_t b = 0; b < reps.size(); ++b) {
+        removed += reps[b].removed;
+        added += reps[b].added;
+        kept += reps[b].keptForTopology;
+        const double change = reps[b].voxelsBefore
+                                  ? double(reps[b].voxelsAfter) / double(reps[b].voxelsBefore) - 1.0
+                                  : 0.0;
+        if (std::abs(change) > std::abs(worstChange)) worstChange = change, worst = b;
+    }
+    std::ostringstream os;
+    os.precision(2);
+    os << "boundary smoothing: " << removed << " voxels out, " << added << " in, " << kept
+       << " kept for topology or layout; largest volume change " << std::fixed << 100.0 * worstChange << "% ("
+       << spec.bags[worst].name << ")";
+    return os.str();
 }
 
 }  // namespace
@@ -118,9 +141,16 @@ ShapeBuild buildShape(const ShapeSpec& spec, const ProgressFn& progress, int thr
             const auto& src = *spec.bags[b].source;
             src.rasterize(src.frameCount() == 1 ? 0 : f, grid, masks[b]);
         }
+        addTiming(&out.timings, "rasterize", since(t0), grid.dims.count() * spec.bags.size());
+        const auto ts = Clock::now();
+        std::vector<double> widths;
+        for (const auto& bag : spec.bags) widths.push_back(bag.boundarySmoothingVoxels);
+        const auto smoothed = smoothBoundaries(masks, widths, threads);
+        if (std::any_of(widths.begin(), widths.end(), [](double w) { return w > 0; })) {
+            addTiming(&out.timings, "smooth", since(ts), grid.dims.count() * spec.bags.size());
+            say(describeSmoothing(spec, smoothed));
+        }
         const BagLayout bags = arrangeBags(spec, masks, f);
-        const double tr = since(t0);
-        addTiming(&out.timings, "rasterize", tr, grid.dims.count() * spec.bags.size());
         out.frames.push_back(buildGradientMap(grid, bags, spec.grid.r0Voxels, spec.geometry, &out.timings, threads));
         std::ostringstream os;
         os.precision(3);

@@ -13,7 +13,7 @@
 namespace bop::shape {
 
 struct StageTiming {
-    std::string stage;      // "rasterize", "label", "distance", "geometry"
+    std::string stage;      // "rasterize", "smooth", "label", "distance", "geometry"
     double seconds = 0;     // wall time, s
     std::size_t items = 0;  // voxels (or surface voxels for "geometry") processed
 };

@@ -76,6 +76,13 @@ std::shared_ptr<ModelSource> readSource(const ConfigTable& t, double voxelMm, st
 
 }  // namespace
 
+double readBoundarySmoothing(const ConfigTable& t, const std::string& kind) {
+    const double fallback = kind == "nifti" || kind == "raw" ? kImageBoundarySmoothing : 0.0;
+    const double w = t.number("boundary_smoothing_voxels", fallback);
+    if (!(w >= 0)) t.fail("boundary_smoothing_voxels", "must be 0 (off) or more, got " + std::to_string(w));
+    return w;
+}
+
 ShapeSpec readShapeSpec(const ConfigTable& root) {
     ShapeSpec s;
     s.sceneFile = root.file();
@@ -119,6 +126,7 @@ ShapeSpec readShapeSpec(const ConfigTable& root) {
         bag.key = bags[b].prefix();
         bag.name = bags[b].string("name", "bag" + std::to_string(b + 1));
         bag.source = readSource(bags[b], s.grid.voxelMm, stamps);
+        bag.boundarySmoothingVoxels = readBoundarySmoothing(bags[b], bags[b].string("source"));
         if (const std::string w = bag.source->warning(); !w.empty()) s.warnings.push_back(bag.key + ": " + w);
         bags[b].finish();
         s.bags.push_back(std::move(bag));
@@ -135,7 +143,9 @@ ShapeSpec readShapeSpec(const ConfigTable& root) {
     os << "grid " << s.grid.voxelMm << " " << s.grid.paddingVoxels << " " << s.grid.r0Voxels << "\n"
        << grid.raw() << "\n"
        << shape.raw() << "\n"
-       << stamps;
+       << "boundary smoothing v1:";
+    for (const BagSpec& bag : s.bags) os << ' ' << bag.boundarySmoothingVoxels;
+    os << "\n" << stamps;
     s.canonical = os.str();
     return s;
 }

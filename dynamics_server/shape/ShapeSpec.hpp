@@ -1,6 +1,7 @@
 #pragma once
 // The shape part of a scene: the voxel grid and the nested bags with their model sources, read
 // from the scene TOML's [grid] and [shape] tables (see config/scenes/*.toml for every key).
+#include "BoundarySmoothing.hpp"
 #include "ModelSource.hpp"
 #include "SurfaceGeometry.hpp"
 #include "bop/common/ConfigTable.hpp"
@@ -26,7 +27,13 @@ struct BagSpec {
     std::string key;                             // config key of this bag, for error messages
     std::shared_ptr<ModelSource> source;         // loaded and checked while reading the scene
     std::optional<std::array<float, 3>> colour;  // from a label table, r g b in [0, 1]
+    // Gaussian width of the boundary's anti-aliasing, grid voxels; 0 = the voxels as rasterized
+    // (shape/BoundarySmoothing.hpp). Images default to kImageBoundarySmoothing, other sources to 0.
+    double boundarySmoothingVoxels = 0;
 };
+
+// `boundary_smoothing_voxels` of a [[shape.bag]] table of source `kind`, checked.
+double readBoundarySmoothing(const ConfigTable& t, const std::string& kind);
 
 struct ShapeSpec {
     std::string sceneFile;  // path of the scene file

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The synthetic scan (scripts/make-scan-image.py, config/scenes/scan.toml): the shipped image is
 # the script's output byte for byte; bop-server reads it as a NIfTI label image at 1 x 1 x 1.5 mm
-# (a grid of 1 mm voxels), makes one bag per label from the label table, skips the speck too small
+# (a grid of 1 mm voxels), makes one bag per label from the label table, smooths the labels'
+# staircases keeping each organ's volume within 2%, skips the speck too small
 # for a bag with a warning naming it, names the thin-walled stomach, the vessel tree and the
 # adrenal plates as thin, places every bag and settles them by the minimiser and the dynamics,
 # every bag's particles mostly inside it, each bag's median normal angle bracketing the whole's
@@ -25,6 +26,10 @@ check "the scan is mapped, placed and settled (exit $rc) on a grid of 1 mm voxel
   "[ $rc -eq 0 ] && grep -q 'grid [0-9]* x [0-9]* x [0-9]* voxels of 1 mm' '$work/place.log'"
 check "the speck of label 23 is skipped, named with its voxel count" \
   "grep -q \"label 23 ('marker') has [0-9]* voxels, fewer than .* skipped\" '$work/place.log'"
+smoothing=$(sed -n 's/.*boundary smoothing: \(.*\)/\1/p' "$work/place.log")
+check "the label boundaries are smoothed, every organ's volume kept within 2% ($smoothing)" \
+  "echo '$smoothing' | awk '/voxels out/ {v = \$0; sub(/.*largest volume change /, \"\", v); sub(/%.*/, \"\", v);
+     out = \$1; found = 1} END {exit !(found && out > 0 && v + 0 <= 2 && v + 0 >= -2)}'"
 bags=$(grep -o '[a-z_A-Z0-9]*-surface [0-9]* (' "$work/place.log" | wc -l)
 check "21 bags, each named from the label table, placed on the map ($bags)" \
   "[ $bags -eq 21 ] && grep -q 'stomach-surface [0-9]* (' '$work/place.log' && grep -q 'vertebra_L4-volume' '$work/place.log'"

@@ -98,7 +98,7 @@ TEST_CASE("a numbered series of 3D files loads as the same 8 keyframes as the 4D
     const std::string scene =
         test::writeText(dir.file("series.toml"),
                         "[grid]\nr0_voxels = 2.0\n[shape]\n[[shape.bag]]\nsource = 'nifti'\nfiles = [" + files +
-                            "]\nlabel = 1\n"
+                            "]\nlabel = 1\nboundary_smoothing_voxels = 0\n"  // every voxel as the files hold it
                             "[keyframes]\nperiod = 32.0\n");
     const app::Scene s = app::loadScene(scene);
     CHECK(s.model->keyframes.frames == 8);
