@@ -4,8 +4,8 @@
 #include "SimplePoint.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <climits>
+#include <cmath>
 #include <cstdint>
 
 namespace bop::shape {
@@ -75,7 +75,8 @@ void gaussianSmooth(std::vector<float>& f, const Dims& d, double sigma) {
             for (int i = 0; i < len; ++i) line[std::size_t(i)] = f[start + std::size_t(i) * stride[axis]];
             for (int i = 0; i < len; ++i) {
                 double s = 0;
-                for (int k = -r; k <= r; ++k) s += w[std::size_t(k + r)] * line[std::size_t(std::clamp(i + k, 0, len - 1))];
+                for (int k = -r; k <= r; ++k)
+                    s += w[std::size_t(k + r)] * line[std::size_t(std::clamp(i + k, 0, len - 1))];
                 f[start + std::size_t(i) * stride[axis]] = float(s);
             }
         }
@@ -121,7 +122,8 @@ std::vector<Candidate> planChanges(const Mask& m, const Box& box, const std::vec
         if (std::abs(unsmoothed[v]) > 0.5f) continue;
         const std::size_t g = box.gridIndex(m.dims, v);
         const bool in = m.data[g] != 0;
-        if (in ? level[v] < kMaxLevelShift - kSmoothingMargin : level[v] > kSmoothingMargin - kMaxLevelShift) cand.push_back({g, level[v], in});
+        if (in ? level[v] < kMaxLevelShift - kSmoothingMargin : level[v] > kSmoothingMargin - kMaxLevelShift)
+            cand.push_back({g, level[v], in});
     }
     shift = volumeKeepingShift(cand);
     return cand;
@@ -216,8 +218,9 @@ void applyChanges(std::vector<Mask>& masks, std::size_t b, const std::vector<Bag
         if (adding && m.data[g]) continue;  // given by a bag beside it
         const bool layoutKept =
             adding ? holders.data[g] == own && inContainers(g) && faceNeighbours(m.dims, g, inContainers)
-                   : holders.data[g] == own + 1 &&
-                         faceNeighbours(m.dims, g, [&](std::size_t u) { return !m.data[u] || holders.data[u] == own + 1; });
+                   : holders.data[g] == own + 1 && faceNeighbours(m.dims, g, [&](std::size_t u) {
+                         return !m.data[u] || holders.data[u] == own + 1;
+                     });
         if (!layoutKept || !simpleIn(m, g)) {
             ++reps[b].keptForTopology;
             continue;

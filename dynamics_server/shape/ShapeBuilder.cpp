@@ -37,9 +37,8 @@ std::string describeSmoothing(const ShapeSpec& spec, const std::vector<BoundaryS
         removed += reps[b].removed;
         added += reps[b].added;
         kept += reps[b].keptForTopology;
-        const double change = reps[b].voxelsBefore
-                                  ? double(reps[b].voxelsAfter) / double(reps[b].voxelsBefore) - 1.0
-                                  : 0.0;
+        const double change =
+            reps[b].voxelsBefore ? double(reps[b].voxelsAfter) / double(reps[b].voxelsBefore) - 1.0 : 0.0;
         if (std::abs(change) > std::abs(worstChange)) worstChange = change, worst = b;
     }
     std::ostringstream os;

@@ -40,8 +40,9 @@ bool besideBoundary(const Mask& m, std::size_t v) {
 }
 
 std::size_t pieces(const Mask& m, bool object) {
-    return shape::findComponents(m.dims, [&](std::size_t v) { return bool(m.data[v]) == object; },
-                                 object ? shape::Neighbours::All : shape::Neighbours::Faces)
+    return shape::findComponents(
+               m.dims, [&](std::size_t v) { return bool(m.data[v]) == object; },
+               object ? shape::Neighbours::All : shape::Neighbours::Faces)
         .sizes.size();
 }
 
@@ -125,7 +126,8 @@ TEST_CASE("smoothing brings a staircase of thick slices to the surface it sample
     const double offAfter = offSurface(m), angleAfter = medianNormalError(m, radial);
     const double angleIdeal = medianNormalError(truth, radial);
     INFO(offBefore << " -> " << offAfter << " voxels unlike the ball sampled on the grid; median normal error "
-                   << angleBefore << " -> " << angleAfter << " deg (" << angleIdeal << " on the ball sampled on the grid)");
+                   << angleBefore << " -> " << angleAfter << " deg (" << angleIdeal
+                   << " on the ball sampled on the grid)");
     CHECK(offAfter < 0.8 * offBefore);
     CHECK(angleAfter - angleIdeal < 2.0 / 3.0 * (angleBefore - angleIdeal));  // a third of the way at least
 }
@@ -141,7 +143,8 @@ TEST_CASE("smoothing keeps thin parts, noisy shapes' volumes and touching bags a
         {"tube of radius 2", [](const Eigen::Vector3d& x) { return std::hypot(x.x() - 20.3, x.y() - 19.8) <= 2.0; }},
         {"plate 1 voxel thick", [](const Eigen::Vector3d& x) { return std::abs(x.z() - 0.3 * x.x() - 12.0) <= 0.5; }},
         {"plate 2 voxels thick", [](const Eigen::Vector3d& x) { return std::abs(x.z() - 0.3 * x.x() - 12.0) <= 1.0; }},
-        {"noisy ball", [&](const Eigen::Vector3d& x) {
+        {"noisy ball",
+         [&](const Eigen::Vector3d& x) {
              const Eigen::Vector3i v = x.array().floor().cast<int>();
              const bool bump = std::find(bumps.begin(), bumps.end(), v) != bumps.end();
              return ((x - c).norm() <= 12.0) != (bump && std::abs((x - c).norm() - 12.0) < 1.5);
