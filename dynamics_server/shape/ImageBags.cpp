@@ -84,6 +84,26 @@ std::string keepLargestComponent(std::vector<ScalarImage>& frames, const ImageSe
     return os.str();
 }
 
+// Leaves out the face-connected pieces of the selection with fewer than `least` image voxels
+// (they become NaN, which no selection takes); returns their sizes for a warning, "" if none.
+std::string dropSpecks(std::vector<ScalarImage>& frames, const ImageSelect& sel, double least) {
+    std::vector<std::size_t> dropped;
+    for (ScalarImage& img : frames) {
+        const Components c = findComponents(img.dims, [&](std::size_t v) { return isSelected(img.values[v], sel); });
+        for (std::size_t v = 0; v < img.values.size(); ++v)
+            if (c.label[v] > 0 && double(c.sizes[c.label[v] - 1]) < least)
+                img.values[v] = std::numeric_limits<float>::quiet_NaN();
+        for (const std::size_t n : c.sizes)
+            if (double(n) < least) dropped.push_back(n);
+    }
+    if (dropped.empty()) return "";
+    std::ostringstream os;
+    os << dropped.size() << " piece(s) of";
+    for (std::size_t p = 0; p < dropped.size() && p < 20; ++p) os << (p ? ", " : " ") << dropped[p];
+    os << (dropped.size() > 20 ? ", ..." : "") << " image voxels";
+    return os.str();
+}
+
 std::vector<std::string> imageFiles(const ConfigTable& t) {
     if (t.has("file") && t.has("files")) t.fail("files", "give either 'file' or 'files', not both");
     std::vector<std::string> names = t.has("files") ? t.strings("files") : std::vector<std::string>{t.string("file")};
@@ -246,12 +266,24 @@ std::vector<BagSpec> labelBags(const ConfigTable& t, const GridSpec& grid, std::
         ImageSelect sel;
         sel.mode = ImageSelect::Mode::Label;
         sel.labels = {label};
+        ImageFrames cut = cutToSelection(img, sel);
+        const std::string specks = dropSpecks(cut.frames, sel, least / double(img.frames.size()));
+        if (!specks.empty()) {
+            const bool none = std::any_of(cut.frames.begin(), cut.frames.end(),
+                                          [&](const ScalarImage& f) { return countSelected(f, sel) == 0; });
+            warnings.push_back(t.prefix() + ": label " + labelText(label) + " ('" + name + "'): " + specks +
+                               ", each fewer than the " + std::to_string(std::llround(std::ceil(least))) +
+                               " of a ball of radius r0 that a bag needs: " +
+                               (none ? "every piece is, so the label is skipped" : "skipped"));
+            if (none) continue;
+            cut = cutToSelection(cut, sel);
+        }
         BagSpec bag;
         bag.key = t.prefix();
         bag.name = name;
         if (entry != table.end()) bag.colour = entry->second.colour;
         bag.boundarySmoothingVoxels = smoothing;
-        bag.source = imageBag(t, cutToSelection(img, sel), sel, largest);
+        bag.source = imageBag(t, std::move(cut), sel, largest);
         if (const std::string w = bag.source->warning(); !w.empty())
             warnings.push_back(bag.key + ": " + name + ": " + w);
         bags.push_back(std::move(bag));

@@ -32,7 +32,8 @@ std::shared_ptr<ModelSource> imageBag(const ConfigTable& t, ImageFrames img, con
 
 // `labels = [a, b, ...]` or `labels = "all"`: one bag per label, named and coloured from
 // `label_table` when given, else "<name>-<label>"; a label too small to hold a bag (fewer voxels
-// than a ball of radius r0) is skipped with a warning naming it and its voxel count.
+// than a ball of radius r0) is skipped with a warning naming it and its voxel count, and so is
+// each piece of a label (face-connected) smaller than that: a speck beside an organ, a small node.
 std::vector<BagSpec> labelBags(const ConfigTable& t, const GridSpec& grid, std::string& stamps,
                                std::vector<std::string>& warnings);
 

@@ -14,7 +14,8 @@ using namespace bop::shape;
 namespace {
 
 // 40 x 24 x 24 voxels of 1 mm: boxes of labels 6 | 10 | 15 side by side and touching along x,
-// a ball of label 20 inside box 6, and a 3-voxel speck of label 30 apart.
+// a ball of label 20 inside box 6, a 3-voxel speck of label 30 apart and a 4-voxel piece of label
+// 15 beside its box.
 ScalarImage organs() {
     const Dims d{40, 24, 24};
     ScalarImage img{d, Eigen::Vector3d::Ones(), Eigen::Vector3d::Zero(), std::vector<float>(d.count(), 0.f)};
@@ -30,6 +31,7 @@ ScalarImage organs() {
                 img.values[d.index(i, j, k)] = v;
             }
     for (int i = 0; i < 3; ++i) img.values[d.index(1 + i, 1, 1)] = 30.f;
+    for (int i = 0; i < 4; ++i) img.values[d.index(30 + i, 22, 22)] = 15.f;  // a speck of the heart's label, apart
     return img;
 }
 
@@ -49,14 +51,17 @@ TEST_CASE("each label of a multi-label image becomes its bag", "[shape][segmenta
     const std::string head =
         "[grid]\nr0_voxels = 2.0\n[shape]\n[[shape.bag]]\nsource = 'nifti'\nfile = 'organs.nii.gz'\n";
 
-    SECTION("labels = 'all' with a label table: one bag per label, named and coloured, the speck skipped") {
+    SECTION("labels = 'all' with a label table: one bag per label, named and coloured, the specks skipped") {
         const std::string scene =
             test::writeText(dir.file("all.toml"), head + "labels = 'all'\nlabel_table = 'labels.txt'\n");
         const app::Scene s = app::loadScene(scene);
         REQUIRE(s.shape);
         CHECK(s.shape->bagNames() == std::vector<std::string>{"liver", "stomach_wall", "heart", "label-20"});
-        REQUIRE(s.shape->warnings.size() == 1);
-        CHECK_THAT(s.shape->warnings[0], Catch::Contains("shape.bag[0]") && Catch::Contains("label 30") &&
+        REQUIRE(s.shape->warnings.size() == 2);
+        CHECK_THAT(s.shape->warnings[0], Catch::Contains("shape.bag[0]") && Catch::Contains("label 15 ('heart')") &&
+                                             Catch::Contains("1 piece(s) of 4 image voxels") &&
+                                             Catch::Contains("fewer than the 34") && Catch::EndsWith("skipped"));
+        CHECK_THAT(s.shape->warnings[1], Catch::Contains("shape.bag[0]") && Catch::Contains("label 30") &&
                                              Catch::Contains("3 voxels") && Catch::Contains("skipped"));
         REQUIRE(s.model->speciesCount() == 8);
         CHECK(s.model->species[1].name == "liver-surface");
@@ -79,6 +84,7 @@ TEST_CASE("each label of a multi-label image becomes its bag", "[shape][segmenta
         CHECK(occAt(14.5, 12.5, 12.5) == 3);  // and the stomach's first
         CHECK(occAt(25.5, 12.5, 12.5) == 3);
         CHECK(occAt(26.5, 12.5, 12.5) == 5);
+        for (int i = 0; i < 4; ++i) CHECK(occAt(30.5 + i, 22.5, 22.5) == 0);  // the heart's speck, left out
         CHECK(m.bagParent == std::vector<std::uint8_t>{0, 0, 0, 0, 0});
     }
     SECTION("a label list nests the ball in a bag of the liver with it") {
