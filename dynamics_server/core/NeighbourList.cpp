@@ -226,6 +226,11 @@ void NeighbourList::buildWide(const Box& extended, const Wide& wide) {
     cells.build(extended, wide.range, at);
     const auto& order = cells.order();
     const double range2 = wide.range * wide.range;
+    const bool grouped = !wide.together.empty();
+    if (grouped && (wide.group.size() != wide.member.size() || wide.together.size() != wide.side * wide.side))
+        throw std::invalid_argument("neighbour list: wide groups given for " + std::to_string(wide.group.size()) +
+                                    " entries and a table of " + std::to_string(wide.together.size()) + " for side " +
+                                    std::to_string(wide.side));
     using Found = std::vector<std::pair<std::uint32_t, std::uint32_t>>;  // (smaller, larger)
     // Per block of cells (on the threads), then joined in block order: Newton, halo.
     const std::size_t cellCount = std::size_t(cells.cellCount());
@@ -241,6 +246,8 @@ void NeighbourList::buildWide(const Box& extended, const Wide& wide) {
                     const std::uint32_t e1 = cells.start(stencil[std::size_t(s)].cell + 1);
                     for (std::uint32_t v = (s == 0 ? u + 1 : cells.start(stencil[std::size_t(s)].cell)); v < e1; ++v) {
                         const std::uint32_t x = members[order[u]], y = members[order[v]];
+                        if (grouped && !wide.together[wide.group[owner_[x]] * wide.side + wide.group[owner_[y]]])
+                            continue;
                         if ((pos_[y] - pos_[x]).squaredNorm() >= range2) continue;
                         const int k = kind(x, y);
                         if (k > 0) part[b][std::size_t(k - 1)].emplace_back(std::min(x, y), std::max(x, y));

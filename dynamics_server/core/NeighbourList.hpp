@@ -46,9 +46,15 @@ public:
 
     // The wide pairs: range (simulation length units, at least the list's range) and which
     // particles, then halo ghosts, take part (member[k] != 0).
+    // With `together` (side x side, row a, column b) the pairs are only those of two members
+    // whose groups a, b (group[k], per particle then ghost) it joins: a bag's surface with its
+    // own, not with another bag's, whose oriented weights are zero.
     struct Wide {
         double range = 0;
         std::vector<char> member;
+        std::vector<std::uint8_t> group;
+        std::vector<char> together;
+        std::size_t side = 0;
     };
 
     // range: cutoff + skin, simulation length units. Periodic axes need a side of at least

@@ -45,7 +45,9 @@ struct BlockSink {
     [[gnu::always_inline]] void energy(V4 v) { energySum += select(near, v, splat(0.0)); }
 };
 
-// One: every pair is of the one oriented species (a bag's surface), its weights held throughout.
+// One: every pair with oriented weights has the same (one bag's surface, or several bags' at one
+// set of parameters), held throughout; with several oriented species, the pairs without weights
+// (two bags' surfaces, when the list holds them) are masked out.
 template <bool Energy, bool One>
 [[gnu::always_inline]] inline void loop(const PairKernel& kernel, const NeighbourList::Pairs& pairs,
                                         const PairInputs& in, const OrientedInputs& o, std::size_t x0, std::size_t x1,
@@ -53,7 +55,8 @@ template <bool Energy, bool One>
     const OrientedWeight& w = kernel.weight();
     const PairKernel::OrientedTables tab = kernel.orientedTables();
     const std::size_t side = std::size_t(kernel.tableSide());
-    const std::size_t single = std::size_t(kernel.singleOrientedSpecies()) * (side + 1);
+    const std::size_t single = std::size_t(std::max(kernel.uniformOrientedPair(), 0));
+    const bool maskOff = kernel.singleOrientedSpecies() == 0;  // several oriented species
     // The single species' weights, copied: the force stores may alias the tables.
     const double cnF1 = tab.cnF[single], cpF1 = tab.cpF[single], cnT1 = tab.cnT[single], cpT1 = tab.cpT[single];
     const double cnE1 = tab.cnE[single], cpE1 = tab.cpE[single];
@@ -91,7 +94,11 @@ template <bool Energy, bool One>
             OrientedWeights<V4> k{splat(cnF1), splat(cnF1), splat(cnT1), splat(cnT1), splat(cnE1),
                                   splat(cpF1), splat(cpF1), splat(cpT1), splat(cpT1), splat(cpE1)};
             V4Mask near = lanes(q, n) & (r2 < cut2);
-            if constexpr (!One) {
+            if constexpr (One) {
+                if (maskOff)
+                    near &= V4Mask{tab.on[sp[iq[0]] * side + sp[jq[0]]], tab.on[sp[iq[1]] * side + sp[jq[1]]],
+                                   tab.on[sp[iq[2]] * side + sp[jq[2]]], tab.on[sp[iq[3]] * side + sp[jq[3]]]} != 0;
+            } else {
                 std::size_t ab[4], ba[4];
                 for (int l = 0; l < 4; ++l) {
                     ab[l] = sp[iq[l]] * side + sp[jq[l]];
@@ -140,7 +147,7 @@ BOP_HOT_LOOP void orientedPairs(const PairKernel& kernel, const NeighbourList::P
                                 const OrientedInputs& o, bool energies, std::size_t x0, std::size_t x1,
                                 PairKernel::Sums& sums) {
     if (pairs.start.size() < 2 || x0 >= x1) return;
-    const bool one = kernel.singleOrientedSpecies() > 0;
+    const bool one = kernel.uniformOrientedPair() >= 0;
     if (energies && one) loop<true, true>(kernel, pairs, in, o, x0, x1, sums);
     if (energies && !one) loop<true, false>(kernel, pairs, in, o, x0, x1, sums);
     if (!energies && one) loop<false, true>(kernel, pairs, in, o, x0, x1, sums);

@@ -56,6 +56,13 @@ void PairForces::updateList(const Model& model, const Particles& p, const Halo* 
             wide_.member.resize(p.size() + haloPos.size());
             forEachIndex(p.size(), [&](std::size_t i) { wide_.member[i] = isWide_[p.species[i]]; });
             for (std::size_t g = 0; g < haloPos.size(); ++g) wide_.member[p.size() + g] = isWide_[halo->species[g]];
+            // Only the pairs with oriented weights: not two bags' surfaces.
+            wide_.side = std::size_t(kernel_.tableSide());
+            const char* on = kernel_.orientedTables().on;
+            wide_.together.assign(on, on + wide_.side * wide_.side);
+            wide_.group.resize(wide_.member.size());
+            forEachIndex(p.size(), [&](std::size_t i) { wide_.group[i] = p.species[i]; });
+            for (std::size_t g = 0; g < haloPos.size(); ++g) wide_.group[p.size() + g] = halo->species[g];
         }
         keys_ = p.id;  // entries by id within a cell: the list does not depend on the particles' order
         if (halo) keys_.insert(keys_.end(), halo->id.begin(), halo->id.end());

@@ -87,6 +87,23 @@ public:
             }
         return found;
     }
+    // The index a * tableSide() + b of a species pair whose oriented weights every pair with
+    // oriented weights shares (several bags' surfaces at one set of parameters), else -1.
+    int uniformOrientedPair() const {
+        int found = -1;
+        for (int k = 0; k < n_ * n_; ++k) {
+            if (!oriented_[std::size_t(k)]) continue;
+            if (found < 0) {
+                found = k;
+                continue;
+            }
+            const std::size_t a = std::size_t(found), b = std::size_t(k);
+            if (cnF_[a] != cnF_[b] || cnT_[a] != cnT_[b] || cpF_[a] != cpF_[b] || cpT_[a] != cpT_[b] ||
+                cnE_[a] != cnE_[b] || cpE_[a] != cpE_[b])
+                return -1;
+        }
+        return found;
+    }
     // The oriented terms' tables, tableSide() x tableSide(), row a, column b.
     struct OrientedTables {
         const double *cnF, *cnT, *cpF, *cpT, *cnE, *cpE;  // as the LJ tables, per term and kind

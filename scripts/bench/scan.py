@@ -6,9 +6,12 @@ run's figures in front and each bag's verdict against the real-scans targets:
   - a thin organ (a quarter or more of its voxels in parts thinner than 2 r0, as the run's
     warning says): >= 99% of its particles inside it;
   - the ball nested in another bag (case "nested", bag "ball"): >= 95% of its surface particles in
-    its surface voxels and >= 99% of its particles inside it.
+    its surface voxels and >= 99% of its particles inside it;
+  - many bags at the cost of one: the scan's particle-steps per second at most 1.3 times fewer than
+    those of one bag of its particle count and surface share (case "slab", the reference).
   scan.py row CASE LOG WALL_S      rows for one run
-  scan.py targets CSV               the run targets, met or missed, and the bags that miss theirs
+  scan.py targets CSV [RATES]       the run targets, met or missed, and the bags that miss theirs;
+                                    RATES: lines "CASE PARTICLE_STEPS_PER_S" of more runs
 """
 import csv
 import re
@@ -43,6 +46,9 @@ def rows(case, log, wall):
         found = [(name, m.group(1), surface, m.group(2), volume, "", m.group(3))] if m else []
     for name, surf, ns, vol, nv, inside, angle in found:
         thin_pct = float(thin.get(name, 0))
+        if case == "slab":  # the cost reference, not an organ
+            print(",".join(common + [name, ns, nv, surf, vol, inside, angle, f"{thin_pct:g}", "reference", "n/a"]))
+            continue
         if case == "nested" and name == "ball":
             kind = "nested"
             met = float(surf) >= 95 and inside != "" and float(inside) >= 99
@@ -56,8 +62,12 @@ def rows(case, log, wall):
                                  "met" if met else "missed"]))
 
 
-def targets(path):
+def targets(path, rates_path=None):
     table = list(csv.DictReader(open(path)))
+    best = {}  # each case's fastest run, particle-steps/s
+    for line in open(rates_path) if rates_path else []:
+        case, rate = line.split()
+        best[case] = max(best.get(case, 0.0), float(rate))
     runs = {r["case"]: r for r in table}
     lines = []
 
@@ -80,8 +90,19 @@ def targets(path):
         lines.append(f"thin-walled organ alone ({r['particles']} particles; the target's is about 45,000) ready in "
                      f"{r['wall_s']} s (target <= 15): "
                      + (verdict(ok) if sized else "not shown (the organ is too small to judge it)"))
-    missed = [f"{t['case']}/{t['bag']} ({t['kind']})" for t in table if t["verdict"] == "missed"]
-    lines.append(f"bags within their fidelity targets: {sum(t['verdict'] == 'met' for t in table)} of {len(table)}"
+    if "scan" in runs and "slab" in runs:
+        many, one = runs["scan"], runs["slab"]
+        rate = {c: best.get(c, float(runs[c]["particle_steps_per_s"])) for c in ("scan", "slab")}
+        runs_each = "the faster of 2 runs each" if best else "one run each"
+        ratio = rate["slab"] / max(1.0, rate["scan"])
+        lines.append(f"many bags against one ({runs_each}): the scan ({many['particles']} particles in "
+                     f"{sum(1 for t in table if t['case'] == 'scan')} bags, {many['surface_share']} surface) "
+                     f"{rate['scan'] / 1e6:.2f} M particle-steps/s, one slab ({one['particles']} particles, "
+                     f"{one['surface_share']} surface) {rate['slab'] / 1e6:.2f} M: cost per particle-step "
+                     f"{ratio:.2f} x one bag's (target <= 1.3): {verdict(ratio <= 1.3)}")
+    judged = [t for t in table if t["verdict"] in ("met", "missed")]
+    missed = [f"{t['case']}/{t['bag']} ({t['kind']})" for t in judged if t["verdict"] == "missed"]
+    lines.append(f"bags within their fidelity targets: {sum(t['verdict'] == 'met' for t in judged)} of {len(judged)}"
                  + (f"; missed: {', '.join(missed)}" if missed else ""))
     print("\n".join(lines))
 
@@ -91,7 +112,7 @@ if __name__ == "__main__":
         rows(*sys.argv[2:5])
     elif len(sys.argv) > 1 and sys.argv[1] == "header":
         print(HEADER)
-    elif len(sys.argv) == 3 and sys.argv[1] == "targets":
-        targets(sys.argv[2])
+    elif len(sys.argv) in (3, 4) and sys.argv[1] == "targets":
+        targets(*sys.argv[2:])
     else:
         sys.exit(__doc__)
