@@ -143,12 +143,15 @@ Placement placeParticles(const Model& model, const PlacementParams& params) {
             // Faces: the shell's outer faces. Mid-shell: the area midway between its outer and
             // inner faces, where the map holds the sheet (the shell voxels' centres), half the
             // sum of both.
+            // Where the bag is a membrane (thinner than 2 r0), the outer faces on both sides hold
+            // one sheet between them: each counts half.
             const bool mid = params.sheetArea == SheetArea::MidShell;
+            const bool membrane = params.membrane && (*params.membrane)[v];
             for (int a = 0; a < 3; ++a)
                 for (int step : {-1, 1})
                     for (bool inner : {false, true})
                         if ((mid || !inner) && shellFace(m, s, c, a, step, inner))
-                            area += (mid ? 0.5 : 1.0) * h * h *
+                            area += (mid || membrane ? 0.5 : 1.0) * h * h *
                                     (flatFace(m, s, c, a, step, inner) ? 1.0 : 1.0 / std::max(1.0, n.lpNorm<1>()));
             const std::uint64_t key = mixHash(params.seed, 0x91aceULL, std::uint64_t(s), std::uint64_t(v));
             const Eigen::Vector3d jitter(unit(mixHash(key, 1)) - 0.5, unit(mixHash(key, 2)) - 0.5,

@@ -13,6 +13,8 @@
 //    faces (those on the bag's volume or a bag inside it), each weighted so. On a ball of radius R
 //    voxels that is 4 pi (R - 1/2)^2, (1 - 1/(2R))^2 of the faces' area: a small or thin part's
 //    sheet is not crowded out of its voxels, at a count below the object's own area.
+//    Where the bag is a membrane (PlacementParams::membrane: thinner than 2 r0), the outer faces
+//    on both sides hold one sheet between them, and each counts half.
 //  - A volume species gets an fcc lattice at nearest-neighbour distance r0, the sites that fall
 //    in its voxels and lie at least `gapR0` from every surface particle; of 8 hashed shifts of
 //    the lattice, the one with the most such sites.
@@ -33,6 +35,10 @@ struct PlacementParams {
     double gapR0 = 0.5;                      // least distance from a volume site to a surface particle, r0 (death_r0)
     SheetArea sheetArea = SheetArea::Faces;  // the area a sheet's count is taken over
     std::uint64_t seed = 1;                  // jitter, order and lattice offset
+    // Per voxel of the map, 1 where its bag is thinner than 2 r0 (shape::membraneVoxels): there
+    // the outer faces on both sides hold one sheet between them, a membrane, and each counts half.
+    // Null: every part counts its faces whole.
+    const std::vector<char>* membrane = nullptr;
 };
 
 struct PlacedSpecies {

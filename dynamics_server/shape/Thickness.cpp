@@ -9,7 +9,7 @@
 
 namespace bop::shape {
 
-ThinParts findThinParts(const GradientMap& map, int bag, double minimumVoxels) {
+ThinParts findThinParts(const GradientMap& map, int bag, double minimumVoxels, std::vector<char>* mask) {
     const Dims& d = map.dims();
     std::vector<std::int32_t> feature(map.occ.size()), dist2;
     ThinParts out;
@@ -51,6 +51,8 @@ ThinParts findThinParts(const GradientMap& map, int bag, double minimumVoxels) {
                         }
             }
     out.thinVoxels = std::size_t(std::count(thin.begin(), thin.end(), char(1)));
+    if (mask)
+        for (std::size_t v = 0; v < thin.size(); ++v) (*mask)[v] |= thin[v];
     return out;
 }
 
@@ -73,6 +75,12 @@ std::vector<std::string> thinPartsWarnings(const GradientMap& map, const std::ve
         if (!w.empty()) out.push_back(std::move(w));
     }
     return out;
+}
+
+std::vector<char> membraneVoxels(const GradientMap& map) {
+    std::vector<char> mask(map.occ.size(), 0);
+    for (int bag = 1; bag <= map.bagCount; ++bag) findThinParts(map, bag, 2 * map.r0Voxels, &mask);
+    return mask;
 }
 
 }  // namespace bop::shape

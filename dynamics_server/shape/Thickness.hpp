@@ -18,8 +18,9 @@ struct ThinParts {
     std::size_t bagVoxels = 0;   // every voxel of the bag (its surface, volume and the bags inside it)
 };
 
-// Bag number `bag` (1 = outermost) of the whole map `map`; `minimumVoxels` across.
-ThinParts findThinParts(const GradientMap& map, int bag, double minimumVoxels);
+// Bag number `bag` (1 = outermost) of the whole map `map`; `minimumVoxels` across. With `mask`
+// (sized to the map's voxels), its voxels in thin parts are set to 1.
+ThinParts findThinParts(const GradientMap& map, int bag, double minimumVoxels, std::vector<char>* mask = nullptr);
 
 // A warning for a bag with thin parts ("" when it has none), in r0 and voxels: the share of its
 // voxels in them, the thinnest, and the r0_voxels that would hold it (two r0 across).
@@ -28,5 +29,9 @@ std::string thinPartsWarning(const std::string& bagName, const ThinParts& t, dou
 // The warnings of every bag of the whole map `map` (bag k + 1 named bagNames[k]) that has parts
 // under 2 r0 across, as bop-shape and bop-server print them before a bag is built.
 std::vector<std::string> thinPartsWarnings(const GradientMap& map, const std::vector<std::string>& bagNames);
+
+// Every bag's voxels in its parts under 2 r0 across, 1 per such voxel of the whole map `map`: where
+// a bag is a membrane, one sheet thick (core::PlacementParams::membrane).
+std::vector<char> membraneVoxels(const GradientMap& map);
 
 }  // namespace bop::shape

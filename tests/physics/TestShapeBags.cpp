@@ -68,6 +68,15 @@ Shape twoBalls() {
             [](const Eigen::Vector3d& x) { return (x - ca).norm() < 14 ? 0 : 1; }};
 }
 
+// A closed membrane one voxel thick (a hollow organ's wall): the voxels within half a voxel of a
+// sphere of radius 12 voxels.
+const Eigen::Vector3d cm(16.3, 15.8, 16.1);
+constexpr double kMembraneRadius = 12.0;
+
+bool onMembrane(const Eigen::Vector3d& x) {
+    return std::abs((x - cm).norm() - kMembraneRadius) <= 0.5;
+}
+
 }  // namespace
 
 TEST_CASE("a bag is settled once its kinetic energy stays low over the calm span, not at a passing dip",
@@ -169,4 +178,46 @@ TEST_CASE("two balls built by birth, each from seeds of its own", "[physics][con
         CHECK(perPiece[piece][1] > 100);
         CHECK(perPiece[piece][2] > 100);
     }
+}
+
+TEST_CASE("a membrane one voxel thick holds a single sheet", "[physics][placement]") {
+    // Faces on both sides of a part thinner than 2 r0 count half (core/Placement.hpp): one sheet
+    // of about 4 pi R^2 / (sqrt(3)/2 r0^2) particles, where two sheets, one per side, would not fit.
+    const Shape s{
+        "membrane", {33, 33, 33}, onMembrane, 4 * kPi * kMembraneRadius * kMembraneRadius, [](const Eigen::Vector3d&) {
+            return 0;
+        }};
+    test::TempDir dir("membrane");
+    app::Scene scene = app::loadScene(writeScene(dir, s));
+    app::applySettleTimeStep(scene);
+    test::OneProcessRun run(scene);
+    long long steps = 0;
+    app::Settling settling(run.run(), scene.run);
+    while (!settling.settled() && steps < scene.run.steps) {
+        run.run().step();
+        ++steps;
+        settling.afterStep(run.run());
+    }
+    const core::Particles& p = run->particles();
+    const GradientMap map = run.wholeMap();
+    const double h = voxelLength(map.r0Voxels);
+    const double sheet = s.area / (std::sqrt(3.0) / 2 * map.r0Voxels * map.r0Voxels);
+    std::size_t surface = 0, inside = 0;
+    std::vector<double> angles;  // between each particle's normal and the sphere's, degrees
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        surface += scene.model->isSurface(p.species[i]);
+        const std::int64_t v = map.voxelHolding(p.pos[i] / h);
+        inside += v >= 0 && map.occ[std::size_t(v)] != 0;
+        const Eigen::Vector3d radial = (p.pos[i] / h - cm).normalized();
+        angles.push_back(std::acos(std::clamp(std::abs(p.normal[i].dot(radial)), 0.0, 1.0)) * 180 / kPi);
+    }
+    std::nth_element(angles.begin(), angles.begin() + std::ptrdiff_t(angles.size() / 2), angles.end());
+    INFO("settled after " << steps << " steps; " << p.size() << " particles, " << surface << " surface (one sheet: "
+                          << sheet << "); " << inside << " inside the membrane; median angle of the normals to the "
+                          << "sphere's axis " << angles[angles.size() / 2] << " deg");
+    CHECK(settling.settled());
+    CHECK(surface == p.size());  // no volume in a membrane
+    CHECK(double(surface) == Approx(sheet).epsilon(0.1));
+    CHECK(double(inside) >= 0.99 * double(p.size()));
+    CHECK(angles[angles.size() / 2] < 10.0);
 }

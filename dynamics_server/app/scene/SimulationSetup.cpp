@@ -99,7 +99,10 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
         if (warn && !place)
             for (const std::string& n : seeding.notes) progress(n);
         if (place) {  // every process places on the whole map alike and keeps what it owns (core::Run)
-            core::Placement placed = core::placeParticles(whole, *scene.placement);
+            const std::vector<char> membrane = shape::membraneVoxels(*whole.map);
+            core::PlacementParams params = *scene.placement;
+            params.membrane = &membrane;
+            core::Placement placed = core::placeParticles(whole, params);
             if (root && progress) progress(placementReport(*scene.model, placed.species));
             s.particles = std::move(placed.particles);
         }
