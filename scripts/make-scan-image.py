@@ -41,10 +41,19 @@ LABELS = [  # index, name, colour
 ]
 
 
-def build(scale):
+# The stomach's box in unscaled mm (x, y, z), with room for the warp.
+STOMACH_BOX = ((88, 148), (34, 78), (60, 108))
+
+
+def build(scale, stomach_only=False):
     spacing = (1.0, 1.0, 1.5)  # mm: x, y, z (slices)
     size = [int(round(n * scale / s)) for n, s in zip((168, 136, 120), spacing)]
-    z, y, x = np.meshgrid(*[(np.arange(n) + 0.5) * s / scale for n, s in zip(size[::-1], spacing[::-1])],
+    # Voxel indices along x, y, z: the whole scan, or the stomach's box of it (the same voxels).
+    index = [np.arange(n) for n in size]
+    if stomach_only:
+        index = [np.arange(int(lo * scale / s), min(n, int(np.ceil(hi * scale / s))))
+                 for (lo, hi), n, s in zip(STOMACH_BOX, size, spacing)]
+    z, y, x = np.meshgrid(*[(i + 0.5) * s / scale for i, s in zip(index[::-1], spacing[::-1])],
                           indexing="ij")  # voxel centres in unscaled mm
     # Bumpy boundaries, as a segmentation draws them: every organ sampled through one smooth
     # displacement of up to about 1 mm (waves 5-9 mm long before scaling, fixed phases), so organs
@@ -83,6 +92,9 @@ def build(scale):
     t = (2.5 + 1.0 * np.sin(3 * np.arctan2(y - 56, x - 118))) / scale
     inner = ((x - 118) / (26 - t)) ** 2 + ((y - 56) / (20 - t)) ** 2 + ((z - 84) / (22 - t)) ** 2 < 1
     paint(2, outer & ~inner)
+    if stomach_only:
+        img[img != 2] = 0
+        return img, list(spacing)
     paint(3, ellipsoid((142, 90, 80), (14, 20, 24)) | ellipsoid((150, 62, 66), (5, 5, 5)))  # a splenule
     notch = lambda cx: ellipsoid((cx, 98, 52), (5, 6, 8))
     paint(4, ellipsoid((44, 104, 52), (12, 14, 22)) & ~notch(56))
@@ -130,11 +142,14 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("out_dir", nargs="?", default="out/scan")
     parser.add_argument("--scale", type=float, default=1.4, help="multiplies every length (default 1.4)")
+    parser.add_argument("--stomach-only", action="store_true",
+                        help="only the stomach, in its own box: a thin-walled organ whose walls keep their "
+                             "1.5-3.5 mm at any scale")
     a = parser.parse_args()
     if not a.scale > 0:
         parser.error(f"--scale: expected a positive number, got {a.scale}")
     os.makedirs(a.out_dir, exist_ok=True)
-    img, spacing = build(a.scale)
+    img, spacing = build(a.scale, a.stomach_only)
     write_nifti(os.path.join(a.out_dir, "scan.nii.gz"), img, spacing)
     with open(os.path.join(a.out_dir, "scan-labels.txt"), "w") as f:
         f.write("# ITK-SNAP Label Description File for scan.nii.gz (scripts/make-scan-image.py)\n")

@@ -3,7 +3,8 @@
 # scripts/make-scan-image.py (21 labels at 1 x 1 x 1.5 mm, organs touching, a hollow stomach with
 # walls 1-3 voxels thick, a thin branching vessel tree, thin adrenal plates, specks, bumpy
 # staircase boundaries) built at the defaults of config/scenes/scan.toml: every label as a bag,
-# then the stomach alone (the thin-walled organ) and the liver alone, and a ball of radius 2.5 r0
+# then the stomach alone (the thin-walled organ) and the liver alone, the stomach of a scan 3.9
+# times larger (a thin-walled organ of about 45,000 particles), and a ball of radius 2.5 r0
 # nested in another bag, and one bag of the scan's particle count and surface share (a flat slab:
 # what many bags cost against one). Each is placed and settled by
 # a batch run of bop-server, timed from start to its final state, and gives one row per bag:
@@ -28,6 +29,11 @@ head -1 "$out/image.txt" >&2
 sed -e "s|\"\\.\\./data/scan.nii.gz\"|\"$PWD/$out/scan.nii.gz\"|" -e "s|\"\\.\\./data/scan-labels.txt\"|\"$PWD/$out/scan-labels.txt\"|" \
   config/scenes/scan.toml >"$out/scan.toml"
 sed 's|^labels = "all".*|labels = [2]|' "$out/scan.toml" >"$out/stomach.toml"
+# A thin-walled organ of about 45,000 particles: the same stomach, its walls still 1.5-3.5 mm, in a
+# scan 3.9 times the unscaled size (only the stomach's box of it is made).
+/usr/bin/python3 scripts/make-scan-image.py "$out/thin-image" --stomach-only --scale "${BOP_THIN_SCALE:-3.9}" >/dev/null
+sed -e "s|$PWD/$out/scan.nii.gz|$PWD/$out/thin-image/scan.nii.gz|" -e "s|$PWD/$out/scan-labels.txt|$PWD/$out/thin-image/scan-labels.txt|" \
+  "$out/stomach.toml" >"$out/thin.toml"
 sed 's|^labels = "all".*|labels = [1]|' "$out/scan.toml" >"$out/liver.toml"
 # A ball of radius 2.5 r0 (5 voxels) nested off-centre in another, at the defaults.
 cat >"$out/nested.toml" <<'EOF'
@@ -47,7 +53,7 @@ center_mm = [4.0, 2.0, 1.0]
 EOF
 
 /usr/bin/python3 scripts/bench/scan.py header >"$csv"
-for case in scan stomach liver nested slab; do
+for case in scan stomach liver nested thin slab; do
   if [ "$case" = slab ]; then
     # One bag of the scan's particle count and surface share: a flat round slab (superellipsoid of
     # radii a, a, c mm at 1 mm voxels, r0 = 2 mm), sized by a fit of such slabs' counts, surface

@@ -158,8 +158,9 @@ Fidelity measureFidelity(const core::Model& model, const core::Particles& p) {
     const double h = voxelLength(m.r0Voxels);
     std::size_t surfaceIn = 0, volumeIn = 0;
     std::vector<double> angles;
-    std::vector<std::vector<double>> bagAngles;  // per bag of a map of several
-    const int bags = m.bagCount > 1 ? std::min(m.bagCount, (model.speciesCount() + 1) / 2) : 0;
+    std::vector<std::vector<double>> bagAngles;  // per bag
+    // Every bag, one alone too (its particles inside it): its surface and volume species 2k - 1, 2k.
+    const int bags = model.hasSurfaceSpecies() ? std::min(m.bagCount, (model.speciesCount() + 1) / 2) : 0;
     std::vector<std::size_t> ownSurface(std::size_t(bags) + 1, 0), ownVolume(std::size_t(bags) + 1, 0),
         inside(std::size_t(bags) + 1, 0);
     f.bags.resize(std::size_t(bags));

@@ -57,11 +57,11 @@ struct Fidelity {
     double volumeInOwnVoxels = 0;     // fraction
     double medianNormalAngleDeg = 0;  // degrees
     std::size_t surface = 0, volume = 0;
-    std::vector<BagFidelity> bags;  // per bag of a map of several
+    std::vector<BagFidelity> bags;  // per bag of the map, one alone too
 };
 Fidelity measureFidelity(const core::Model& model, const core::Particles& p);
 // "shape fidelity: ..." as the batch runs' summaries print it, one line, then one line per bag
-// of a map of several ("  bag 'NAME': ...").
+// ("  bag 'NAME': ...").
 void printFidelity(std::ostream& out, const Fidelity& f);
 
 }  // namespace bop::app
