@@ -68,6 +68,17 @@ Shape twoBalls() {
             [](const Eigen::Vector3d& x) { return (x - ca).norm() < 14 ? 0 : 1; }};
 }
 
+// Steps the run until `settling` finds it settled or the scene's step limit; the steps taken.
+long long settleRun(test::OneProcessRun& run, const app::Scene& scene, app::Settling& settling) {
+    long long steps = 0;
+    while (!settling.settled() && steps < scene.run.steps) {
+        run.run().step();
+        ++steps;
+        settling.afterStep(run.run());
+    }
+    return steps;
+}
+
 // A closed membrane one voxel thick (a hollow organ's wall): the voxels within half a voxel of a
 // sphere of radius 12 voxels.
 const Eigen::Vector3d cm(16.3, 15.8, 16.1);
@@ -119,14 +130,9 @@ TEST_CASE("a thin plate and two balls placed and settled within the targets", "[
         REQUIRE(scene.run.untilSettled);
         app::applySettleTimeStep(scene);  // as bop-server's batch run settles it
         test::OneProcessRun run(scene);
-        long long steps = 0;
         app::Settling settling(run.run(), scene.run);  // the minimiser, then the dynamics, as bop-server settles it
         REQUIRE(run.run().minimising());
-        while (!settling.settled() && steps < scene.run.steps) {
-            run.run().step();
-            ++steps;
-            settling.afterStep(run.run());
-        }
+        const long long steps = settleRun(run, scene, settling);
         const core::Particles& p = run->particles();
         const GradientMap map = run.wholeMap();
         core::Model whole = *scene.model;
@@ -191,13 +197,8 @@ TEST_CASE("a membrane one voxel thick holds a single sheet", "[physics][placemen
     app::Scene scene = app::loadScene(writeScene(dir, s));
     app::applySettleTimeStep(scene);
     test::OneProcessRun run(scene);
-    long long steps = 0;
     app::Settling settling(run.run(), scene.run);
-    while (!settling.settled() && steps < scene.run.steps) {
-        run.run().step();
-        ++steps;
-        settling.afterStep(run.run());
-    }
+    const long long steps = settleRun(run, scene, settling);
     const core::Particles& p = run->particles();
     const GradientMap map = run.wholeMap();
     const double h = voxelLength(map.r0Voxels);
