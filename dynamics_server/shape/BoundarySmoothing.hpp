@@ -14,8 +14,6 @@
 
 namespace bop::shape {
 
-// The width label images get unless their scene says otherwise, grid voxels.
-inline constexpr double kImageBoundarySmoothing = 2.0;
 // A voxel changes side only where the smoothed boundary lies further than this beyond its
 // centre, voxels: smooth shapes (a ball of radius 5 voxels and up) keep their labels exactly.
 inline constexpr double kSmoothingMargin = 0.1;

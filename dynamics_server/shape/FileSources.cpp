@@ -47,6 +47,7 @@ public:
         rasterizeImage(frames_[std::size_t(f)], sel_, g, out);
     }
     double naturalVoxelMm() const override { return frames_.front().spacingMm.minCoeff(); }
+    double coarsestSpacingMm() const override { return frames_.front().spacingMm.maxCoeff(); }
     std::string describe() const override { return what_; }
 
 private:

@@ -21,6 +21,8 @@ public:
     virtual void rasterize(int frame, const VoxelGrid& grid, Mask& out) const = 0;
     // Isotropic voxel size the data suggests, mm (images: their finest spacing); 0 = none.
     virtual double naturalVoxelMm() const { return 0.0; }
+    // The data's coarsest sample spacing, mm (images: their largest spacing, the slices'); 0 = none.
+    virtual double coarsestSpacingMm() const { return 0.0; }
     virtual std::string describe() const = 0;
     // What the source found and mended in its input, for a warning; "" when nothing.
     const std::string& warning() const { return warning_; }

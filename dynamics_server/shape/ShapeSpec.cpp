@@ -77,8 +77,9 @@ std::shared_ptr<ModelSource> readSource(const ConfigTable& t, double voxelMm, st
 }  // namespace
 
 double readBoundarySmoothing(const ConfigTable& t, const std::string& kind) {
-    const double fallback = kind == "nifti" || kind == "raw" ? kImageBoundarySmoothing : 0.0;
-    const double w = t.number("boundary_smoothing_voxels", fallback);
+    const bool image = kind == "nifti" || kind == "raw";
+    if (image && !t.has("boundary_smoothing_voxels")) return kImageDefaultSmoothing;
+    const double w = t.number("boundary_smoothing_voxels", 0.0);
     if (!(w >= 0)) t.fail("boundary_smoothing_voxels", "must be 0 (off) or more, got " + std::to_string(w));
     return w;
 }
@@ -139,11 +140,14 @@ ShapeSpec readShapeSpec(const ConfigTable& root) {
         s.grid.voxelMm = s.bags.front().source->naturalVoxelMm();
         if (!s.grid.voxelMm) grid.fail("voxel_size_mm", "missing (required unless the outer bag is an image)");
     }
+    for (BagSpec& bag : s.bags)  // an image's default: one of its coarsest samples
+        if (bag.boundarySmoothingVoxels == kImageDefaultSmoothing)
+            bag.boundarySmoothingVoxels = std::max(1.0, bag.source->coarsestSpacingMm() / s.grid.voxelMm);
     std::ostringstream os;
     os << "grid " << s.grid.voxelMm << " " << s.grid.paddingVoxels << " " << s.grid.r0Voxels << "\n"
        << grid.raw() << "\n"
        << shape.raw() << "\n"
-       << "boundary smoothing v1:";
+       << "boundary smoothing v2:";
     for (const BagSpec& bag : s.bags) os << ' ' << bag.boundarySmoothingVoxels;
     os << "\n" << stamps;
     s.canonical = os.str();

@@ -28,12 +28,15 @@ struct BagSpec {
     std::shared_ptr<ModelSource> source;         // loaded and checked while reading the scene
     std::optional<std::array<float, 3>> colour;  // from a label table, r g b in [0, 1]
     // Gaussian width of the boundary's anti-aliasing, grid voxels; 0 = the voxels as rasterized
-    // (shape/BoundarySmoothing.hpp). Images default to kImageBoundarySmoothing, other sources to 0.
+    // (shape/BoundarySmoothing.hpp). Images default to their coarsest spacing (one sample: the
+    // slices' thickness) in grid voxels, at least 1; other sources to 0.
     double boundarySmoothingVoxels = 0;
 };
 
-// `boundary_smoothing_voxels` of a [[shape.bag]] table of source `kind`, checked.
+// `boundary_smoothing_voxels` of a [[shape.bag]] table of source `kind`, checked; for an image
+// without the key, kImageDefaultSmoothing until the grid's voxel size is known.
 double readBoundarySmoothing(const ConfigTable& t, const std::string& kind);
+inline constexpr double kImageDefaultSmoothing = -1.0;
 
 struct ShapeSpec {
     std::string sceneFile;  // path of the scene file

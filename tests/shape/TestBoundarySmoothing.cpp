@@ -46,11 +46,16 @@ std::size_t pieces(const Mask& m, bool object) {
         .sizes.size();
 }
 
-// Smooths one mask at the images' default width and checks what every smoothing must keep.
-shape::BoundarySmoothingReport smoothChecked(Mask& m) {
+// The width an image of 1 x 1 x 1.5 mm gets by default on a grid of 1 mm: its slices' thickness.
+constexpr double kSliceWidth = 1.5;
+// Widths a scene may give, voxels: an isotropic image's default, the slices', twice that.
+const std::vector<double> kWidths = {1.0, kSliceWidth, 2.0};
+
+// Smooths one mask at `width` and checks what every smoothing must keep.
+shape::BoundarySmoothingReport smoothChecked(Mask& m, double width) {
     const Mask before = m;
     std::vector<Mask> one{m};
-    const auto rep = shape::smoothBoundaries(one, {shape::kImageBoundarySmoothing}).front();
+    const auto rep = shape::smoothBoundaries(one, {width}).front();
     m = one.front();
     INFO("removed " << rep.removed << ", added " << rep.added << ", width " << rep.widthVoxels << ", level shift "
                     << rep.levelShiftVoxels);
@@ -95,13 +100,15 @@ TEST_CASE("a simple point changes side without changing the topology", "[shape][
 
 TEST_CASE("smoothing leaves a ball's labels exact", "[shape][smoothing]") {
     const Dims d{44, 44, 44};
-    for (const double r : {5.0, 6.5, 8.0, 12.0, 17.0}) {
-        const Eigen::Vector3d c(22.3, 21.8, 22.1);
-        Mask m = maskOf(d, [&](const Eigen::Vector3d& x) { return (x - c).norm() <= r; });
-        const auto rep = smoothChecked(m);
-        INFO("ball of radius " << r << " voxels: " << rep.removed << " voxels out, " << rep.added << " in");
-        CHECK(rep.removed + rep.added == 0);
-    }
+    for (const double width : kWidths)
+        for (const double r : {5.0, 6.5, 8.0, 12.0, 17.0}) {
+            const Eigen::Vector3d c(22.3, 21.8, 22.1);
+            Mask m = maskOf(d, [&](const Eigen::Vector3d& x) { return (x - c).norm() <= r; });
+            const auto rep = smoothChecked(m, width);
+            INFO("ball of radius " << r << " voxels, width " << width << ": " << rep.removed << " voxels out, "
+                                   << rep.added << " in");
+            CHECK(rep.removed + rep.added == 0);
+        }
 }
 
 TEST_CASE("smoothing brings a staircase of thick slices to the surface it samples", "[shape][smoothing]") {
@@ -122,7 +129,7 @@ TEST_CASE("smoothing brings a staircase of thick slices to the surface it sample
     };
     const auto radial = [&](const Eigen::Vector3d& x) { return Eigen::Vector3d((x - c).normalized()); };
     const double offBefore = offSurface(m), angleBefore = medianNormalError(m, radial);
-    smoothChecked(m);
+    smoothChecked(m, kSliceWidth);
     const double offAfter = offSurface(m), angleAfter = medianNormalError(m, radial);
     const double angleIdeal = medianNormalError(truth, radial);
     INFO(offBefore << " -> " << offAfter << " voxels unlike the ball sampled on the grid; median normal error "
@@ -150,19 +157,20 @@ TEST_CASE("smoothing keeps thin parts, noisy shapes' volumes and touching bags a
              return ((x - c).norm() <= 12.0) != (bump && std::abs((x - c).norm() - 12.0) < 1.5);
          }},
     };
-    for (const auto& [name, in] : shapes) {
-        Mask m = maskOf(d, in);
-        INFO(name);
-        const auto rep = smoothChecked(m);
-        if (name == "noisy ball") CHECK(rep.removed + rep.added > 0);
-    }
+    for (const double width : kWidths)
+        for (const auto& [name, in] : shapes) {
+            Mask m = maskOf(d, in);
+            INFO(name << ", width " << width);
+            const auto rep = smoothChecked(m, width);
+            if (name == "noisy ball") CHECK(rep.removed + rep.added > 0);
+        }
 
     // Two bags that share a tilted face: they trade voxels and neither overlaps the other.
     const auto below = [](const Eigen::Vector3d& x) { return x.z() < 0.37 * x.x() + 0.21 * x.y() + 8.0; };
     std::vector<Mask> two{maskOf(d, [&](const Eigen::Vector3d& x) { return (x - c).norm() <= 15 && below(x); }),
                           maskOf(d, [&](const Eigen::Vector3d& x) { return (x - c).norm() <= 15 && !below(x); })};
     const std::size_t together = voxels(two[0]) + voxels(two[1]);
-    shape::smoothBoundaries(two, {1.0 * shape::kImageBoundarySmoothing, shape::kImageBoundarySmoothing});
+    shape::smoothBoundaries(two, {kSliceWidth, kSliceWidth});
     for (std::size_t v = 0; v < two[0].data.size(); ++v) REQUIRE(!(two[0].data[v] && two[1].data[v]));
     CHECK(double(voxels(two[0]) + voxels(two[1])) >= 0.995 * double(together));
 }
