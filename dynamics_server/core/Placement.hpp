@@ -35,7 +35,7 @@ struct PlacementParams {
     double gapR0 = 0.5;                      // least distance from a volume site to a surface particle, r0 (death_r0)
     SheetArea sheetArea = SheetArea::Faces;  // the area a sheet's count is taken over
     std::uint64_t seed = 1;                  // jitter, order and lattice offset
-    // Per voxel of the map, 1 where its bag is thinner than 2 r0 (shape::membraneVoxels): there
+    // Per voxel of the map, 1 where its bag is thinner than 2 r0 (shape::thinPartsWarnings): there
     // the outer faces on both sides hold one sheet between them, a membrane, and each counts half.
     // Null: every part counts its faces whole.
     const std::vector<char>* membrane = nullptr;

@@ -68,19 +68,16 @@ std::string thinPartsWarning(const std::string& bagName, const ThinParts& t, dou
     return text;
 }
 
-std::vector<std::string> thinPartsWarnings(const GradientMap& map, const std::vector<std::string>& bagNames) {
+std::vector<std::string> thinPartsWarnings(const GradientMap& map, const std::vector<std::string>& bagNames,
+                                           std::vector<char>* membrane) {
     std::vector<std::string> out;
+    if (membrane) membrane->assign(map.occ.size(), 0);
     for (std::size_t b = 0; b < bagNames.size(); ++b) {
-        std::string w = thinPartsWarning(bagNames[b], findThinParts(map, int(b) + 1, 2 * map.r0Voxels), map.r0Voxels);
+        std::string w =
+            thinPartsWarning(bagNames[b], findThinParts(map, int(b) + 1, 2 * map.r0Voxels, membrane), map.r0Voxels);
         if (!w.empty()) out.push_back(std::move(w));
     }
     return out;
-}
-
-std::vector<char> membraneVoxels(const GradientMap& map) {
-    std::vector<char> mask(map.occ.size(), 0);
-    for (int bag = 1; bag <= map.bagCount; ++bag) findThinParts(map, bag, 2 * map.r0Voxels, &mask);
-    return mask;
 }
 
 }  // namespace bop::shape

@@ -91,15 +91,19 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
         whole.map = std::make_shared<GradientMap>(s.options.map->crop(
             0, bop::VoxelWindow{Eigen::Vector3i::Zero(),
                                 Eigen::Vector3i(header.wholeDims().nx, header.wholeDims().ny, header.wholeDims().nz)}));
-        if (warn)
-            for (const std::string& w : shape::thinPartsWarnings(*whole.map, scene.shape->bagNames()))
-                progress("warning: " + w);
+        // The thin parts: said, and held as membranes where the bag is placed (one search for both).
+        std::vector<char> membrane;
+        if (warn || place) {
+            const std::vector<std::string> thin =
+                shape::thinPartsWarnings(*whole.map, scene.shape->bagNames(), place ? &membrane : nullptr);
+            if (warn)
+                for (const std::string& w : thin) progress("warning: " + w);
+        }
         PieceSeeding seeding = seedEveryPiece(whole, scene.construction, scene.timeline);
         scene.timeline = std::move(seeding.timeline);  // every process alike, from the same map
         if (warn && !place)
             for (const std::string& n : seeding.notes) progress(n);
         if (place) {  // every process places on the whole map alike and keeps what it owns (core::Run)
-            const std::vector<char> membrane = shape::membraneVoxels(*whole.map);
             core::PlacementParams params = *scene.placement;
             params.membrane = &membrane;
             core::Placement placed = core::placeParticles(whole, params);
