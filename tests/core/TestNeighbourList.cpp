@@ -84,7 +84,9 @@ TEST_CASE("the neighbour list holds every pair within range exactly once", "[cor
         const double range = 3.3;
         const auto pts = randomPoints(box, 900, periodic ? 7 : 8);
         // The wide pairs: two points in three, to a range that reaches farther.
-        NeighbourList::Wide wide{4.9, std::vector<char>(pts.size())};
+        NeighbourList::Wide wide;
+        wide.range = 4.9;
+        wide.member.resize(pts.size());
         for (std::size_t i = 0; i < pts.size(); ++i) wide.member[i] = i % 3 != 0;
         NeighbourList list;
         list.build(box, range, pts, {}, &wide);
@@ -122,6 +124,26 @@ TEST_CASE("the neighbour list holds every pair within range exactly once", "[cor
         CHECK(foundWide == expectedWide);
         CHECK(expectedWide.size() > 5000);
         CHECK(list.range() == wide.range);
+
+        // With groups (two bags' surfaces, say) the wide pairs are those the table joins only.
+        NeighbourList::Wide grouped = wide;
+        grouped.side = 3;
+        grouped.together = {0, 0, 0, 0, 1, 0, 0, 0, 1};  // group 1 with 1, 2 with 2
+        grouped.group.resize(pts.size());
+        for (std::size_t i = 0; i < pts.size(); ++i) grouped.group[i] = std::uint8_t(1 + i % 2);
+        NeighbourList apart;
+        apart.build(box, range, pts, {}, &grouped);
+        std::set<std::pair<std::uint32_t, std::uint32_t>> foundGrouped, expectedGrouped;
+        for (const auto& [i, j] : expectedWide)
+            if (i % 2 == j % 2) expectedGrouped.insert({i, j});
+        const NeighbourList::Pairs& groupedPairs = apart.widePairs();
+        for (std::uint32_t e = 0; e < apart.entryCount(); ++e)
+            for (std::uint32_t k = groupedPairs.start[e]; k < groupedPairs.start[e + 1]; ++k) {
+                const std::uint32_t i = apart.owner()[e], j = apart.owner()[groupedPairs.nbr[k]];
+                foundGrouped.insert({std::min(i, j), std::max(i, j)});
+            }
+        CHECK(foundGrouped == expectedGrouped);
+        CHECK(expectedGrouped.size() < 0.6 * double(expectedWide.size()));
         CHECK((list.ghostCount() > 0) == periodic);
     }
 }
@@ -201,7 +223,9 @@ TEST_CASE("the neighbour list is the same at 1, 2 and 3 threads, and complete", 
         std::vector<Eigen::Vector3d> halo;  // ghosts beyond the faces of the open box
         if (!periodic)
             for (const auto& x : randomPoints(box, 600, 13)) halo.push_back(x + Eigen::Vector3d(0, 0, 13.5));
-        NeighbourList::Wide wide{4.9, std::vector<char>(pts.size() + halo.size())};
+        NeighbourList::Wide wide;
+        wide.range = 4.9;
+        wide.member.resize(pts.size() + halo.size());
         for (std::size_t i = 0; i < wide.member.size(); ++i) wide.member[i] = i % 3 != 0;
         std::vector<NeighbourList> lists(3);
         for (int t = 1; t <= 3; ++t) {
