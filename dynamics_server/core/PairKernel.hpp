@@ -54,6 +54,7 @@ public:
                 const std::size_t k = std::size_t(a) * n_ + b, first = std::size_t(n_) + 1;
                 ljUniform_ = ljUniform_ && ljF_[k] == ljF_[first] && ljE_[k] == ljE_[first];
             }
+        uniformOriented_ = findUniformOrientedPair();
     }
 
     const LjForm& lj() const { return lj_; }
@@ -89,7 +90,10 @@ public:
     }
     // The index a * tableSide() + b of a species pair whose oriented weights every pair with
     // oriented weights shares (several bags' surfaces at one set of parameters), else -1.
-    int uniformOrientedPair() const {
+    int uniformOrientedPair() const { return uniformOriented_; }
+
+private:
+    int findUniformOrientedPair() const {
         int found = -1;
         for (int k = 0; k < n_ * n_; ++k) {
             if (!oriented_[std::size_t(k)]) continue;
@@ -104,6 +108,8 @@ public:
         }
         return found;
     }
+
+public:
     // The oriented terms' tables, tableSide() x tableSide(), row a, column b.
     struct OrientedTables {
         const double *cnF, *cnT, *cpF, *cpT, *cnE, *cpE;  // as the LJ tables, per term and kind
@@ -168,6 +174,7 @@ private:
     int n_;
     bool useCurvature_;
     bool ljUniform_ = true;
+    int uniformOriented_ = -1;  // uniformOrientedPair()
     double cutoff2_ = 0;
     std::vector<double> ljF_, ljE_, cnF_, cnT_, cpF_, cpT_, cnE_, cpE_;
     std::vector<char> oriented_;
