@@ -11,26 +11,28 @@ Params::Params(const Model& scene) : lj(scene.lj), coNormal(scene.coNormal), coP
     for (std::size_t s = 1; s < scene.species.size(); ++s) drag[s] = {scene.species[s].dragV, scene.species[s].dragW};
 }
 
-void Params::apply(const Command& c) {
-    if (c.kind == Command::Kind::Probe) {
-        probe = c.probe;
-        return;
-    }
+void Params::apply(const Command& command) {
     const int species = int(drag.size()) - 1;
-    if (c.species < 1 || c.species > species)
-        throw std::invalid_argument("command: no species " + std::to_string(c.species));
-    if (c.kind == Command::Kind::Drag) {
-        if (!(c.dragV >= 0 && c.dragW >= 0)) throw std::invalid_argument("drag command: drags must be 0 or more");
-        drag[std::size_t(c.species)] = {c.dragV, c.dragW};
-        return;
+    const auto known = [&](int s, const char* what) {
+        if (s < 1 || s > species)
+            throw std::invalid_argument(std::string(what) + " command: no species " + std::to_string(s));
+    };
+    if (const auto* c = std::get_if<ProbeCommand>(&command)) {
+        probe = c->probe;
+    } else if (const auto* c = std::get_if<DragCommand>(&command)) {
+        known(c->species, "drag");
+        if (!(c->dragV >= 0 && c->dragW >= 0)) throw std::invalid_argument("drag command: drags must be 0 or more");
+        drag[std::size_t(c->species)] = {c->dragV, c->dragW};
+    } else if (const auto* c = std::get_if<WeightCommand>(&command)) {
+        known(c->species, "weight");
+        known(c->other, "weight");
+        if (!std::isfinite(c->value) || c->value < 0)
+            throw std::invalid_argument("weight command: weights must be 0 or more");
+        WeightMatrix& w = c->table == WeightTable::Lj ? lj : c->table == WeightTable::CoNormal ? coNormal : coPlanar;
+        w(c->species, c->other) = c->value;
+    } else {
+        throw std::invalid_argument("command: not a probe, drag or weight command");
     }
-    if (c.kind != Command::Kind::Weight) throw std::invalid_argument("command: not a probe, drag or weight command");
-    if (c.other < 1 || c.other > species)
-        throw std::invalid_argument("weight command: no species " + std::to_string(c.other));
-    if (!std::isfinite(c.value) || c.value < 0)
-        throw std::invalid_argument("weight command: weights must be 0 or more");
-    WeightMatrix& w = c.table == Command::Table::Lj ? lj : c.table == Command::Table::CoNormal ? coNormal : coPlanar;
-    w(c.species, c.other) = c.value;
 }
 
 }  // namespace bop::core

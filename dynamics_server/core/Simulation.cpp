@@ -68,11 +68,11 @@ Simulation::Simulation(Simulation&&) noexcept = default;
 void Simulation::submit(const Command& command) {
     if (ex_->rank() != 0) throw std::logic_error("commands are submitted on rank 0");
     Params next = paramsAhead();
-    if (command.kind == Command::Kind::Probe || command.kind == Command::Kind::Drag ||
-        command.kind == Command::Kind::Weight)  // refused here, before any process sees it
-        next.apply(command);
+    const bool weight = std::holds_alternative<WeightCommand>(command);
+    if (weight || std::holds_alternative<ProbeCommand>(command) || std::holds_alternative<DragCommand>(command))
+        next.apply(command);  // refused here, before any process sees it
     // Only weights can switch the oriented terms on or off (one PairForces built to tell).
-    if (command.kind == Command::Kind::Weight && PairForces::listRange(*local_, next) != range_)
+    if (weight && PairForces::listRange(*local_, next) != range_)
         throw std::invalid_argument(
             "weight command: it would change the interaction range (oriented terms on or "
             "off); give the scene a nonzero weight of that kind to start with");
@@ -80,19 +80,19 @@ void Simulation::submit(const Command& command) {
     queued_ = std::move(next);
 }
 
-void Simulation::apply(const Command& c) {
-    if (c.kind == Command::Kind::Birth) {
-        if (c.species < 1 || c.species > model_->speciesCount())
-            throw std::invalid_argument("command: no species " + std::to_string(c.species));
-        construction_.setBirth(c.species, c.on);
+void Simulation::apply(const Command& command) {
+    if (const auto* c = std::get_if<BirthCommand>(&command)) {
+        if (c->species < 1 || c->species > model_->speciesCount())
+            throw std::invalid_argument("birth command: no species " + std::to_string(c->species));
+        construction_.setBirth(c->species, c->on);
         return;
     }
-    params_.apply(c);
-    if (c.kind == Command::Kind::Weight) {
+    params_.apply(command);
+    if (std::holds_alternative<WeightCommand>(command)) {
         field_.setParams(*local_, params_);
         forcesStale_ = true;
     }
-    if (c.kind == Command::Kind::Drag) drag_ = DragFactors(*local_, params_), fireDrag_.reset();
+    if (std::holds_alternative<DragCommand>(command)) drag_ = DragFactors(*local_, params_), fireDrag_.reset();
 }
 
 void Simulation::forces(bool energies) {
@@ -122,17 +122,18 @@ void Simulation::step() {
     // construction places them as a single process does.
     ex_->broadcast(commands_);
     std::vector<ConstructionEvent> events = construction_.eventsAt(stats_.step);
-    for (const Command& c : commands_) {
-        if (c.kind != Command::Kind::Seed) {
-            apply(c);
+    for (const Command& command : commands_) {
+        const auto* c = std::get_if<SeedCommand>(&command);
+        if (!c) {
+            apply(command);
             continue;
         }
-        if (c.species < 1 || c.species > model_->speciesCount())
-            throw std::invalid_argument("seed command: no species " + std::to_string(c.species));
+        if (c->species < 1 || c->species > model_->speciesCount())
+            throw std::invalid_argument("seed command: no species " + std::to_string(c->species));
         ConstructionEvent e;
         e.step = stats_.step;
-        e.species = c.species;
-        e.positionVoxels = c.position / (local_->map ? voxelLength(local_->map->r0Voxels) : 1.0);
+        e.species = c->species;
+        e.positionVoxels = c->position / (local_->map ? voxelLength(local_->map->r0Voxels) : 1.0);
         events.push_back(e);
     }
     commands_.clear();

@@ -13,11 +13,14 @@ MpiExchange::MpiExchange(const CartComm& comm, const core::Box& box, double reac
     : comm_(comm), box_(box), dec_(box, comm.dims(), reach) {}
 
 void MpiExchange::broadcast(std::vector<core::Command>& commands) {
-    std::vector<double> message;  // rank 0's queue, as Commands.hpp writes it
+    std::vector<CommandRecord> records;  // rank 0's queue
     if (comm_.rank() == 0)
-        for (const core::Command& c : commands) encode(c, message);
-    comm_.broadcast(message);
-    if (comm_.rank() != 0) commands = decode(message);
+        for (const core::Command& c : commands) records.push_back(recordOf(c));
+    comm_.broadcast(records);
+    if (comm_.rank() != 0) {
+        commands.clear();
+        for (const CommandRecord& r : records) commands.push_back(commandOf(r));
+    }
 }
 
 double MpiExchange::imbalance(std::size_t mine) {

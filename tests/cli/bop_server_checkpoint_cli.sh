@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Checkpoints of bop-server batch runs: a run stopped at a checkpoint and restarted from it ends
-# bit for bit where an uninterrupted run ends (1 rank and 2 ranks; the torus built by births, its
-# volume seeded after the restart; the four bags of the organs scene, stopped while it settles);
+# Checkpoints of bop-server runs: a run stopped at a checkpoint and restarted from it ends bit for
+# bit where an uninterrupted run ends (1 rank and 2 ranks; the torus built by births, its volume
+# seeded after the restart; a served run at 2 ranks; the four bags of the organs scene, stopped while it settles);
 # SIGTERM to mpirun writes a whole checkpoint and stops; a restart at 1 and at 3 ranks holds every
 # particle of it.
 # Usage: bop_server_checkpoint_cli.sh PATH/TO/bop-server PATH/TO/mpiexec SOURCE_DIR
@@ -33,6 +33,22 @@ for ranks in 1 2; do
   check "$ranks rank(s): ... with the volume seeded after the restart" \
     "[ \$(grep -c '^torus-volume ' '$work/c$ranks/final.xyz') -gt 10 ]"
 done
+
+# A served run's checkpoints mean what a batch run's do (app/runs/RunLifecycle.hpp): stopped at one
+# and restarted from it, at 2 ranks, the served run ends bit for bit as the one that went on.
+served() {  # its log, then bop-server's options; at most 150 s
+  local log=$1
+  shift
+  bounded 150 "$log" "$mpi" --oversubscribe -np 2 "$exe" "$scene" --port 0 \
+    --cache "$work/$(basename "$scene").bopgm" "$@"
+}
+served "$work/sa.log" --steps 1800 --checkpoint-every 900 -o "$work/sa"
+served "$work/sb.log" --steps 900 --checkpoint-every 900 -o "$work/sb"
+served "$work/sc.log" --steps 900 --checkpoint-every 900 -o "$work/sc" --restart "$work/sb/checkpoint.xyz"
+check "served, 2 ranks: the checkpoint at the end of a run is at step 900" \
+  "grep -q 'Step=900 Births=' '$work/sb/checkpoint.xyz'"
+check "served, 2 ranks: stopped at 900 and restarted, the run ends bit for bit as the uninterrupted one" \
+  "[ -s '$work/sa/final.xyz' ] && cmp -s '$work/sa/final.xyz' '$work/sc/final.xyz'"
 
 # Several bags (the organs scene: four bags, one inside another, placed and settled, the
 # minimiser's steps first, then the dynamics' from about step 180): stopped at a checkpoint in

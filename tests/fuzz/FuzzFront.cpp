@@ -145,7 +145,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     w.front->takeCommands();  // what an earlier input left queued
     w.front->takeProbe();
     app::ServedLoop loop(
-        w.scene, *w.run, w.front.get(), w.serve, [] { return false; }, nullptr,
+        w.scene, *w.run, w.front.get(), w.serve, [] { return false; }, {},
         std::chrono::microseconds(0));  // a paused pass does not wait
     // Paused, as a client may leave a server: the run steps only when the input resumes it or
     // asks for single steps, so that an input's cost lies in its messages, not in the physics.

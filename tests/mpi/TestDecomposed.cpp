@@ -246,26 +246,15 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
         if (s == 10 || s == 30) {
             probe.position = s == 10 ? centre : moved.position;
             single.probe() = probe;
-            Command c;
-            c.probe = probe;
-            if (comm.rank() == 0) run.submit(c);
+            if (comm.rank() == 0) run.submit(core::ProbeCommand{probe});
         }
         if (s == 40) {
-            Command c;
-            c.kind = Command::Kind::Drag;
-            c.species = 2;
-            c.dragV = 2.0;
-            c.dragW = 1.0;
+            const Command c = core::DragCommand{2, 2.0, 1.0};
             single.submit(c);
             if (comm.rank() == 0) run.submit(c);
         }
         if (s == 50) {
-            Command c;
-            c.kind = Command::Kind::Weight;
-            c.table = Command::Table::Lj;
-            c.species = 2;
-            c.other = 3;
-            c.value = 0.9;
+            const Command c = core::WeightCommand{core::WeightTable::Lj, 2, 3, 0.9};
             single.submit(c);
             if (comm.rank() == 0) run.submit(c);
         }
@@ -283,12 +272,9 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
     CHECK(single.stats().forces.probeReaction.norm() > 1e-3);
     CHECK(worst < 1e-9 * kR0);
     CHECK(reaction < 1e-8);
-    if (comm.rank() != 0) CHECK_THROWS_AS(run.submit(Command{}), std::logic_error);
+    if (comm.rank() != 0) CHECK_THROWS_AS(run.submit(core::ProbeCommand{}), std::logic_error);
     if (comm.rank() == 0) {  // refused on rank 0 before any rank applies it
-        Command bad;
-        bad.kind = Command::Kind::Weight;
-        bad.species = 2;
-        bad.other = 7;
+        core::WeightCommand bad{core::WeightTable::Lj, 2, 7, 0};
         CHECK_THROWS_WITH(run.submit(bad), Catch::Contains("no species 7"));
         bad.other = 3;
         bad.value = -1;
@@ -296,22 +282,35 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
     }
 }
 
-TEST_CASE("a malformed command array is refused with what is wrong", "[mpi][commands]") {
-    std::vector<double> a;
-    parallel::encode(Command{}, a);
-    a.pop_back();
-    CHECK_THROWS_WITH(parallel::decode(a), Catch::Contains("probe command needs 7 values"));
-    CHECK_THROWS_WITH(parallel::decode({9.0}), Catch::Contains("unknown command kind"));
-    Command drag;
-    drag.kind = Command::Kind::Drag;
-    drag.species = 3;
-    drag.dragV = 0.5;
-    std::vector<double> b;
-    parallel::encode(drag, b);
-    const auto back = parallel::decode(b);
-    REQUIRE(back.size() == 1);
-    CHECK(back[0].species == 3);
-    CHECK(back[0].dragV == 0.5);
+TEST_CASE("a command crosses ranks as the record of its kind, and a record of no kind is refused", "[mpi][commands]") {
+    const std::vector<Command> sent = {core::ProbeCommand{{true, Eigen::Vector3d(1, -2, 3.5), {1.5, 0.25}}},
+                                       core::DragCommand{3, 0.5, 0.125},
+                                       core::SeedCommand{2, Eigen::Vector3d(-4, 5, 6)}, core::BirthCommand{2, true},
+                                       core::WeightCommand{core::WeightTable::CoPlanar, 1, 2, 0.75}};
+    std::vector<parallel::CommandRecord> records;
+    for (const Command& c : sent) records.push_back(parallel::recordOf(c));
+    const auto bytes = core::recordBytes(records);  // what the broadcast carries
+    std::vector<Command> back;
+    for (const auto& r : core::recordsOf<parallel::CommandRecord>(bytes)) back.push_back(parallel::commandOf(r));
+    REQUIRE(back.size() == sent.size());
+    for (std::size_t k = 0; k < sent.size(); ++k) REQUIRE(back[k].index() == sent[k].index());
+    const auto& probe = std::get<core::ProbeCommand>(back[0]).probe;
+    CHECK((probe.active && probe.position == Eigen::Vector3d(1, -2, 3.5) && probe.params.k0 == 1.5 &&
+           probe.params.k1 == 0.25));
+    const auto& drag = std::get<core::DragCommand>(back[1]);
+    CHECK((drag.species == 3 && drag.dragV == 0.5 && drag.dragW == 0.125));
+    const auto& seed = std::get<core::SeedCommand>(back[2]);
+    CHECK((seed.species == 2 && seed.position == Eigen::Vector3d(-4, 5, 6)));
+    const auto& birth = std::get<core::BirthCommand>(back[3]);
+    CHECK((birth.species == 2 && birth.on));
+    const auto& weight = std::get<core::WeightCommand>(back[4]);
+    CHECK((weight.table == core::WeightTable::CoPlanar && weight.species == 1 && weight.other == 2 &&
+           weight.value == 0.75));
+    parallel::CommandRecord unknown;
+    unknown.kind = 9;
+    CHECK_THROWS_WITH(parallel::commandOf(unknown), Catch::Contains("unknown command kind 9"));
+    const parallel::CommandRecord table = parallel::recordOf(core::WeightCommand{core::WeightTable(7), 1, 1, 0});
+    CHECK_THROWS_WITH(parallel::commandOf(table), Catch::Contains("weight table 7"));
 }
 
 TEST_CASE("a particle a hair below a periodic face is wrapped onto the face, not past the box", "[mpi][wrap]") {

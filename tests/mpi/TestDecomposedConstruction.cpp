@@ -122,16 +122,9 @@ TEST_CASE("seed and birth commands sent to rank 0 build the same bag as the time
     const core::Construction timeline(b.scene.construction, b.scene.timeline, b.scene.model->speciesCount());
     if (comm.rank() == 0)
         for (int s : {1, 2}) {
-            Command seed;
-            seed.kind = Command::Kind::Seed;
-            seed.species = s;
-            seed.position = timeline.defaultSeedPosition(b.serial->model(), s);  // its map: the whole grid
-            run.submit(seed);
-            Command birth;
-            birth.kind = Command::Kind::Birth;
-            birth.species = s;
-            birth.on = true;
-            run.submit(birth);
+            // the seed's map: the whole grid
+            run.submit(core::SeedCommand{s, timeline.defaultSeedPosition(b.serial->model(), s)});
+            run.submit(core::BirthCommand{s, true});
         }
     run.run(steps);
     const core::Particles got = run.gather();

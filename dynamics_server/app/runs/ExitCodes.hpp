@@ -4,6 +4,6 @@
 namespace bop::app {
 
 inline constexpr int kExitUnsound = 3;         // the physics made an unsound state (core/SoundState.hpp)
-inline constexpr int kExitStoppedByError = 4;  // an error stopped a served run; its state is saved
+inline constexpr int kExitStoppedByError = 4;  // an error stopped the run (RunLifecycle.hpp); its state is saved
 
 }  // namespace bop::app

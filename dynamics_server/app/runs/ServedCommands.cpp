@@ -27,35 +27,25 @@ protocol::CommandReply apply(const protocol::Command& c, Desk& desk, core::Run& 
     core::Command rc;
     try {
         if (const auto* seed = std::get_if<protocol::SeedParticle>(&c.body)) {
-            rc.kind = core::Command::Kind::Seed;
-            rc.species = seed->species;
-            rc.position = seed->position;
+            rc = core::SeedCommand{seed->species, seed->position};
         } else if (const auto* birth = std::get_if<protocol::SetBirth>(&c.body)) {
-            rc.kind = core::Command::Kind::Birth;
-            rc.species = birth->species;
-            rc.on = birth->enabled;
+            rc = core::BirthCommand{birth->species, birth->enabled};
         } else if (const auto* p = std::get_if<protocol::SetParameter>(&c.body)) {
             const std::string& n = p->name;
             if (n == "lj" || n == "co_normal" || n == "co_planar") {
-                rc.kind = core::Command::Kind::Weight;
-                rc.table = n == "lj"          ? core::Command::Table::Lj
-                           : n == "co_normal" ? core::Command::Table::CoNormal
-                                              : core::Command::Table::CoPlanar;
-                rc.species = p->speciesA;
-                rc.other = p->speciesB;
-                rc.value = p->value;
+                const core::WeightTable table = n == "lj"          ? core::WeightTable::Lj
+                                                : n == "co_normal" ? core::WeightTable::CoNormal
+                                                                   : core::WeightTable::CoPlanar;
+                rc = core::WeightCommand{table, p->speciesA, p->speciesB, p->value};
             } else if (n == "k0" || n == "k1") {  // within their ranges: the decoder checked
-                rc.kind = core::Command::Kind::Probe;
-                rc.probe = run.paramsAhead().probe;
-                (n == "k0" ? rc.probe.params.k0 : rc.probe.params.k1) = p->value;
+                core::ProbeCommand probe{run.paramsAhead().probe};
+                (n == "k0" ? probe.probe.params.k0 : probe.probe.params.k1) = p->value;
+                rc = probe;
             } else if (n == "drag_v" || n == "drag_w") {
                 if (p->speciesA < 1 || p->speciesA > speciesCount)
                     return answer(c, ReplyStatus::Rejected, next, "no species " + std::to_string(p->speciesA));
                 const core::Drag d = run.paramsAhead().drag[std::size_t(p->speciesA)];
-                rc.kind = core::Command::Kind::Drag;
-                rc.species = p->speciesA;
-                rc.dragV = n == "drag_v" ? p->value : d.v;
-                rc.dragW = n == "drag_w" ? p->value : d.w;
+                rc = core::DragCommand{p->speciesA, n == "drag_v" ? p->value : d.v, n == "drag_w" ? p->value : d.w};
             } else {
                 return answer(c, ReplyStatus::Unsupported, next, "unknown parameter '" + n + "'");
             }
@@ -70,9 +60,13 @@ protocol::CommandReply apply(const protocol::Command& c, Desk& desk, core::Run& 
         } else {
             return answer(c, ReplyStatus::Unsupported, next, "not supported by this server yet");
         }
-        if (rc.kind == core::Command::Kind::Seed || rc.kind == core::Command::Kind::Birth)
-            if (rc.species < 1 || rc.species > speciesCount)
-                return answer(c, ReplyStatus::Rejected, next, "no species " + std::to_string(rc.species));
+        const auto* seed = std::get_if<core::SeedCommand>(&rc);
+        const auto* birth = std::get_if<core::BirthCommand>(&rc);
+        if (const int species = seed    ? seed->species
+                                : birth ? birth->species
+                                        : 1;
+            species < 1 || species > speciesCount)
+            return answer(c, ReplyStatus::Rejected, next, "no species " + std::to_string(species));
         run.submit(rc);
     } catch (const std::invalid_argument& e) {
         return answer(c, ReplyStatus::Rejected, next, e.what());

@@ -1,6 +1,5 @@
 #include "app/runs/ServedLoop.hpp"
 
-#include "app/files/Checkpoint.hpp"
 #include "core/BloodPressure.hpp"
 #include "server/InboundRanges.hpp"
 
@@ -47,14 +46,15 @@ protocol::StateFrame frameOf(core::FrameArrays a, const core::Totals& t, const D
 }  // namespace
 
 ServedLoop::ServedLoop(const Scene& scene, core::Run& run, protocol::ServerFront* front, const ServeOptions& o,
-                       std::function<bool()> stopRequested, CardiacRun* cardiac, std::chrono::microseconds idle)
+                       std::function<bool()> stopRequested, std::function<void()> afterStep,
+                       std::chrono::microseconds idle)
     : scene_(scene),
       model_(*scene.model),
       run_(run),
       front_(front),
       o_(o),
       stopRequested_(std::move(stopRequested)),
-      cardiac_(cardiac),
+      afterStep_(std::move(afterStep)),
       idle_(idle),
       info_(sceneInfoOf(scene, nullptr)),
       volume_(model_.box.size().prod()),
@@ -70,9 +70,7 @@ void ServedLoop::takeProbe(const protocol::Probe& p) {
     desk_.clientProbe = true;
     desk_.lastClientProbe = Clock::now();
     front_->probeApplied(p, std::uint64_t(run_.stepNumber()));
-    core::Command c;
-    c.probe = {p.active, p.position, {p.k0, p.k1}};
-    run_.submit(c);
+    run_.submit(core::ProbeCommand{{p.active, p.position, {p.k0, p.k1}}});
 }
 
 ServedLoop::Decision ServedLoop::replayInputs() {
@@ -146,15 +144,7 @@ bool ServedLoop::pass() {
         if (ctl.publish) run_.energiesNextStep();  // the frame carries them; other steps skip them
         run_.step();                               // core::UnsoundState leaves here, on every rank
         ++done_, ++rateSteps_;
-        if (cardiac_) cardiac_->record(run_, model_);
-        if (o_.checkpointEvery > 0 && run_.stepNumber() % o_.checkpointEvery == 0) {
-            const core::Particles all = run_.gather();  // collective
-            if (front_) try {
-                    writeCheckpoint(o_.outDir + "/checkpoint.xyz", all, model_, run_.construction(), run_.stepNumber());
-                } catch (const std::exception& e) {  // the run goes on; the previous checkpoint is whole
-                    spdlog::error("{}", e.what());
-                }
-        }
+        if (afterStep_) afterStep_();  // collective: the lifecycle's checkpoints
     } else {
         std::this_thread::sleep_for(idle_);
     }

@@ -5,7 +5,6 @@
 // send feedback; every rank agrees on that decision, steps, and joins the gathers when due. No
 // rank waits on a client. Nothing rank 0 meets while taking the inputs escapes: the run stops
 // cleanly instead, every rank at the same pass (error()).
-#include "app/cardiac/CardiacRun.hpp"
 #include "app/runs/ServedCommands.hpp"
 #include "app/runs/ServedRun.hpp"
 
@@ -20,9 +19,10 @@ namespace bop::app {
 class ServedLoop {
 public:
     // front: rank 0's (null on the other ranks); stopRequested: rank 0's signal flag, read each pass;
-    // idle: how long a pass without a step (paused) sleeps.
+    // afterStep: called after each step on every rank (RunLifecycle::afterStep: the checkpoints
+    // and the ventricle's curve); idle: how long a pass without a step (paused) sleeps.
     ServedLoop(const Scene& scene, core::Run& run, protocol::ServerFront* front, const ServeOptions& o,
-               std::function<bool()> stopRequested, CardiacRun* cardiac = nullptr,
+               std::function<bool()> stopRequested, std::function<void()> afterStep = {},
                std::chrono::microseconds idle = std::chrono::milliseconds(1));
 
     // One pass; false when the run is to stop (a signal, --steps, the replay's end, or an error on
@@ -47,7 +47,7 @@ private:
     protocol::ServerFront* front_;
     const ServeOptions& o_;
     std::function<bool()> stopRequested_;
-    CardiacRun* cardiac_;
+    std::function<void()> afterStep_;
     std::chrono::microseconds idle_;
     protocol::SceneInfo info_;  // the scene's ranges, for replayed inputs (server/InboundRanges.hpp)
     Desk desk_;

@@ -1,7 +1,6 @@
 #include "app/runs/ServedRun.hpp"
 
-#include "app/files/Checkpoint.hpp"
-#include "app/files/ExtendedXyz.hpp"
+#include "app/runs/RunLifecycle.hpp"
 #include "app/runs/ServedLoop.hpp"
 #include "bop/common/GradientMapFile.hpp"
 #include "core/BloodPressure.hpp"
@@ -9,22 +8,10 @@
 
 #include <spdlog/spdlog.h>
 
-#include <csignal>
 #include <filesystem>
 #include <iostream>
-#include <limits>
-#include <thread>
 
 namespace bop::app {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-volatile std::sig_atomic_t gStop = 0;
-void onSignal(int) {
-    gStop = 1;
-}
-
-}  // namespace
 
 protocol::SceneInfo sceneInfoOf(const Scene& scene, const GradientMap* map) {
     const core::Model& m = *scene.model;
@@ -67,25 +54,14 @@ protocol::SceneInfo sceneInfoOf(const Scene& scene, const GradientMap* map) {
 }
 
 int runServed(const Scene& scene, RunStart start, const ServeOptions& o, core::ExchangeMaker exchanges) {
-    const core::Model& model = *scene.model;
-    const GradientMap* header = start.options.map ? &start.options.map->header : nullptr;
-    protocol::SceneInfo info = sceneInfoOf(scene, header);
-    std::optional<CardiacRun> cardiac;  // [pressure]: the curve of a ventricle watched live, written at the end
-    const std::optional<GradientMap> mapHeader = header ? std::optional(*header) : std::nullopt;
-    core::Run run(scene.model, start.particles, std::move(start.options), std::move(exchanges));
-    if (scene.pressure && mapHeader) cardiac.emplace(scene, *mapHeader, run.frameVolumes());
-    const bool root = run.rank() == 0;
-    run.setProbe(scene.probe);
-    // Frames carry the energies: the steps that publish one compute them (ServedLoop), the others
-    // do not.
-    run.setEnergyEvery(std::numeric_limits<long long>::max());
-    run.refreshForces();
-    std::signal(SIGINT, onSignal);
-    std::signal(SIGTERM, onSignal);
-
+    const std::size_t particles = start.particles.size();
+    RunLifecycle life(scene, std::move(start), std::move(exchanges), {o.outDir, o.checkpointEvery});
+    core::Run& run = life.run();
+    installStopSignals();
     std::unique_ptr<protocol::ServerFront> front;
-    if (root) {
-        info.particleCount = start.particles.size();
+    if (life.root()) {
+        protocol::SceneInfo info = sceneInfoOf(scene, life.mapHeader());
+        info.particleCount = particles;
         std::error_code ec;  // the gradient-map cache, for haptic clients to download
         if (scene.shape && !o.front.mapFile.empty() && std::filesystem::is_regular_file(o.front.mapFile, ec)) {
             info.mapBytes = std::filesystem::file_size(o.front.mapFile, ec);
@@ -97,35 +73,13 @@ int runServed(const Scene& scene, RunStart start, const ServeOptions& o, core::E
                   << std::endl;
         if (o.waitForClient) {
             spdlog::info("waiting for a client (--wait-for-client)");
-            while (!gStop && !front->waitForClient(std::chrono::milliseconds(200))) {
+            while (!stopRequested() && !front->waitForClient(std::chrono::milliseconds(200))) {
             }
         }
     }
-    ServedLoop loop(
-        scene, run, front.get(), o, [] { return gStop != 0; }, cardiac ? &*cardiac : nullptr);
-    int code = 0;
-    std::string why;
-    try {
-        while (loop.pass()) {
-        }
-        if (!loop.error().empty()) code = kExitStoppedByError, why = loop.error();
-    } catch (const core::UnsoundState& e) {  // every rank, at the same step
-        code = kExitUnsound, why = e.what();
-    } catch (const std::exception& e) {
-        if (run.size() > 1) throw;  // on this rank alone: the others cannot join a checkpoint (main aborts them all)
-        code = kExitStoppedByError, why = e.what();
-    }
-    // Stopped by an unsound state: the last sound one is saved, and no final state (it holds NaN
-    // or a runaway); otherwise the state now.
-    const std::optional<core::SoundSnapshot> last = code == kExitUnsound ? run.lastSound() : std::nullopt;
-    const core::Particles all = code == kExitUnsound ? core::Particles{} : run.gather();
-    if (!root) return code;
-    std::filesystem::create_directories(o.outDir);
-    const std::string checkpoint = o.outDir + "/checkpoint.xyz", finalFile = o.outDir + "/final.xyz";
-    if (code != kExitUnsound)
-        writeCheckpoint(checkpoint, all, model, run.construction(), run.stepNumber());
-    else if (last)
-        writeCheckpoint(checkpoint, last->particles, model, last->construction, last->step);
+    ServedLoop loop(scene, run, front.get(), o, stopRequested, [&] { life.afterStep(); });
+    const RunEnding end = life.drive([&] { return loop.pass(); }, [&] { return loop.error(); });
+    if (!life.root()) return end.code;
     front->finish();  // the recording, if any, is complete from here
     const protocol::FrontStats s = front->stats();
     front.reset();
@@ -134,9 +88,6 @@ int runServed(const Scene& scene, RunStart start, const ServeOptions& o, core::E
                                             : "recording stopped early (" + s.recordError +
                                                   "); what was written is in " + o.front.recordPath + ".partial")
                   << "\n";
-    std::filesystem::remove(finalFile);
-    if (code != kExitUnsound)
-        appendExtendedXyz(finalFile, all, speciesNames(model), snapshotInfo(model, run.stepNumber()));
     std::cout << "served " << loop.stepsDone() << " steps to " << s.sessionsOpened << " clients (" << s.sessionsExpired
               << " sessions expired, " << s.clients << " open at the end): " << s.framesSent << " frames ("
               << s.bytesSent / 1e6 << " MB, " << s.framesDropped << " replaced before sending), " << s.commands
@@ -147,21 +98,15 @@ int runServed(const Scene& scene, RunStart start, const ServeOptions& o, core::E
               << (s.internalErrors ? " (last: " + s.lastInternalError + ")" : std::string())
               << "; the step loop waited on the front " << s.loopWaits << " times, longest " << s.loopWaitLongestMs
               << " ms, " << s.loopWaitTotalMs << " ms in all\n";
-    if (cardiac && code != kExitUnsound) cardiac->finish(o.outDir, std::cout);
-    if (code == kExitUnsound) {
-        spdlog::error("stopped: {}", why);
-        if (last)
-            spdlog::error("the last sound state (step {}) is in {}; nothing unsound was streamed or recorded",
-                          last->step, checkpoint);
-        else
-            spdlog::error("the run's start was not sound: no checkpoint written");
-        return code;
+    if (end.code == kExitUnsound) {
+        spdlog::error("nothing unsound was streamed or recorded");
+        return end.code;
     }
-    if (code == kExitStoppedByError)
-        spdlog::error("stopped by an error: {}; the state at step {} is in {}", why, run.stepNumber(), checkpoint);
-    spdlog::info("final state: {}; checkpoint: {}", finalFile, checkpoint);
-    if (cardiac) cardiac->plot(o.outDir, std::cout, true);  // a signal may have stopped the run: mpirun is not waiting
-    return code;
+    if (life.cardiac()) life.cardiac()->finish(o.outDir, std::cout);
+    spdlog::info("final state: {}; checkpoint: {}", o.outDir + "/final.xyz", o.outDir + "/checkpoint.xyz");
+    // A signal may have stopped the run: mpirun is not waiting.
+    if (life.cardiac()) life.cardiac()->plot(o.outDir, std::cout, true);
+    return end.code;
 }
 
 }  // namespace bop::app
