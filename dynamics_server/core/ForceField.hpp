@@ -10,7 +10,6 @@ namespace bop::core {
 class ForceField {
 public:
     ForceField(const Model& model, const Params& params);
-    explicit ForceField(const Model& model) : ForceField(model, Params(model)) {}  // the scene's weights
 
     // Overwrites particles.force and particles.torque. energies = false skips the pair
     // energies (stats.pairEnergy is then 0); the forces do not depend on it. halo: ghosts owned

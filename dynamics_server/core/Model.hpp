@@ -1,7 +1,8 @@
 #pragma once
-// The scene model: everything a step reads and never changes (species table, interspecies
-// weights, potentials, integration parameters, box and gradient map). Built once from the
-// scene file; commands from the network replace parts of it only between steps.
+// The scene model: what a step reads and what never changes after loading (species table,
+// potentials' forms, integration parameters, box, the whole gradient maps). What commands change
+// (weights, drags, the probe) is Params.hpp's; the map in force at a step (this process's window,
+// the keyframes' blend) is MapInForce.hpp's.
 #include "Keyframes.hpp"
 #include "Potentials.hpp"
 #include "bop/common/GradientMap.hpp"
@@ -24,19 +25,6 @@ struct Species {
     double alphaForceGm = 1.0;                      // alpha_f^GM: gradient-map spring stiffness, energy / length^2
     double alphaTorqueOp = 1.0;                     // alpha_tau^OP: weight of oriented-particle torques (eq. 3)
     double alphaTorqueGm = 1.0;                     // alpha_tau^GM: gradient-map torque, energy
-    double dragV = 1.0;                             // beta_v: translational damping, mass / time (eq. 10)
-    double dragW = 0.3;                             // beta_tau: rotational damping, inertia / time (eq. 11)
-};
-
-// alpha_ab for one potential: the weight applied to the force (torque) on a particle of species
-// a from a particle of species b (paper eqs. 6-8; asymmetric allowed). Index 0 is unused.
-struct WeightMatrix {
-    int n = 0;              // species count + 1
-    std::vector<double> w;  // n x n, row = receiving species
-    WeightMatrix() = default;
-    WeightMatrix(int species, double fill) : n(species + 1), w(std::size_t(n) * n, fill) {}
-    double operator()(int a, int b) const { return w[std::size_t(a) * n + b]; }
-    double& operator()(int a, int b) { return w[std::size_t(a) * n + b]; }
 };
 
 struct Box {
@@ -73,7 +61,6 @@ struct Integration {
 
 struct Model {
     std::vector<Species> species;  // index = species number; [0] is a placeholder
-    WeightMatrix lj, coNormal, coPlanar;
     LjParams ljParams;
     OrientedParams oriented;
     Integration integration;

@@ -159,8 +159,8 @@ void PairForces::add(const Model& model, Particles& p, const Halo* halo, const s
     }
 }
 
-void PairForces::bruteForce(const Model& model, Particles& p, ForceStats& stats) {
-    const PairKernel kernel(model, Params(model));
+void PairForces::bruteForce(const Model& model, const Params& params, Particles& p, ForceStats& stats) {
+    const PairKernel kernel(model, params);
     std::vector<float> w(p.size(), 1.0f);
     for (std::size_t i = 0; i < p.size(); ++i) w[i] = MapForces::curvatureWeight(model, p.pos[i], p.species[i]);
     PairKernel::Sums sums;

@@ -61,7 +61,7 @@ public:
 
     // Reference O(N^2) pair forces (tests): PairKernel::apply pair by pair, the scene's weights,
     // the map's curvature weights, no lists.
-    static void bruteForce(const Model& model, Particles& particles, ForceStats& stats);
+    static void bruteForce(const Model& model, const Params& params, Particles& particles, ForceStats& stats);
 
 private:
     void updateList(const Model& model, const Particles& particles, const Halo* halo);

@@ -6,10 +6,8 @@
 
 namespace bop::core {
 
-Params::Params(const Model& scene) : lj(scene.lj), coNormal(scene.coNormal), coPlanar(scene.coPlanar) {
-    drag.resize(scene.species.size());
-    for (std::size_t s = 1; s < scene.species.size(); ++s) drag[s] = {scene.species[s].dragV, scene.species[s].dragW};
-}
+Params::Params(int species)
+    : lj(species, 1.0), coNormal(species, 0.0), coPlanar(species, 0.0), drag(std::size_t(species) + 1) {}
 
 void Params::apply(const Command& command) {
     const int species = int(drag.size()) - 1;

@@ -12,8 +12,22 @@ namespace bop::core {
 
 double haloReach(const Model& model, const SimulationOptions& o) {
     const double front = o.construction ? o.construction->params().frontR0 : ConstructionParams{}.frontR0;
-    return std::max(PairForces::listRange(model, Params(model)), model.map || o.map ? front * kR0 : 0.0);
+    return std::max(PairForces::listRange(model, o.params ? *o.params : Params(model.speciesCount())),
+                    model.map || o.map ? front * kR0 : 0.0);
 }
+
+namespace {
+
+Params paramsFor(const Model& model, std::optional<Params> given) {
+    if (!given) return Params(model.speciesCount());
+    if (given->speciesCount() != model.speciesCount() || given->lj.n != model.speciesCount() + 1 ||
+        given->coNormal.n != given->lj.n || given->coPlanar.n != given->lj.n)
+        throw std::invalid_argument("simulation: params for " + std::to_string(given->speciesCount()) +
+                                    " species, the model has " + std::to_string(model.speciesCount()));
+    return std::move(*given);
+}
+
+}  // namespace
 
 Simulation::Simulation(std::shared_ptr<const Model> model, const Particles& all, SimulationOptions options,
                        Exchange& exchange)
@@ -27,7 +41,7 @@ Simulation::Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::s
     : ownExchange_(std::move(own)),
       ex_(exchange ? exchange : ownExchange_.get()),
       model_(std::move(model)),
-      params_(options.params ? *options.params : Params(*model_)),
+      params_(paramsFor(*model_, std::move(options.params))),
       region_(ex_->region(model_->box)),
       field_(*model_, params_),
       drag_(*model_, params_),

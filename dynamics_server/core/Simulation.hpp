@@ -66,7 +66,7 @@ struct SimulationOptions {
     std::optional<Construction> construction{};  // timeline and parameters; none: no timeline
     long long firstStep = 0;                     // step number of the initial state
     std::optional<MapSource> map{};              // none: windows of model->map
-    std::optional<Params> params{};              // none: the scene's weights and drags, the probe off
+    std::optional<Params> params{};              // none: Params(species count), the neutral weights
     // Particles re-sorted in the neighbour list's cell order at the first list rebuild this
     // many steps after the last sort (Exchange::sortParticles; 0: kept in their order).
     long long sortEverySteps = kSortEverySteps;

@@ -4,8 +4,8 @@
 
 namespace bop::test {
 
-BruteForceComparison compareWithBruteForce(const core::Model& m, core::ForceField& field, core::Particles& p,
-                                           bool energies) {
+BruteForceComparison compareWithBruteForce(const core::Model& m, const core::Params& params, core::ForceField& field,
+                                           core::Particles& p, bool energies) {
     BruteForceComparison c;
     field.compute(m, core::ProbeState{}, p, c.field, nullptr, energies);
     core::Particles q = p;
@@ -13,7 +13,7 @@ BruteForceComparison compareWithBruteForce(const core::Model& m, core::ForceFiel
         q.force[i].setZero();
         q.torque[i].setZero();
     }
-    core::PairForces::bruteForce(m, q, c.brute);
+    core::PairForces::bruteForce(m, params, q, c.brute);
     for (std::size_t i = 0; i < p.size(); ++i) {
         c.maxForce = std::max(c.maxForce, q.force[i].norm());
         c.forceError = std::max(c.forceError, (p.force[i] - q.force[i]).norm());

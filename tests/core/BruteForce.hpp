@@ -11,8 +11,9 @@ struct BruteForceComparison {
     double forceError = 0, torqueError = 0;  // the largest |difference| over particles
 };
 
-// Computes p's forces with `field` (energies on), and the reference's on a copy.
-BruteForceComparison compareWithBruteForce(const core::Model& m, core::ForceField& field, core::Particles& p,
-                                           bool energies = true);
+// Computes p's forces with `field` (energies on), and the reference's on a copy, with `params`'
+// weights (the field's).
+BruteForceComparison compareWithBruteForce(const core::Model& m, const core::Params& params, core::ForceField& field,
+                                           core::Particles& p, bool energies = true);
 
 }  // namespace bop::test

@@ -29,19 +29,19 @@ void checkBagAgainstReference(bool uniformLj = false) {
     m->species.assign(4, Species{});
     m->species[1].kind = m->species[3].kind = ParticleKind::Surface;
     for (auto& s : m->species) s.alphaForceGm = s.alphaTorqueGm = 0;  // the pairs alone
-    m->lj = WeightMatrix(3, 1.0);
-    m->coNormal = WeightMatrix(3, 0.3);
-    m->coPlanar = WeightMatrix(3, 0.3);
+    Params w(3);
+    w.coNormal = WeightMatrix(3, 0.3);
+    w.coPlanar = WeightMatrix(3, 0.3);
     if (!uniformLj) {
-        m->lj(1, 2) = 0.5;
-        m->lj(2, 1) = 1.5;
+        w.lj(1, 2) = 0.5;
+        w.lj(2, 1) = 1.5;
         m->species[3].alphaForceOp = 0.8;
     }
-    m->coNormal(1, 3) = 0.1;
-    m->coPlanar(3, 1) = 0.7;
-    m->coPlanar(3, 3) = 0.0;  // a surface pair with co-normal weight only
+    w.coNormal(1, 3) = 0.1;
+    w.coPlanar(3, 1) = 0.7;
+    w.coPlanar(3, 3) = 0.0;  // a surface pair with co-normal weight only
     m->species[1].alphaTorqueOp = 1.3;
-    REQUIRE(PairKernel(*m, Params(*m)).ljUniform() == uniformLj);
+    REQUIRE(PairKernel(*m, w).ljUniform() == uniformLj);
     m->map = map;
     m->curvatureWeighting = true;
     const double h = voxelLength(map->r0Voxels);
@@ -64,8 +64,8 @@ void checkBagAgainstReference(bool uniformLj = false) {
             const float w = MapForces::curvatureWeight(*m, p.pos[i], p.species[i]);
             wLo = std::min(wLo, w), wHi = std::max(wHi, w);
         }
-    ForceField field(*m);
-    const test::BruteForceComparison c = test::compareWithBruteForce(*m, field, p);
+    ForceField field(*m, w);
+    const test::BruteForceComparison c = test::compareWithBruteForce(*m, w, field, p);
     const ForceStats &a = c.field, &b = c.brute;
     const double maxF = c.maxForce, errF = c.forceError, errT = c.torqueError;
     INFO("curvature weights " << wLo << " to " << wHi << "; LJ pairs " << a.pairsInRange << ", oriented "

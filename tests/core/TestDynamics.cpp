@@ -23,24 +23,29 @@ std::shared_ptr<Model> mixedModel(bool symmetric, bool damped, bool periodic, do
     m->species.assign(4, Species{});
     m->species[1].kind = m->species[3].kind = ParticleKind::Surface;
     m->species[2].kind = ParticleKind::Volume;
-    for (auto& s : m->species) {
-        s.dragV = damped ? 1.0 : 0.0;
-        s.dragW = damped ? 0.3 : 0.0;
-    }
-    m->lj = WeightMatrix(3, 1.0);
-    m->coNormal = WeightMatrix(3, 0.3);
-    m->coPlanar = WeightMatrix(3, 0.3);
+    (void)damped;  // mixedParams' drags
     if (!symmetric) {
-        m->lj(1, 2) = 0.5;
-        m->lj(2, 1) = 1.5;
-        m->coNormal(1, 3) = 0.1;
-        m->coPlanar(3, 1) = 0.7;
         m->species[3].alphaForceOp = 0.8;
         m->species[1].alphaTorqueOp = 1.3;
     }
     m->box.hi = Eigen::Vector3d::Constant(boxR0 * kR0);
     m->box.periodic = {periodic, periodic, periodic};
     return m;
+}
+
+// mixedModel's weights and drags.
+Params mixedParams(bool symmetric, bool damped) {
+    Params p(3);
+    for (auto& d : p.drag) d = damped ? Drag{1.0, 0.3} : Drag{0.0, 0.0};
+    p.coNormal = WeightMatrix(3, 0.3);
+    p.coPlanar = WeightMatrix(3, 0.3);
+    if (!symmetric) {
+        p.lj(1, 2) = 0.5;
+        p.lj(2, 1) = 1.5;
+        p.coNormal(1, 3) = 0.1;
+        p.coPlanar(3, 1) = 0.7;
+    }
+    return p;
 }
 
 Particles randomParticles(const Model& m, int n, double minDistR0, std::uint32_t seed) {
@@ -72,8 +77,8 @@ TEST_CASE("cell-list forces and torques equal O(N^2) brute force", "[core][cells
     for (bool periodic : {false, true}) {
         auto m = mixedModel(false, false, periodic, 10.0);
         Particles p = randomParticles(*m, 300, 0.6, periodic ? 2 : 1);
-        ForceField field(*m);
-        const test::BruteForceComparison c = test::compareWithBruteForce(*m, field, p);
+        ForceField field(*m, mixedParams(false, false));
+        const test::BruteForceComparison c = test::compareWithBruteForce(*m, mixedParams(false, false), field, p);
         const ForceStats &a = c.field, &b = c.brute;
         const double maxF = c.maxForce, errF = c.forceError, errT = c.torqueError;
         INFO("periodic " << periodic << ": LJ pairs in range " << a.pairsInRange << ", oriented "
@@ -100,14 +105,14 @@ TEST_CASE("total momentum is conserved with symmetric weights and no field", "[c
         speed += v.norm();
     }
     const Eigen::Vector3d p0 = momentum(p);
-    Simulation sim(m, p, {.construction = Construction({}, {}, 3)});
+    Simulation sim(m, p, {.construction = Construction({}, {}, 3), .params = mixedParams(true, false)});
     sim.run(500);
     const double drift = (momentum(sim.particles()) - p0).norm() / speed;
     INFO("relative momentum change " << drift);
     CHECK(drift < 1e-10);
     // Asymmetric weights break it (the paper accepts this): the test can tell the difference.
     auto a = mixedModel(false, false, false, 12.0);
-    Simulation asym(a, p, {.construction = Construction({}, {}, 3)});
+    Simulation asym(a, p, {.construction = Construction({}, {}, 3), .params = mixedParams(false, false)});
     asym.run(500);
     CHECK((momentum(asym.particles()) - p0).norm() / speed > 1e-6);
 }
@@ -115,9 +120,6 @@ TEST_CASE("total momentum is conserved with symmetric weights and no field", "[c
 TEST_CASE("an undamped LJ cluster conserves energy over 10,000 steps", "[core][conservation]") {
     auto m = std::make_shared<Model>();
     m->species.assign(2, Species{});
-    m->species[1].dragV = 0;
-    m->lj = WeightMatrix(1, 1.0);
-    m->coNormal = m->coPlanar = WeightMatrix(1, 0.0);
     m->integration.dt = 0.02;
     m->box.hi = Eigen::Vector3d::Constant(20 * kR0);
     Particles p;
@@ -131,7 +133,9 @@ TEST_CASE("an undamped LJ cluster conserves energy over 10,000 steps", "[core][c
                                             1, p.size() + 1);
                 p.vel[n] = Eigen::Vector3d(g(rng), g(rng), g(rng));
             }
-    Simulation sim(m, p, {.construction = Construction({}, {}, 1)});
+    Params undamped(1);
+    undamped.drag[1].v = 0;
+    Simulation sim(m, p, {.construction = Construction({}, {}, 1), .params = undamped});
     sim.refreshForces();
     const double e0 = sim.stats().forces.pairEnergy + kineticEnergy(*m, sim.particles());
     const double scale = std::abs(sim.stats().forces.pairEnergy);
@@ -151,7 +155,7 @@ TEST_CASE("drag is integrated exactly and runs are deterministic", "[core][integ
     Particles one;
     one.add(Eigen::Vector3d::Constant(10.0), 2, 1);
     one.vel[0] = Eigen::Vector3d(1, 0, 0);
-    Simulation sim(m, one, {.construction = Construction({}, {}, 3)});
+    Simulation sim(m, one, {.construction = Construction({}, {}, 3), .params = mixedParams(true, true)});
     sim.run(100);
     // A free particle with drag beta_v = 1: v(t) = v0 exp(-t), x(t) = x0 + v0 (1 - exp(-t)) (to O(dt^2)).
     const double t = 100 * m->integration.dt;
@@ -159,7 +163,8 @@ TEST_CASE("drag is integrated exactly and runs are deterministic", "[core][integ
     CHECK(sim.particles().pos[0].x() == Approx(10.0 + (1 - std::exp(-t))).epsilon(1e-4));
 
     Particles p = randomParticles(*m, 150, 0.7, 9);
-    Simulation a(m, p, {.construction = Construction({}, {}, 3)}), b(m, p, {.construction = Construction({}, {}, 3)});
+    Simulation a(m, p, {.construction = Construction({}, {}, 3), .params = mixedParams(true, true)}),
+        b(m, p, {.construction = Construction({}, {}, 3), .params = mixedParams(true, true)});
     a.run(200);
     b.run(200);
     CHECK(a.particles().pos == b.particles().pos);
@@ -190,7 +195,7 @@ TEST_CASE("an undamped cluster of oriented particles conserves energy", "[core][
     auto m = mixedModel(true, false, false, 14.0);
     Particles p = randomParticles(*m, 60, 0.8, 11);
     for (auto& x : p.pos) x = Eigen::Vector3d::Constant(7 * kR0) + 0.75 * (x - Eigen::Vector3d::Constant(7 * kR0));
-    Simulation sim(m, p, {.construction = Construction({}, {}, 3)});
+    Simulation sim(m, p, {.construction = Construction({}, {}, 3), .params = mixedParams(true, false)});
     sim.refreshForces();
     const double e0 = sim.stats().forces.pairEnergy + kineticEnergy(*m, sim.particles());
     double worst = 0;
@@ -212,7 +217,7 @@ TEST_CASE("a run's trajectory is the same to the last bit at 1, 2 and 3 threads"
     std::size_t chunks = 0;
     for (int threads : {1, 2, 3}) {
         setThreadCount(threads);
-        Simulation sim(m, p, {.construction = Construction({}, {}, 3)});
+        Simulation sim(m, p, {.construction = Construction({}, {}, 3), .params = mixedParams(false, true)});
         sim.run(150);
         ends.push_back(sim.particles());
         energies.push_back(sim.stats().total());
@@ -237,7 +242,7 @@ TEST_CASE("a run's trajectory is the same to the last bit at 1, 2 and 3 threads"
 TEST_CASE("the step's closing kick gives each of its sums to the bit as its own pass would",
           "[core][dynamics][threads]") {
     const auto m = mixedModel(false, true, false, 20);
-    const DragFactors drag(*m, Params(*m));
+    const DragFactors drag(*m, mixedParams(false, true));
     std::mt19937 rng(17);
     std::uniform_real_distribution<double> u(-1, 1);
     Particles start;

@@ -37,15 +37,20 @@ std::shared_ptr<Model> model(bool surface, bool periodic, double boxR0) {
     m->species.assign(4, Species{});
     for (int s = 1; s <= 3; ++s) m->species[std::size_t(s)].kind = ParticleKind::Volume;
     if (surface) m->species[1].kind = ParticleKind::Surface;
-    m->lj = WeightMatrix(3, 1.0);
-    m->lj(2, 3) = 0.6;  // asymmetric: alpha_23 to 2, alpha_32 to 3
-    m->lj(3, 2) = 1.4;
     m->species[3].alphaForceOp = 0.8;
-    m->coNormal = WeightMatrix(3, surface ? 0.3 : 0.0);
-    m->coPlanar = WeightMatrix(3, surface ? 0.3 : 0.0);
     m->box.hi = Eigen::Vector3d(boxR0, 0.8 * boxR0, 1.1 * boxR0) * kR0;
     m->box.periodic = {periodic, periodic, periodic};
     return m;
+}
+
+// model()'s weights: the oriented ones only when it has a surface species.
+Params weights(bool surface) {
+    Params w(3);
+    w.lj(2, 3) = 0.6;  // asymmetric: alpha_23 to 2, alpha_32 to 3
+    w.lj(3, 2) = 1.4;
+    w.coNormal = WeightMatrix(3, surface ? 0.3 : 0.0);
+    w.coPlanar = WeightMatrix(3, surface ? 0.3 : 0.0);
+    return w;
 }
 
 Particles particles(const Model& m, int n, std::uint32_t seed) {
@@ -65,8 +70,8 @@ Particles particles(const Model& m, int n, std::uint32_t seed) {
 
 // Largest difference between the field's forces and torques and brute force, relative to the
 // largest brute-force force.
-double bruteForceError(const Model& m, ForceField& field, Particles& p, bool energies) {
-    const test::BruteForceComparison c = test::compareWithBruteForce(m, field, p, energies);
+double bruteForceError(const Model& m, const Params& w, ForceField& field, Particles& p, bool energies) {
+    const test::BruteForceComparison c = test::compareWithBruteForce(m, w, field, p, energies);
     REQUIRE(c.field.pairsInRange == c.brute.pairsInRange);
     REQUIRE(c.field.orientedPairsInRange == c.brute.orientedPairsInRange);
     CHECK(c.field.virial == Approx(c.brute.virial).epsilon(1e-11));
@@ -269,7 +274,7 @@ TEST_CASE("forces match brute force as particles drift across periodic faces and
         for (bool periodic : {true, false}) {
             auto m = model(surface, periodic, 9.0);
             Particles p = particles(*m, 320, periodic ? 3 : 4);
-            ForceField field(*m);
+            ForceField field(*m, weights(surface));
             std::mt19937 rng(11);
             std::normal_distribution<double> g(0, 0.01 * kR0);  // per move, well below skin / 2
             const Eigen::Vector3d L = m->box.size();
@@ -290,7 +295,7 @@ TEST_CASE("forces match brute force as particles drift across periodic faces and
                     p.removeIf(die);
                     p.add(m->box.lo + 0.5 * L, 2, 10000);
                 }
-                worst = std::max(worst, bruteForceError(*m, field, p, it % 3 == 0));
+                worst = std::max(worst, bruteForceError(*m, weights(surface), field, p, it % 3 == 0));
             }
             INFO("surface " << surface << ", periodic " << periodic << ": " << field.pairs().neighbours().builds()
                             << " list builds, " << wraps << " wraps");
@@ -310,7 +315,7 @@ TEST_CASE("pruned pair lists give the whole list's forces and torques to the bit
     whole.integration.pruneR0 = 0.0;
     pruned.integration.pruneR0 = 0.05;
     Particles p = particles(whole, 320, 3);
-    ForceField a(whole), b(pruned);
+    ForceField a(whole, weights(true)), b(pruned, weights(true));
     std::mt19937 rng(9);
     std::normal_distribution<double> g(0, 0.004 * kR0);  // per move
     const Eigen::Vector3d L = whole.box.size();
@@ -353,7 +358,7 @@ TEST_CASE("two subdomains with halos give the forces and energy of the whole box
     for (bool surface : {true, false}) {
         auto m = model(surface, true, 9.0);
         Particles all = particles(*m, 320, 5);
-        ForceField whole(*m);
+        ForceField whole(*m, weights(surface));
         ForceStats ref;
         whole.compute(*m, ProbeState{}, all, ref);
         const double L = m->box.size().x(), cut = 0.5 * (m->box.lo.x() + m->box.hi.x());
@@ -383,7 +388,7 @@ TEST_CASE("two subdomains with halos give the forces and energy of the whole box
                     halo.species.push_back(all.species[i]);
                 }
             }
-            ForceField part(*sub);
+            ForceField part(*sub, weights(surface));
             ForceStats s;
             part.compute(*sub, ProbeState{}, mine, s, nullptr, true, &halo);
             energy += s.pairEnergy;

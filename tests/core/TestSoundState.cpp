@@ -21,9 +21,6 @@ std::shared_ptr<Model> smallModel(bool periodic = false) {
     auto m = std::make_shared<Model>();
     m->species.assign(2, Species{});
     m->species[1].kind = ParticleKind::Volume;
-    m->lj = WeightMatrix(1, 1.0);
-    m->coNormal = WeightMatrix(1, 0.0);
-    m->coPlanar = WeightMatrix(1, 0.0);
     m->box.hi = Eigen::Vector3d::Constant(10 * kR0);
     m->box.periodic = {periodic, periodic, periodic};
     return m;

@@ -19,24 +19,25 @@ using testing::RankRun;
 namespace {
 
 // Species 1 surface, 2 and 3 volume; asymmetric LJ weights between 2 and 3.
-std::shared_ptr<Model> mixedModel(bool periodic, const Eigen::Vector3d& sizeR0, double drag) {
+std::shared_ptr<Model> mixedModel(bool periodic, const Eigen::Vector3d& sizeR0) {
     auto m = std::make_shared<Model>();
     m->species.assign(4, Species{});
     m->species[1].kind = ParticleKind::Surface;
     m->species[2].kind = m->species[3].kind = ParticleKind::Volume;
-    for (auto& s : m->species) {
-        s.dragV = drag;
-        s.dragW = drag;
-    }
-    m->lj = WeightMatrix(3, 1.0);
-    m->lj(2, 3) = 0.6;
-    m->lj(3, 2) = 1.4;
-    m->coNormal = WeightMatrix(3, 0.3);
-    m->coPlanar = WeightMatrix(3, 0.3);
     m->box.hi = sizeR0 * kR0;
     m->box.periodic = {periodic, periodic, periodic};
     m->integration.dt = 0.01;
     return m;
+}
+
+// mixedModel's weights (the oriented ones 0.3, or none) and drags (beta_v and beta_tau alike).
+Params mixedParams(double drag, bool oriented = true) {
+    Params w(3);
+    for (auto& d : w.drag) d = {drag, drag};
+    w.lj(2, 3) = 0.6;
+    w.lj(3, 2) = 1.4;
+    w.coNormal = w.coPlanar = WeightMatrix(3, oriented ? 0.3 : 0.0);
+    return w;
 }
 
 // Distance between two positions of one particle, the nearest periodic image: one process wraps a
@@ -93,13 +94,14 @@ double forceDifference(const Particles& expected, const Particles& got) {
 
 TEST_CASE("forces on every particle equal the single process's for a frozen configuration", "[mpi]") {
     for (bool periodic : {true, false}) {
-        auto m = mixedModel(periodic, Eigen::Vector3d(14, 11, 9), 1.0);
+        auto m = mixedModel(periodic, Eigen::Vector3d(14, 11, 9));
+        const Params w = mixedParams(1.0);
         Particles all = scatter(*m, 500, 3, 0.0);
-        ForceField single(*m);
+        ForceField single(*m, w);
         ForceStats ref;
         single.compute(*m, ProbeState{}, all, ref);
         CartComm comm(MPI_COMM_WORLD, m->box);
-        RankRun run(m, all);
+        RankRun run(m, all, {.params = w});
         const double worst = forceDifference(all, run.gather());
         const auto t = run.totals();
         INFO("periodic " << periodic << ", " << comm.size() << " ranks, grid " << comm.dims()[0] << "x"
@@ -112,13 +114,13 @@ TEST_CASE("forces on every particle equal the single process's for a frozen conf
 }
 
 TEST_CASE("no particle is lost or duplicated over 1,000 steps of subdomain crossings", "[mpi]") {
-    auto m = mixedModel(true, Eigen::Vector3d(12, 10, 9), 0.0);
-    m->coNormal = m->coPlanar = WeightMatrix(3, 0.0);
+    auto m = mixedModel(true, Eigen::Vector3d(12, 10, 9));
+    const Params w = mixedParams(0.0, false);
     Particles all = scatter(*m, 300, 7, 0.0);
     for (std::size_t i = 0; i < all.size(); ++i)  // a wind that carries everything across the faces
         all.vel[i] = Eigen::Vector3d(0.8, 0.5 - 0.3 * double(i % 2), 0.4 * double(i % 3) - 0.4);
     CartComm comm(MPI_COMM_WORLD, m->box);
-    RankRun run(m, all);
+    RankRun run(m, all, {.params = w});
     run.run(1000);
     const Particles got = run.gather();
     std::vector<std::uint64_t> before(all.id), after(got.id);
@@ -135,10 +137,11 @@ TEST_CASE("no particle is lost or duplicated over 1,000 steps of subdomain cross
 }
 
 TEST_CASE("two runs at the same rank count are bit-identical", "[mpi]") {
-    auto m = mixedModel(true, Eigen::Vector3d(12, 10, 9), 0.5);
+    auto m = mixedModel(true, Eigen::Vector3d(12, 10, 9));
+    const Params w = mixedParams(0.5);
     const Particles all = scatter(*m, 300, 11, 0.3);
     CartComm comm(MPI_COMM_WORLD, m->box);
-    RankRun a(m, all), b(m, all);
+    RankRun a(m, all, {.params = w}), b(m, all, {.params = w});
     a.run(300);
     b.run(300);
     const Particles pa = a.gather(), pb = b.gather();
@@ -148,8 +151,8 @@ TEST_CASE("two runs at the same rank count are bit-identical", "[mpi]") {
 }
 
 TEST_CASE("an undamped LJ cluster follows the single-process trajectory for 200 steps", "[mpi]") {
-    auto m = mixedModel(false, Eigen::Vector3d(16, 16, 16), 0.0);
-    m->coNormal = m->coPlanar = WeightMatrix(3, 0.0);
+    auto m = mixedModel(false, Eigen::Vector3d(16, 16, 16));
+    const Params w = mixedParams(0.0, false);
     m->integration.dt = 0.02;
     Particles all;
     std::mt19937 rng(5);
@@ -161,11 +164,11 @@ TEST_CASE("an undamped LJ cluster follows the single-process trajectory for 200 
                                               2 + (i + j + k) % 2, all.size() + 1);
                 all.vel[n] = Eigen::Vector3d(g(rng), g(rng), g(rng));
             }
-    Simulation single(m, all, {.construction = Construction({}, {}, 3)});
+    Simulation single(m, all, {.construction = Construction({}, {}, 3), .params = w});
     single.run(200);
     single.refreshForces();
     CartComm comm(MPI_COMM_WORLD, m->box);
-    RankRun run(m, all);
+    RankRun run(m, all, {.params = w});
     run.run(200);
     const Particles got = run.gather(), want = single.gather();  // both by id
     REQUIRE(got.size() == all.size());
@@ -182,15 +185,16 @@ TEST_CASE("an undamped LJ cluster follows the single-process trajectory for 200 
 TEST_CASE("a lopsided configuration is balanced and keeps the single-process forces", "[mpi][balance]") {
     // Subdomains are at least one halo range wide (3.3 r0 here, the oriented cutoff plus skin),
     // so the crowded part must hold three of them for a 3 x 1 x 1 grid to balance.
-    auto m = mixedModel(false, Eigen::Vector3d(24, 12, 10), 1.0);
+    auto m = mixedModel(false, Eigen::Vector3d(24, 12, 10));
+    const Params w = mixedParams(1.0);
     auto crowded = std::make_shared<Model>(*m);  // every particle in the lower 45% of x
     crowded->box.hi.x() = 0.45 * m->box.hi.x();
     Particles all = scatter(*crowded, 600, 13, 0.0);
-    ForceField single(*m);
+    ForceField single(*m, w);
     ForceStats ref;
     single.compute(*m, ProbeState{}, all, ref);
     CartComm comm(MPI_COMM_WORLD, m->box);
-    RankRun run(m, all);
+    RankRun run(m, all, {.params = w});
     const double before = run.counters().initialImbalance, after = run.counters().imbalance;
     const Particles got = run.gather();
     REQUIRE(got.size() == all.size());
@@ -206,17 +210,18 @@ TEST_CASE("a lopsided configuration is balanced and keeps the single-process for
 }
 
 TEST_CASE("the probe's forces and reaction equal the single process's", "[mpi][probe]") {
-    auto m = mixedModel(true, Eigen::Vector3d(14, 11, 9), 1.0);
+    auto m = mixedModel(true, Eigen::Vector3d(14, 11, 9));
+    const Params w = mixedParams(1.0);
     Particles all = scatter(*m, 500, 17, 0.0);
     ProbeState probe;
     probe.active = true;
     probe.params = {2.0, 3.0};
     probe.position = 0.5 * (m->box.lo + m->box.hi);  // inside the material, near the middle cut
-    ForceField single(*m);
+    ForceField single(*m, w);
     ForceStats ref;
     single.compute(*m, probe, all, ref);
     CartComm comm(MPI_COMM_WORLD, m->box);
-    RankRun run(m, all);
+    RankRun run(m, all, {.params = w});
     run.setProbe(probe);
     run.refreshForces();
     const Particles got = run.gather();
@@ -229,7 +234,8 @@ TEST_CASE("the probe's forces and reaction equal the single process's", "[mpi][p
 }
 
 TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "[mpi][commands]") {
-    auto m = mixedModel(true, Eigen::Vector3d(14, 11, 9), 0.0);
+    auto m = mixedModel(true, Eigen::Vector3d(14, 11, 9));
+    const Params w = mixedParams(0.0);
     const Particles all = scatter(*m, 400, 19, 0.2);
     ProbeState probe;
     probe.active = true;
@@ -237,9 +243,9 @@ TEST_CASE("commands submitted on rank 0 apply on every rank at the same step", "
     const Eigen::Vector3d centre = 0.5 * (m->box.lo + m->box.hi);
     // The single process: the probe appears at step 10 and moves at step 30; species 2 gets a
     // drag at step 40; species 2 feels species 3 more strongly from step 50.
-    Simulation single(m, all, {.construction = Construction({}, {}, 3)});
+    Simulation single(m, all, {.construction = Construction({}, {}, 3), .params = w});
     CartComm comm(MPI_COMM_WORLD, m->box);
-    RankRun run(m, all);
+    RankRun run(m, all, {.params = w});
     for (int s = 0; s < 80; ++s) {
         ProbeState moved = probe;
         moved.position = centre + Eigen::Vector3d(0.1 * (s - 30), 0, 0);
@@ -315,14 +321,15 @@ TEST_CASE("a command crosses ranks as the record of its kind, and a record of no
 
 TEST_CASE("a particle a hair below a periodic face is wrapped onto the face, not past the box", "[mpi][wrap]") {
     // -1e-17 + L rounds to L: the wrapped coordinate must become lo, where the owner lookup puts it.
-    auto m = mixedModel(true, Eigen::Vector3d(14, 11, 9), 1.0);
+    auto m = mixedModel(true, Eigen::Vector3d(14, 11, 9));
+    const Params w = mixedParams(1.0);
     Particles all = scatter(*m, 400, 23, 0.0);
     all.pos[0].x() = m->box.lo.x() - 1e-17;
-    ForceField single(*m);
+    ForceField single(*m, w);
     ForceStats ref;
     single.compute(*m, ProbeState{}, all, ref);
     CartComm comm(MPI_COMM_WORLD, m->box);
-    RankRun run(m, all);
+    RankRun run(m, all, {.params = w});
     const Particles got = run.gather();
     const double worst = forceDifference(all, got);
     INFO(comm.size() << " ranks: particle 0 at x = " << got.pos[0].x() << ", force difference " << worst);

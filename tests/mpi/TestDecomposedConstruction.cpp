@@ -43,6 +43,7 @@ core::SimulationOptions optionsFor(const TorusBuild& b) {
     core::SimulationOptions o;
     o.construction = core::Construction(b.scene.construction, b.scene.timeline, b.scene.model->speciesCount());
     o.map = b.serialRun->mapSource();
+    o.params = b.scene.params;
     return o;
 }
 
@@ -143,9 +144,8 @@ TEST_CASE("deaths across ranks take the single process's victims and keep ids un
     m->species.assign(3, core::Species{});
     m->species[1].kind = core::ParticleKind::Surface;
     m->species[2].kind = core::ParticleKind::Volume;
-    m->lj = core::WeightMatrix(2, 0.0);
-    m->coNormal = core::WeightMatrix(2, 0.0);
-    m->coPlanar = core::WeightMatrix(2, 0.0);
+    core::Params none(2);  // no pair forces
+    none.lj = core::WeightMatrix(2, 0.0);
     m->box.hi = Eigen::Vector3d(12, 10, 8) * core::kR0;
     m->box.periodic = {true, true, true};
     m->integration.dt = 0.05;
@@ -169,13 +169,14 @@ TEST_CASE("deaths across ranks take the single process's victims and keep ids un
     // Checks run and both species may die (only species whose birth is on lose particles); no map, no births.
     const std::vector<core::ConstructionEvent> timeline{{0, A::BirthOn, 1, {}}, {0, A::BirthOn, 2, {}}};
     const long long steps = 200;
-    core::Simulation serial(m, all, {.construction = core::Construction(params, timeline, 2)});
+    core::Simulation serial(m, all, {.construction = core::Construction(params, timeline, 2), .params = none});
     serial.run(steps);
     REQUIRE(serial.construction().totals().deaths > 100);
 
     const CartComm comm(MPI_COMM_WORLD, m->box);
     core::SimulationOptions o;
     o.construction = core::Construction(params, timeline, 2);
+    o.params = none;
     RankRun run(m, all, std::move(o));
     run.run(steps);
     const core::Particles got = run.gather();

@@ -27,6 +27,7 @@ TEST_CASE("keyframes switch at the stated times at any rank count, as in one pro
     core::SimulationOptions o;
     o.construction = core::Construction(s.construction, s.timeline, s.model->speciesCount());
     o.map = serial.mapSource();  // the windows of the serial run's cache
+    o.params = s.params;
     RankRun run(s.model, core::Particles{}, o);
     const double dt = s.model->integration.dt;
     int switches = 0;

@@ -54,7 +54,7 @@ Outcome run(bool poke, double ljBetweenBags) {
     core::Model& m = *scene.model;
     REQUIRE(m.speciesCount() == 4);
     for (int a : {1, 2})
-        for (int b : {3, 4}) m.lj(a, b) = m.lj(b, a) = ljBetweenBags;
+        for (int b : {3, 4}) scene.params.lj(a, b) = scene.params.lj(b, a) = ljBetweenBags;
     test::OneProcessRun r(scene);
     r->run(1500);
     const double h = voxelLength(r.wholeMap().r0Voxels);

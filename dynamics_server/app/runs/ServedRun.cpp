@@ -15,6 +15,7 @@ namespace bop::app {
 
 protocol::SceneInfo sceneInfoOf(const Scene& scene, const GradientMap* map) {
     const core::Model& m = *scene.model;
+    const core::Params& p = scene.params;
     protocol::SceneInfo s;
     for (int k = 1; k <= m.speciesCount(); ++k) {
         const core::Species& sp = m.species[std::size_t(k)];
@@ -44,10 +45,10 @@ protocol::SceneInfo sceneInfoOf(const Scene& scene, const GradientMap* map) {
     s.tunables.k0 = scene.probe.params.k0;
     s.tunables.k1 = scene.probe.params.k1;
     if (std::size_t(n) <= protocol::kMaxTunedSpecies)  // SceneInfo has a size cap
-        s.tunables = {matrix(m.lj), matrix(m.coNormal), matrix(m.coPlanar), {}, {}, s.tunables.k0, s.tunables.k1};
+        s.tunables = {matrix(p.lj), matrix(p.coNormal), matrix(p.coPlanar), {}, {}, s.tunables.k0, s.tunables.k1};
     for (int k = 1; k <= n && std::size_t(n) <= protocol::kMaxTunedSpecies; ++k) {
-        s.tunables.dragV.push_back(m.species[std::size_t(k)].dragV);
-        s.tunables.dragW.push_back(m.species[std::size_t(k)].dragW);
+        s.tunables.dragV.push_back(p.drag[std::size_t(k)].v);
+        s.tunables.dragW.push_back(p.drag[std::size_t(k)].w);
     }
     s.units = "length: simulation units (r0 = sqrt 3); time: simulation units; force: simulation units; mass 1";
     return s;

@@ -40,7 +40,7 @@ void readMatrix(const ConfigTable& t, const std::string& key, core::WeightMatrix
 }
 
 // kindsFromMap: species kinds follow the map numbering (bag k: 2k-1 surface, 2k volume).
-void readSpecies(const ConfigTable& root, core::Model& m, bool kindsFromMap) {
+void readSpecies(const ConfigTable& root, core::Model& m, core::Params& params, bool kindsFromMap) {
     if (!root.has("species")) return;
     const std::vector<ConfigTable> list = root.tableArray("species");
     if (int(list.size()) != m.speciesCount())
@@ -69,8 +69,9 @@ void readSpecies(const ConfigTable& root, core::Model& m, bool kindsFromMap) {
         s.alphaForceGm = t.number("alpha_f_gm", s.alphaForceGm);
         s.alphaTorqueOp = t.number("alpha_tau_op", s.alphaTorqueOp);
         s.alphaTorqueGm = t.number("alpha_tau_gm", s.alphaTorqueGm);
-        s.dragV = t.number("drag_v", s.dragV);
-        s.dragW = t.number("drag_w", s.dragW);
+        core::Drag& drag = params.drag[i + 1];
+        drag.v = t.number("drag_v", drag.v);
+        drag.w = t.number("drag_w", drag.w);
         t.finish();
     }
 }
@@ -222,7 +223,7 @@ void readKeyframes(const ConfigTable& root, Scene& s) {
 
 }  // namespace
 
-void defaultSpecies(core::Model& m, int bags) {
+void defaultSpecies(core::Model& m, core::Params& params, int bags) {
     const int n = 2 * bags;
     m.species.assign(std::size_t(n) + 1, core::Species{});
     for (int s = 1; s <= n; ++s) {
@@ -231,10 +232,8 @@ void defaultSpecies(core::Model& m, int bags) {
         sp.name = "bag" + std::to_string((s + 1) / 2) + (s % 2 ? "-surface" : "-volume");
         sp.colour = defaultSpeciesColour(s);
     }
-    m.lj = core::WeightMatrix(n, 1.0);
-    m.coNormal = core::WeightMatrix(n, 0.0);
-    m.coPlanar = core::WeightMatrix(n, 0.0);
-    for (int s = 1; s <= n; s += 2) m.coNormal(s, s) = m.coPlanar(s, s) = 0.3;  // docs/physics.md §7.4
+    params = core::Params(n);
+    for (int s = 1; s <= n; s += 2) params.coNormal(s, s) = params.coPlanar(s, s) = 0.3;  // docs/physics.md §7.4
 }
 
 void applySettleTimeStep(Scene& scene) {
@@ -265,13 +264,12 @@ Scene loadScene(const std::string& path) {
         m.species.assign(2, core::Species{});
         m.species[1].name = "bulk";
         m.species[1].colour = defaultSpeciesColour(2);
-        m.lj = core::WeightMatrix(1, 1.0);
-        m.coNormal = m.coPlanar = core::WeightMatrix(1, 0.0);
+        s.params = core::Params(1);
         s.bulk = bulk;
     } else {
         s.shape = shape::readShapeSpec(root);
         m.interpolation = s.shape->interpolation;
-        defaultSpecies(m, int(s.shape->bags.size()));
+        defaultSpecies(m, s.params, int(s.shape->bags.size()));
         for (std::size_t b = 0; b < s.shape->bags.size(); ++b) {
             m.species[2 * b + 1].name = s.shape->bags[b].name + "-surface";
             m.species[2 * b + 2].name = s.shape->bags[b].name + "-volume";
@@ -281,11 +279,11 @@ Scene loadScene(const std::string& path) {
             }
         }
     }
-    readSpecies(root, m, s.shape.has_value());
+    readSpecies(root, m, s.params, s.shape.has_value());
     if (const auto t = root.optionalTable("interactions")) {
-        readMatrix(*t, "lj", m.lj);
-        readMatrix(*t, "co_normal", m.coNormal);
-        readMatrix(*t, "co_planar", m.coPlanar);
+        readMatrix(*t, "lj", s.params.lj);
+        readMatrix(*t, "co_normal", s.params.coNormal);
+        readMatrix(*t, "co_planar", s.params.coPlanar);
         t->finish();
     }
     readDynamics(root, m, s.seed);

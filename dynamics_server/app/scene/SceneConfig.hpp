@@ -6,6 +6,7 @@
 #include "core/Fire.hpp"
 #include "core/ForceField.hpp"
 #include "core/Model.hpp"
+#include "core/Params.hpp"
 #include "core/Placement.hpp"
 #include "shape/ShapeSpec.hpp"
 
@@ -59,6 +60,7 @@ struct Scene {
     std::optional<shape::ShapeSpec> shape;  // the bag(s), or nothing for bulk material
     std::optional<BulkBox> bulk;
     std::shared_ptr<core::Model> model;  // without its map: the server builds or loads it
+    core::Params params;                 // the first weights and drags (commands change them); probe: `probe`
     core::ConstructionParams construction;
     std::vector<core::ConstructionEvent> timeline;
     std::optional<core::PlacementParams> placement;  // method = "place": particles set on the map at the start
@@ -77,8 +79,8 @@ void applySettleTimeStep(Scene& scene);
 // Reads and checks every table; bop::Error naming the file and key on any problem.
 Scene loadScene(const std::string& path);
 
-// The default species table and weights for a map of `bags` nested bags (paper-like bags).
-void defaultSpecies(core::Model& m, int bags);
+// The default species table, weights and drags for a map of `bags` nested bags (paper-like bags).
+void defaultSpecies(core::Model& m, core::Params& params, int bags);
 
 // Initial particles of a bulk box: an fcc lattice filling the box (deterministic jitter).
 core::Particles bulkLattice(const Scene& scene);

@@ -116,6 +116,8 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
     s.settleFile = restart;
     if (!place) s.particles = std::move(fromFile);
     s.options.firstStep = s.firstStep;
+    s.options.params = scene.params;
+    s.options.params->probe = scene.probe;
     s.options.construction = std::move(construction);
     return s;
 }
