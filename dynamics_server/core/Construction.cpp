@@ -61,21 +61,21 @@ std::vector<ConstructionEvent> Construction::eventsAt(long long step) const {
     return out;
 }
 
-Eigen::Vector3d Construction::defaultSeedPosition(const Model& model, int species) const {
-    if (!model.map) throw std::invalid_argument("seeding needs a gradient map");
-    const auto best = defaultSeed(params_, model, species, everywhere);
+Eigen::Vector3d Construction::defaultSeedPosition(const Model& model, const GradientMap* map, int species) const {
+    if (!map) throw std::invalid_argument("seeding needs a gradient map");
+    const auto best = defaultSeed(params_, model, *map, species, everywhere);
     if (!best) throw std::invalid_argument("species " + std::to_string(species) + " has no voxels in the map");
     return best->pos;
 }
 
-std::uint64_t Construction::seed(const Model& model, Particles& p, int species, const Eigen::Vector3d& position,
-                                 bool add) {
+std::uint64_t Construction::seed(const Model& model, const GradientMap* map, Particles& p, int species,
+                                 const Eigen::Vector3d& position, bool add) {
     const std::uint64_t gid = takeIds(1);
     ++seeds_;
     if (!add) return gid;
     Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
-    if (model.map) {
-        const GradientMap& m = *model.map;
+    if (map) {
+        const GradientMap& m = *map;
         n = m.nearestSurface(m.voxelAt((position / voxelLength(m.r0Voxels)).array().floor().cast<int>().matrix()))
                 .normal.cast<double>();
     }

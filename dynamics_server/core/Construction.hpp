@@ -46,8 +46,10 @@ public:
     // Commands (scripted by the timeline, or sent by a viewer between steps). seed() adds the
     // particle and returns its id; every process of a decomposed run calls it (in the same
     // order), and only the one that owns the position passes add = true.
-    std::uint64_t seed(const Model& model, Particles& p, int species, const Eigen::Vector3d& position, bool add = true);
-    Eigen::Vector3d defaultSeedPosition(const Model& model, int species) const;  // simulation units
+    std::uint64_t seed(const Model& model, const GradientMap* map, Particles& p, int species,
+                       const Eigen::Vector3d& position, bool add = true);
+    // In `map` (the whole map), simulation units.
+    Eigen::Vector3d defaultSeedPosition(const Model& model, const GradientMap* map, int species) const;
     void setBirth(int species, bool on);
     bool birthOn(int species) const { return birth_[std::size_t(species)]; }
     const std::vector<char>& birthSwitches() const { return birth_; }  // per species number (index 0 unused)

@@ -110,7 +110,7 @@ std::vector<std::uint64_t> chooseDeaths(const ConstructionParams& params, std::v
 
 std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, const ConstructionView& view, int species,
                                             long long step, const std::function<bool(const Eigen::Vector3d&)>& mine) {
-    const GradientMap& m = *view.model.map;
+    const GradientMap& m = *view.map;
     const Particles& p = view.seen;
     const double h = voxelLength(m.r0Voxels);
     const double dSame = params.sameR0 * kR0, dAny = params.anyR0 * kR0, dFront = params.frontR0 * kR0;
@@ -174,16 +174,15 @@ std::vector<BirthCandidate> chooseBirths(const ConstructionParams& params, const
     return winners;
 }
 
-void addBirth(const Model& model, Particles& p, int species, const BirthCandidate& c, std::uint64_t id) {
-    const GradientMap& m = *model.map;
+void addBirth(const Model& model, const GradientMap& m, Particles& p, int species, const BirthCandidate& c,
+              std::uint64_t id) {
     const std::size_t v = m.voxelAt(m.wholeDims().coords(c.voxel));
     const Eigen::Vector3d n = m.nearestSurface(v).normal.cast<double>();
     p.add(c.pos, species, id, model.isSurface(species) ? orientationFor(n) : Eigen::Quaterniond::Identity());
 }
 
-std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Model& model, int species,
-                                      const std::function<bool(const Eigen::Vector3d&)>& mine) {
-    const GradientMap& m = *model.map;
+std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Model& model, const GradientMap& m,
+                                      int species, const std::function<bool(const Eigen::Vector3d&)>& mine) {
     // Per fixed block of voxels on the threads (the first smallest key of each), then the blocks
     // in voxel order: the same choice as one pass, at any thread count.
     const bool surface = model.isSurface(species);
@@ -205,9 +204,9 @@ std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Mo
     return best;
 }
 
-std::vector<std::optional<SeedChoice>> seedsOfPieces(const ConstructionParams& params, const Model& model, int species,
+std::vector<std::optional<SeedChoice>> seedsOfPieces(const ConstructionParams& params, const Model& model,
+                                                     const GradientMap& m, int species,
                                                      const std::vector<std::uint32_t>& piece, std::uint32_t pieces) {
-    const GradientMap& m = *model.map;
     if (piece.size() != m.occ.size())
         throw std::invalid_argument("pieces cover " + std::to_string(piece.size()) + " voxels, the map " +
                                     std::to_string(m.occ.size()));

@@ -11,12 +11,14 @@
 namespace bop::core {
 
 // What one check sees: seen.pos/species/id of particles [0, owned) are the caller's own, the
-// rest copies of particles others own. `box` bounds the caller's region (periodic axes wrap).
+// rest copies of particles others own. `box` bounds the caller's region (periodic axes wrap);
+// `map`: the map in force over it (births need one).
 struct ConstructionView {
     const Model& model;
     const Box& box;
     const Particles& seen;
     std::size_t owned;
+    const GradientMap* map;
 };
 
 struct DeathMark {
@@ -46,9 +48,10 @@ std::vector<BirthCandidate> birthCandidates(const ConstructionParams& params, co
 // in key order. `box`: the whole model's box.
 std::vector<BirthCandidate> chooseBirths(const ConstructionParams& params, const Box& box,
                                          std::vector<BirthCandidate> candidates, std::size_t have);
-// Adds a born particle with id `id` (oriented by the map's normal for a surface species); the map
+// Adds a born particle with id `id` (oriented by the map's normal for a surface species); `map`
 // must hold the candidate's voxel.
-void addBirth(const Model& model, Particles& p, int species, const BirthCandidate& c, std::uint64_t id);
+void addBirth(const Model& model, const GradientMap& map, Particles& p, int species, const BirthCandidate& c,
+              std::uint64_t id);
 
 // Whether some position in `pos` lies closer than `distance` to x (the periodic axes of `box`
 // wrap): a seed there would sit on a particle, where the pair forces have no bound, so it is not
@@ -56,19 +59,20 @@ void addBirth(const Model& model, Particles& p, int species, const BirthCandidat
 // earlier seed of the same step, placed or not: every rank of a decomposed run decides alike.
 bool crowded(const std::vector<Eigen::Vector3d>& pos, const Box& box, const Eigen::Vector3d& x, double distance);
 
-// The default seed of a species among the map voxels whose centre `mine` accepts: a surface
+// The default seed of a species among the voxels of `map` whose centre `mine` accepts: a surface
 // voxel chosen by the hash, or the deepest volume voxel. (key, position) of the best one, the
 // smaller key being better; nullopt if none.
 struct SeedChoice {
     std::pair<long long, std::uint64_t> key;  // (-depth^2 or 0, hash)
     Eigen::Vector3d pos;                      // voxel centre, simulation length units
 };
-std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Model& model, int species,
-                                      const std::function<bool(const Eigen::Vector3d&)>& mine);
+std::optional<SeedChoice> defaultSeed(const ConstructionParams& params, const Model& model, const GradientMap& map,
+                                      int species, const std::function<bool(const Eigen::Vector3d&)>& mine);
 // The same choice within each piece of the species' voxels: piece[v] numbers the piece of map
 // voxel v from 1 (0: in none); entry k - 1 is piece k's seed (none when it has no voxel of the
 // species). A piece holding every voxel of the species gets defaultSeed's voxel.
-std::vector<std::optional<SeedChoice>> seedsOfPieces(const ConstructionParams& params, const Model& model, int species,
+std::vector<std::optional<SeedChoice>> seedsOfPieces(const ConstructionParams& params, const Model& model,
+                                                     const GradientMap& map, int species,
                                                      const std::vector<std::uint32_t>& piece, std::uint32_t pieces);
 
 }  // namespace bop::core

@@ -4,15 +4,16 @@
 
 namespace bop::core {
 
-ForceField::ForceField(const Model& model, const Params& params) : pairs_(model, params) {}
+ForceField::ForceField(const Model& model, const Params& params, bool map) : pairs_(model, params, map) {}
 
-void ForceField::compute(const Model& model, const ProbeState& probe, Particles& p, ForceStats& stats,
-                         PhaseTimes* times, bool energies, const Halo* halo) {
+void ForceField::compute(const Model& model, const MapInForce& maps, const ProbeState& probe, Particles& p,
+                         ForceStats& stats, PhaseTimes* times, bool energies, const Halo* halo) {
     stats = ForceStats{};
     auto t0 = PhaseClock::now();
-    map_.set(model, p, stats, pairs_.oriented());  // curvature weights serve the co-planar pairs only
+    map_.setBlend(maps.next(), maps.at.w);
+    map_.set(model, maps.map(), p, stats, pairs_.oriented());  // curvature weights serve the co-planar pairs only
     if (times) times->gradientMap += secondsSince(t0);
-    pairs_.add(model, p, halo, map_.curvatureWeights(), stats, energies, times);
+    pairs_.add(model, maps, p, halo, map_.curvatureWeights(), stats, energies, times);
     t0 = PhaseClock::now();
     probeForces(model, probe, p, stats);
     if (times) times->probe += secondsSince(t0);

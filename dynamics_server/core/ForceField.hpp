@@ -9,13 +9,15 @@ namespace bop::core {
 
 class ForceField {
 public:
-    ForceField(const Model& model, const Params& params);
+    // map: the run has a gradient map (its curvature weights weight the co-planar terms).
+    ForceField(const Model& model, const Params& params, bool map);
 
-    // Overwrites particles.force and particles.torque. energies = false skips the pair
-    // energies (stats.pairEnergy is then 0); the forces do not depend on it. halo: ghosts owned
-    // elsewhere; pairs with them count for the particles here, their energy and virial by half.
-    void compute(const Model& model, const ProbeState& probe, Particles& particles, ForceStats& stats,
-                 PhaseTimes* times = nullptr, bool energies = true, const Halo* halo = nullptr);
+    // Overwrites particles.force and particles.torque, over the region and with the map of
+    // `maps`. energies = false skips the pair energies (stats.pairEnergy is then 0); the forces do
+    // not depend on it. halo: ghosts owned elsewhere; pairs with them count for the particles
+    // here, their energy and virial by half.
+    void compute(const Model& model, const MapInForce& maps, const ProbeState& probe, Particles& particles,
+                 ForceStats& stats, PhaseTimes* times = nullptr, bool energies = true, const Halo* halo = nullptr);
 
     // Weights of a command between steps: the kernel's tables again, the neighbour list kept
     // unless the pairs it must hold change (the oriented pairs' members, a cutoff).
@@ -25,12 +27,8 @@ public:
     // more than half the skin). A decomposed run asks every rank and rebuilds on all if one says
     // no: requestRebuild() makes the next compute() build the list (with the new halo).
     // The next compute() trusts a "yes" (positions unchanged in between) and measures no again.
-    bool listHolds(const Model& model, const Particles& particles) { return pairs_.listHolds(model, particles); }
+    bool listHolds(const Box& region, const Particles& particles) { return pairs_.listHolds(region, particles); }
     void requestRebuild() { pairs_.requestRebuild(); }
-
-    // Keyframe blending: until set again, the gradient-map forces are (1 - w) of the model's map
-    // plus w of `next` (a map on the same grid; null or w = 0: the model's map alone).
-    void setMapBlend(const GradientMap* next, double w) { map_.setBlend(next, w); }
 
     const PairForces& pairs() const { return pairs_; }  // the neighbour list, its pruned copies, chunks
 

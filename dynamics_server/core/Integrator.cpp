@@ -29,10 +29,11 @@ DragFactors::DragFactors(const Model& m, const Params& p, double step)
     }
 }
 
-void kickDrift(const Model& model, const DragFactors& decay, Particles& p, bool wrap, const FireKick* fire) {
+void kickDrift(const Model& model, const Box& box, const DragFactors& decay, Particles& p, bool wrap,
+               const FireKick* fire) {
     const double dt = decay.dt, half = 0.5 * dt, invI = 1.0 / model.integration.inertia;
-    const Eigen::Vector3d lo = model.box.lo, hi = model.box.hi, L = model.box.size();
-    const bool anyPeriodic = wrap && (model.box.periodic[0] || model.box.periodic[1] || model.box.periodic[2]);
+    const Eigen::Vector3d lo = box.lo, hi = box.hi, L = box.size();
+    const bool anyPeriodic = wrap && (box.periodic[0] || box.periodic[1] || box.periodic[2]);
     forEachIndex(p.size(), [&](std::size_t i) {  // each particle on its own: on the threads
         const int s = p.species[i];
         if (fire && fire->stop) {
@@ -46,7 +47,7 @@ void kickDrift(const Model& model, const DragFactors& decay, Particles& p, bool 
         p.pos[i] += dt * p.vel[i];
         if (anyPeriodic)
             for (int a = 0; a < 3; ++a)
-                if (model.box.periodic[std::size_t(a)] && (p.pos[i][a] < lo[a] || p.pos[i][a] >= hi[a]))
+                if (box.periodic[std::size_t(a)] && (p.pos[i][a] < lo[a] || p.pos[i][a] >= hi[a]))
                     p.pos[i][a] -= L[a] * std::floor((p.pos[i][a] - lo[a]) / L[a]);
         if (!model.isSurface(s)) return;
         p.omega[i] = decay.w[std::size_t(s)] * p.omega[i] + half * invI * p.torque[i];

@@ -24,11 +24,12 @@ struct DragFactors {
     DragFactors(const Model& m, const Params& p, double dt);  // a step of dt (the minimiser's, Fire.hpp)
 };
 
-// O, B and A; wraps positions into the box along periodic axes unless wrap = false (a
-// decomposed run wraps when particles migrate, so halo positions stay continuous in between).
+// O, B and A; wraps positions into `box` (the process's region) along its periodic axes unless
+// wrap = false (a decomposed run wraps when particles migrate, so halo positions stay continuous
+// in between).
 // With `fire`, the minimiser's step (Fire.hpp): a stop first (velocities to zero, positions
 // back), and after B the velocities turned towards the forces.
-void kickDrift(const Model& model, const DragFactors& drag, Particles& p, bool wrap = true,
+void kickDrift(const Model& model, const Box& box, const DragFactors& drag, Particles& p, bool wrap = true,
                const FireKick* fire = nullptr);
 // B and O with the forces of the new positions, and in the same pass the sums a step ends with,
 // each the same bits as its own pass would give: the kinetic energy afterwards (the value of

@@ -4,34 +4,34 @@
 
 namespace bop::core {
 
-float MapForces::curvatureWeight(const Model& model, const Eigen::Vector3d& x, int species) {
-    if (!model.map || !model.isSurface(species)) return 1.0f;
-    const GradientMap& map = *model.map;
-    const double h = voxelLength(map.r0Voxels);
-    return map.nearestSurface(map.voxelAt((x / h).array().floor().cast<int>().matrix())).cpWeight;
+float MapForces::curvatureWeight(const Model& model, const GradientMap* map, const Eigen::Vector3d& x, int species) {
+    if (!map || !model.isSurface(species)) return 1.0f;
+    const double h = voxelLength(map->r0Voxels);
+    return map->nearestSurface(map->voxelAt((x / h).array().floor().cast<int>().matrix())).cpWeight;
 }
 
-void MapForces::set(const Model& model, Particles& p, ForceStats& stats, bool curvature) {
+void MapForces::set(const Model& model, const std::shared_ptr<const GradientMap>& map, Particles& p, ForceStats& stats,
+                    bool curvature) {
     if (curvature) curvature_.assign(p.size(), 1.0f);
-    if (!model.map) {
+    if (!map) {
         forEachIndex(p.size(), [&](std::size_t i) {
             p.force[i].setZero();
             p.torque[i].setZero();
         });
         return;
     }
-    if (fieldMap_ != model.map) {
-        field_ = std::make_unique<GmField>(*model.map, model.interpolation);
-        fieldMap_ = model.map;
+    if (fieldMap_ != map) {
+        field_ = std::make_unique<GmField>(*map, model.interpolation);
+        fieldMap_ = map;
         memo_.clear();  // voxels of the old map
     }
     memo_.resize(p.size());
     if (blendMap_ && blendFieldMap_ != blendMap_) {
-        blendField_ = std::make_unique<GmField>(*blendMap_, model.interpolation);
+        blendField_ = std::make_unique<GmField>(*blendMap_, model.interpolation);  // the map held: never a freed one's
         blendFieldMap_ = blendMap_;
     }
     const double w = blendMap_ ? blendW_ : 0.0;
-    const Dims& whole = model.map->wholeDims();
+    const Dims& whole = map->wholeDims();
     const Eigen::Vector3d centre = 0.5 * Eigen::Vector3d(whole.nx, whole.ny, whole.nz) * field_->voxelSize();
     stats.wallVirial = sumIndex(p.size(), [&](std::size_t i) {  // each particle on its own: on the threads
         const Species& sp = model.species[p.species[i]];

@@ -65,10 +65,13 @@ struct Model {
     OrientedParams oriented;
     Integration integration;
     Box box;
-    bool curvatureWeighting = true;          // multiply co-planar weights by the map's curvature weight
-    std::shared_ptr<const GradientMap> map;  // shape of the bag(s) in force now; null for bulk material
-    // Keyframed shapes (Keyframes.hpp): every frame's map, `map` being one of them. Empty or one
-    // map: a static shape.
+    bool curvatureWeighting = true;  // multiply co-planar weights by the map's curvature weight
+    // The whole map of the bag(s), where the model holds it (tests, tools);
+    // null for bulk material and for runs that read windows from the map's cache file
+    // (SimulationOptions::map). The map in force at a step is Simulation::mapInForce().
+    std::shared_ptr<const GradientMap> map;
+    // Keyframed shapes (Keyframes.hpp): every frame's whole map, `map` being one of them. Empty or
+    // one map: a static shape.
     std::vector<std::shared_ptr<const GradientMap>> frames;
     KeyframeSchedule keyframes;
     core::Interpolation interpolation = core::Interpolation::Trilinear;

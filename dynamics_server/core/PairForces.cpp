@@ -6,11 +6,12 @@
 
 namespace bop::core {
 
-PairForces::PairForces(const Model& model, const Params& params)
-    : kernel_(model, params),
+PairForces::PairForces(const Model& model, const Params& params, bool map)
+    : kernel_(model, params, map),
       isVolume_(std::size_t(model.speciesCount()) + 1, 0),
       isWide_(std::size_t(model.speciesCount()) + 1, 0),
       oriented_(kernel_.anyOriented()),
+      map_(map),
       skin_(model.integration.skinR0 * kR0),
       prune_(model.integration.pruneR0 < model.integration.skinR0 ? model.integration.pruneR0 * kR0 : 0.0) {
     for (int s = 1; s <= model.speciesCount(); ++s) {
@@ -25,14 +26,14 @@ double PairForces::listRange() const {
 }
 
 double PairForces::listRange(const Model& model, const Params& params) {
-    return PairForces(model, params).listRange();
+    return PairForces(model, params, false).listRange();
 }
 
 void PairForces::setParams(const Model& model, const Params& params) {
     const std::vector<char> wideBefore = isWide_;
     const double ljCutBefore = kernel_.lj().cutoff(), wideCutBefore = kernel_.weight().cutoff();
     const bool orientedBefore = oriented_;
-    kernel_ = PairKernel(model, params);
+    kernel_ = PairKernel(model, params, map_);
     oriented_ = kernel_.anyOriented();
     for (int s = 1; s <= model.speciesCount(); ++s) isWide_[std::size_t(s)] = oriented_ && kernel_.orientedSpecies(s);
     if (oriented_ != orientedBefore || isWide_ != wideBefore || kernel_.lj().cutoff() != ljCutBefore ||
@@ -40,17 +41,17 @@ void PairForces::setParams(const Model& model, const Params& params) {
         requestRebuild();
 }
 
-bool PairForces::listHolds(const Model& model, const Particles& p) {
-    heldSinceCompute_ = p.revision == revision_ && list_.measure(model.box, p.pos, 0.5 * skin_);
+bool PairForces::listHolds(const Box& region, const Particles& p) {
+    heldSinceCompute_ = p.revision == revision_ && list_.measure(region, p.pos, 0.5 * skin_);
     return heldSinceCompute_;
 }
 
-void PairForces::updateList(const Model& model, const Particles& p, const Halo* halo) {
+void PairForces::updateList(const Box& region, const Particles& p, const Halo* halo) {
     static const std::vector<Eigen::Vector3d> kNoHalo;
     const std::vector<Eigen::Vector3d>& haloPos = halo ? halo->pos : kNoHalo;
     const bool held = heldSinceCompute_;
     heldSinceCompute_ = false;
-    if (p.revision != revision_ || !(held || list_.measure(model.box, p.pos, 0.5 * skin_))) {
+    if (p.revision != revision_ || !(held || list_.measure(region, p.pos, 0.5 * skin_))) {
         if (oriented_) {  // the oriented terms' pairs: surface particles with weights, to their cutoff
             wide_.range = kernel_.weight().cutoff() + skin_;
             wide_.member.resize(p.size() + haloPos.size());
@@ -67,9 +68,9 @@ void PairForces::updateList(const Model& model, const Particles& p, const Halo* 
         keys_ = p.id;  // entries by id within a cell: the list does not depend on the particles' order
         if (halo) keys_.insert(keys_.end(), halo->id.begin(), halo->id.end());
         keys_.resize(p.size() + haloPos.size());
-        list_.build(model.box, kernel_.lj().cutoff() + skin_, p.pos, haloPos, oriented_ ? &wide_ : nullptr, &keys_,
+        list_.build(region, kernel_.lj().cutoff() + skin_, p.pos, haloPos, oriented_ ? &wide_ : nullptr, &keys_,
                     kernel_.lj().cutoff());
-        list_.measure(model.box, p.pos, 0.5 * skin_);
+        list_.measure(region, p.pos, 0.5 * skin_);
         revision_ = p.revision;
     }
     list_.move(haloPos);
@@ -79,7 +80,7 @@ void PairForces::updateList(const Model& model, const Particles& p, const Halo* 
                       0.5 * prune_ * (1.0 - 1e-9));
 }
 
-void PairForces::gatherEntries(const Model& model, const Particles& p, const Halo* halo,
+void PairForces::gatherEntries(const Model& model, const GradientMap* map, const Particles& p, const Halo* halo,
                                const std::vector<float>& curvature) {
     const auto& owner = list_.owner();
     const std::size_t ne = list_.entryCount(), n = p.size();
@@ -103,18 +104,18 @@ void PairForces::gatherEntries(const Model& model, const Particles& p, const Hal
         } else {
             const std::size_t g = owner[k] - n;
             e.normal[k] = halo->normal[g];
-            e.curvature[k] = MapForces::curvatureWeight(model, halo->pos[g], halo->species[g]);
+            e.curvature[k] = MapForces::curvatureWeight(model, map, halo->pos[g], halo->species[g]);
         }
     });
 }
 
-void PairForces::add(const Model& model, Particles& p, const Halo* halo, const std::vector<float>& curvature,
-                     ForceStats& stats, bool energies, PhaseTimes* times) {
+void PairForces::add(const Model& model, const MapInForce& maps, Particles& p, const Halo* halo,
+                     const std::vector<float>& curvature, ForceStats& stats, bool energies, PhaseTimes* times) {
     auto t0 = PhaseClock::now();
-    updateList(model, p, halo);
+    updateList(maps.region, p, halo);
     if (times) times->neighbours += secondsSince(t0);
     t0 = PhaseClock::now();
-    gatherEntries(model, p, halo, curvature);
+    gatherEntries(model, maps.map().get(), p, halo, curvature);
     if (chunkedBuild_ != list_.builds()) chunks_.plan(list_, oriented_), chunkedBuild_ = list_.builds();
     // Pairs within the subdomain count whole, pairs with halo ghosts by half (the ghost's owner
     // counts the other half).
@@ -160,9 +161,10 @@ void PairForces::add(const Model& model, Particles& p, const Halo* halo, const s
 }
 
 void PairForces::bruteForce(const Model& model, const Params& params, Particles& p, ForceStats& stats) {
-    const PairKernel kernel(model, params);
+    const PairKernel kernel(model, params, model.map != nullptr);
     std::vector<float> w(p.size(), 1.0f);
-    for (std::size_t i = 0; i < p.size(); ++i) w[i] = MapForces::curvatureWeight(model, p.pos[i], p.species[i]);
+    for (std::size_t i = 0; i < p.size(); ++i)
+        w[i] = MapForces::curvatureWeight(model, model.map.get(), p.pos[i], p.species[i]);
     PairKernel::Sums sums;
     const Eigen::Vector3d L = model.box.size();
     for (std::size_t i = 0; i < p.size(); ++i)

@@ -4,6 +4,7 @@
 // a half stencil (each pair once, asymmetric weights applied per side), its pruned copies, and
 // the chunks that run the loops (LjPairLoop, OrientedPairLoop) on the threads.
 #include "ForceStats.hpp"
+#include "MapInForce.hpp"
 #include "Model.hpp"
 #include "NeighbourList.hpp"
 #include "PairChunks.hpp"
@@ -35,18 +36,20 @@ struct PairEntries {
 
 class PairForces {
 public:
-    PairForces(const Model& model, const Params& params);
+    // map: the run has a gradient map (PairKernel).
+    PairForces(const Model& model, const Params& params, bool map);
 
     // Adds the pair forces and torques to particles.force and .torque and fills the pair fields
-    // of stats. curvature: per particle, the co-planar weight from the map (MapForces); halo
-    // ghosts' are looked up in model's map. With `energies` false stats.pairEnergy is 0.
-    void add(const Model& model, Particles& particles, const Halo* halo, const std::vector<float>& curvature,
-             ForceStats& stats, bool energies, PhaseTimes* times);
+    // of stats, over the region of `maps`. curvature: per particle, the co-planar weight from the
+    // map (MapForces); halo ghosts' are looked up in the map in force. With `energies` false
+    // stats.pairEnergy is 0.
+    void add(const Model& model, const MapInForce& maps, Particles& particles, const Halo* halo,
+             const std::vector<float>& curvature, ForceStats& stats, bool energies, PhaseTimes* times);
 
     // ForceField::setParams: the kernel's tables again, the list kept unless its pairs change.
     void setParams(const Model& model, const Params& params);
     // ForceField::listHolds and requestRebuild.
-    bool listHolds(const Model& model, const Particles& particles);
+    bool listHolds(const Box& region, const Particles& particles);
     void requestRebuild() { revision_ = ~std::uint64_t(0); }
 
     bool oriented() const { return oriented_; }  // some species pair has oriented weights
@@ -57,21 +60,22 @@ public:
     double listRange() const;  // the largest cutoff + skin, length units
     // The LJ list's least cell width, length units.
     double cellWidth() const { return (kernel_.lj().cutoff() + skin_) / NeighbourList::kCellsPerRange; }
-    static double listRange(const Model& model, const Params& params);  // the same of any model
+    static double listRange(const Model& model, const Params& params);  // the same of any model and map
 
-    // Reference O(N^2) pair forces (tests): PairKernel::apply pair by pair, the scene's weights,
-    // the map's curvature weights, no lists.
+    // Reference O(N^2) pair forces (tests): PairKernel::apply pair by pair, the weights of
+    // `params`, the curvature weights of the model's whole map, no lists.
     static void bruteForce(const Model& model, const Params& params, Particles& particles, ForceStats& stats);
 
 private:
-    void updateList(const Model& model, const Particles& particles, const Halo* halo);
-    void gatherEntries(const Model& model, const Particles& particles, const Halo* halo,
+    void updateList(const Box& region, const Particles& particles, const Halo* halo);
+    void gatherEntries(const Model& model, const GradientMap* map, const Particles& particles, const Halo* halo,
                        const std::vector<float>& curvature);
 
     PairKernel kernel_;           // weights and evaluators of this model
     std::vector<char> isVolume_;  // per species number
     std::vector<char> isWide_;    // per species number: in the oriented (wide) pairs
     bool oriented_ = false;       // some species pair has co-normal or co-planar weights
+    bool map_ = false;            // the run has a gradient map
     double skin_ = 0;             // neighbour-list skin, length units
     double prune_ = 0;            // inner skin of pruned_, length units (0: no pruning)
     NeighbourList list_;

@@ -15,12 +15,10 @@ namespace bop::core {
 
 class PairKernel {
 public:
-    // The scene's species and potentials, the weights in force.
-    PairKernel(const Model& m, const Params& p)
-        : lj_(m.ljParams),
-          weight_(m.oriented),
-          n_(m.speciesCount() + 1),
-          useCurvature_(m.curvatureWeighting && m.map != nullptr) {
+    // The scene's species and potentials, the weights in force; `map`: the run has a gradient map
+    // (whose curvature weights the co-planar terms read, when the scene weights by curvature).
+    PairKernel(const Model& m, const Params& p, bool map)
+        : lj_(m.ljParams), weight_(m.oriented), n_(m.speciesCount() + 1), useCurvature_(m.curvatureWeighting && map) {
         const std::size_t nn = std::size_t(n_) * n_;
         ljF_.assign(nn, 0);
         ljE_.assign(nn, 0);

@@ -119,9 +119,7 @@ std::vector<std::size_t> adsorb(const std::vector<Candidate>& c, double d, const
 
 }  // namespace
 
-Placement placeParticles(const Model& model, const PlacementParams& params) {
-    if (!model.map) throw std::invalid_argument("placement needs a gradient map");
-    const GradientMap& m = *model.map;
+Placement placeParticles(const Model& model, const GradientMap& m, const PlacementParams& params) {
     const Dims& dims = m.dims();
     if (m.origin != Eigen::Vector3i::Zero() || dims.count() != m.wholeDims().count())
         throw std::invalid_argument("placement needs the whole gradient map, not a window");

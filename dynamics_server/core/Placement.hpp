@@ -53,8 +53,8 @@ struct Placement {
     std::vector<PlacedSpecies> species;  // every species with voxels, by number
 };
 
-// `model.map` must be the whole map (window origin 0, every voxel); std::invalid_argument if it
-// has none.
-Placement placeParticles(const Model& model, const PlacementParams& params);
+// `map` must be the whole map (window origin 0, every voxel); std::invalid_argument if it is a
+// window.
+Placement placeParticles(const Model& model, const GradientMap& map, const PlacementParams& params);
 
 }  // namespace bop::core

@@ -121,15 +121,16 @@ Totals Run::totals() const {
 ShapeCounts Run::shapeCounts() const {
     const Simulation& s = *impl_->sim;
     const Model& m = s.model();
+    const GradientMap* map = s.mapInForce().map().get();
     std::vector<double> mine(4, 0.0);  // surface, surface in own voxels, volume, volume in own voxels
     const Particles& p = s.particles();
-    const double h = m.map ? voxelLength(m.map->r0Voxels) : 1.0;
+    const double h = map ? voxelLength(map->r0Voxels) : 1.0;
     for (std::size_t i = 0; i < p.size(); ++i) {
         const std::size_t k = m.isSurface(p.species[i]) ? 0 : 2;
         mine[k] += 1;
-        if (!m.map) continue;
-        const std::int64_t v = m.map->voxelHolding(p.pos[i] / h);
-        mine[k + 1] += v >= 0 && m.map->occ[std::size_t(v)] == p.species[i] ? 1 : 0;
+        if (!map) continue;
+        const std::int64_t v = map->voxelHolding(p.pos[i] / h);
+        mine[k + 1] += v >= 0 && map->occ[std::size_t(v)] == p.species[i] ? 1 : 0;
     }
     ShapeCounts out;
     const std::vector<double> all = impl_->ex->allGather(mine);

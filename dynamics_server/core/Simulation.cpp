@@ -42,18 +42,16 @@ Simulation::Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::s
       ex_(exchange ? exchange : ownExchange_.get()),
       model_(std::move(model)),
       params_(paramsFor(*model_, std::move(options.params))),
-      region_(ex_->region(model_->box)),
-      field_(*model_, params_),
+      // The map's curvature weights serve the pair terms where the run has a map.
+      field_(*model_, params_, model_->map != nullptr || options.map.has_value()),
       drag_(*model_, params_),
       construction_(options.construction ? *options.construction : Construction({}, {}, model_->speciesCount())),
       mapSource_(std::move(options.map)) {
     stats_.step = options.firstStep;
     stats_.time = double(options.firstStep) * model_->integration.dt;
     range_ = field_.pairs().listRange();
+    maps_.region = ex_->region(model_->box);
     placeMaps();
-    placeLocal();
-    field_ =
-        ForceField(*local_, params_);  // with the map window: the pair terms' curvature weights need to know of a map
     applyKeyframe(stats_.time);
     // Every process holds `all`: new ids count on from its largest alike.
     if (all.size()) construction_.reserveIds(*std::max_element(all.id.begin(), all.id.end()));
@@ -73,7 +71,7 @@ Simulation::Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::s
     ex_->sortParticles(cells, field_.pairs().cellWidth(), options.sortEverySteps);
     placeRegion(ex_->start(p_, halo_, range_));
     forces(true);
-    stats_.kinetic = kineticEnergy(*local_, p_);
+    stats_.kinetic = kineticEnergy(*model_, p_);
 }
 
 Simulation::~Simulation() = default;
@@ -86,7 +84,7 @@ void Simulation::submit(const Command& command) {
     if (weight || std::holds_alternative<ProbeCommand>(command) || std::holds_alternative<DragCommand>(command))
         next.apply(command);  // refused here, before any process sees it
     // Only weights can switch the oriented terms on or off (one PairForces built to tell).
-    if (weight && PairForces::listRange(*local_, next) != range_)
+    if (weight && PairForces::listRange(*model_, next) != range_)
         throw std::invalid_argument(
             "weight command: it would change the interaction range (oriented terms on or "
             "off); give the scene a nonzero weight of that kind to start with");
@@ -103,14 +101,14 @@ void Simulation::apply(const Command& command) {
     }
     params_.apply(command);
     if (std::holds_alternative<WeightCommand>(command)) {
-        field_.setParams(*local_, params_);
+        field_.setParams(*model_, params_);
         forcesStale_ = true;
     }
-    if (std::holds_alternative<DragCommand>(command)) drag_ = DragFactors(*local_, params_), fireDrag_.reset();
+    if (std::holds_alternative<DragCommand>(command)) drag_ = DragFactors(*model_, params_), fireDrag_.reset();
 }
 
 void Simulation::forces(bool energies) {
-    field_.compute(*local_, params_.probe, p_, stats_.forces, &times_.forces, energies,
+    field_.compute(*model_, maps_, params_.probe, p_, stats_.forces, &times_.forces, energies,
                    ex_->hasGhosts() ? &halo_ : nullptr);
     forcesStale_ = false;
     energiesCurrent_ = energies;
@@ -123,9 +121,8 @@ void Simulation::refreshForces() {
 void Simulation::placeRegion(Refreshed r) {
     if (r == Refreshed::Kept) return;
     if (r == Refreshed::Moved) {
-        region_ = ex_->region(model_->box);
+        maps_.region = ex_->region(model_->box);
         placeMaps();
-        placeLocal();
     }
     field_.requestRebuild();
 }
@@ -147,7 +144,7 @@ void Simulation::step() {
         ConstructionEvent e;
         e.step = stats_.step;
         e.species = c->species;
-        e.positionVoxels = c->position / (local_->map ? voxelLength(local_->map->r0Voxels) : 1.0);
+        e.positionVoxels = c->position / (maps_.map() ? voxelLength(maps_.map()->r0Voxels) : 1.0);
         events.push_back(e);
     }
     commands_.clear();
@@ -159,13 +156,13 @@ void Simulation::step() {
     t0 = PhaseClock::now();
     std::optional<FireKick> kick;
     if (fire_) {  // the minimiser's decision, from every process's sums
-        kick = fire_->next(sumInOrder(ex_->allGather(std::vector{firePower(*local_, p_)})));
-        if (!fireDrag_ || fireDrag_->dt != kick->dt) fireDrag_ = DragFactors(*local_, params_, kick->dt);
+        kick = fire_->next(sumInOrder(ex_->allGather(std::vector{firePower(*model_, p_)})));
+        if (!fireDrag_ || fireDrag_->dt != kick->dt) fireDrag_ = DragFactors(*model_, params_, kick->dt);
     }
     const DragFactors& drag = kick ? *fireDrag_ : drag_;
-    kickDrift(*local_, drag, p_, ex_->wrapsEveryDrift(), kick ? &*kick : nullptr);
+    kickDrift(*model_, maps_.region, drag, p_, ex_->wrapsEveryDrift(), kick ? &*kick : nullptr);
     times_.integrate += secondsSince(t0);
-    const bool holds = field_.listHolds(*local_, p_);
+    const bool holds = field_.listHolds(maps_.region, p_);
     t0 = PhaseClock::now();
     const Refreshed r = ex_->afterDrift(p_, halo_, range_, holds);
     if (r != Refreshed::Kept) ++rebuilds_;
@@ -176,7 +173,7 @@ void Simulation::step() {
     forces(energiesNext_ || stats_.step % energyEvery_ == 0);
     energiesNext_ = false;
     t0 = PhaseClock::now();
-    const KickSums k = kickAndSum(*local_, drag, p_);  // one pass: kinetic, blood and soundness sums
+    const KickSums k = kickAndSum(*model_, drag, p_);  // one pass: kinetic, blood and soundness sums
     stats_.kinetic = k.kinetic;
     stats_.blood = {k.volumeMv2, k.volumeCount};
     times_.integrate += secondsSince(t0);
@@ -222,7 +219,7 @@ struct ProcessSums {
 
 Totals Simulation::totals() const {
     const ForceStats& f = stats_.forces;
-    const BloodSums blood = bloodSums(*local_, p_);
+    const BloodSums blood = bloodSums(*model_, p_);
     const ProcessSums mine{double(p_.size()), stats_.kinetic,  f.pairEnergy, f.probeEnergy, f.virial,
                            f.virialVolume,    f.probeReaction, blood.mv2,    blood.count,   f.wallVirial};
     const ProcessSums sum = sumInOrder(ex_->allGather(std::vector{mine}));

@@ -112,10 +112,10 @@ public:
     void energiesNextStep() { energiesNext_ = true; }
     bool energiesCurrent() const { return energiesCurrent_; }  // the last forces came with energies
 
-    // The scene's constants over this process's region, with its window of the map in force:
-    // made again, whole, when the region or the map in force changes, never written field by
-    // field. Its weights and drags are the scene's first ones; those in force are params().
-    const Model& model() const { return *local_; }
+    // The scene's constants (the whole box; the whole maps only where the model holds them), and
+    // beside them the map in force: this process's region and its window of the keyframes' maps.
+    const Model& model() const { return *model_; }
+    const MapInForce& mapInForce() const { return maps_; }
     const Params& params() const { return params_; }  // weights, drags and probe in force
     // On rank 0: the params once the queued commands apply, what the next step runs with.
     const Params& paramsAhead() const { return commands_.empty() ? params_ : queued_; }
@@ -153,7 +153,6 @@ private:
     void construct(std::vector<ConstructionEvent> events);  // SimulationConstruction.cpp
     Eigen::Vector3d defaultSeed(int species) const;         // collective
     void placeMaps();                                       // this region's windows of the map(s); SimulationMaps.cpp
-    void placeLocal();  // local_ again: the scene over region_ with the window of the map in force
     void applyKeyframe(double time);
     void placeRegion(Refreshed r);  // after the exchange's refresh: a new region's windows, a new list
     void forces(bool energies);
@@ -163,8 +162,7 @@ private:
     Exchange* ex_;
     std::shared_ptr<const Model> model_;  // the whole scene
     Params params_;                       // what commands change
-    Box region_;                          // this process's region of the box (state: the exchange moves it)
-    std::shared_ptr<const Model> local_;  // the scene over region_, the window of the map in force
+    MapInForce maps_;                     // this process's region (the exchange moves it), its map windows
     ForceField field_;
     DragFactors drag_;                     // of params_.drag
     std::optional<Fire> fire_;             // the minimiser, while it steps
@@ -183,9 +181,7 @@ private:
     std::size_t rebuilds_ = 0;
     double exchangeSeconds_ = 0;
     std::optional<MapSource> mapSource_;
-    bop::VoxelWindow window_;
-    std::vector<std::shared_ptr<const GradientMap>> frames_;  // this window of every keyframe
-    std::vector<MapVolume> frameVolumes_;                     // whole-map counts per keyframe
+    std::vector<MapVolume> frameVolumes_;  // whole-map counts per keyframe
 };
 
 }  // namespace bop::core

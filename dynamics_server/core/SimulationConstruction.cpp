@@ -49,8 +49,8 @@ void removeIds(Particles& p, const std::vector<std::uint64_t>& sortedIds) {
 }  // namespace
 
 Eigen::Vector3d Simulation::defaultSeed(int species) const {
-    if (!local_->map) throw std::invalid_argument("seeding needs a gradient map");
-    const auto best = core::defaultSeed(construction_.params(), *local_, species,
+    if (!maps_.map()) throw std::invalid_argument("seeding needs a gradient map");
+    const auto best = core::defaultSeed(construction_.params(), *model_, *maps_.map(), species,
                                         [&](const Eigen::Vector3d& x) { return ex_->owns(x); });
     const std::vector<SeedOffer> all =
         ex_->allGather(std::vector{best ? SeedOffer{1, best->key.first, best->key.second, best->pos} : SeedOffer{}});
@@ -77,13 +77,14 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
             construction_.setBirth(e.species, e.action == ConstructionEvent::Action::BirthOn);
             continue;
         }
-        const double h = local_->map ? voxelLength(local_->map->r0Voxels) : 1.0;
+        const double h = maps_.map() ? voxelLength(maps_.map()->r0Voxels) : 1.0;
         const Eigen::Vector3d x = e.positionVoxels ? Eigen::Vector3d(*e.positionVoxels * h) : defaultSeed(e.species);
         const double near = construction_.params().deathR0 * kR0;  // the ghosts reach further
         const bool free = !crowded(p_.pos, model_->box, x, near) && !crowded(halo_.pos, model_->box, x, near) &&
                           !crowded(seeded, model_->box, x, near);
         const std::size_t before = p_.size();
-        construction_.seed(*local_, p_, e.species, x, ex_->owns(x) && free);  // every process counts the seed
+        construction_.seed(*model_, maps_.map().get(), p_, e.species, x,
+                           ex_->owns(x) && free);  // every process counts the seed
         changed = changed || p_.size() != before;
         seeded.push_back(x);
     }
@@ -96,25 +97,26 @@ void Simulation::construct(std::vector<ConstructionEvent> events) {
         const std::size_t owned = p_.size();
 
         std::vector<std::size_t> count = speciesCounts(*ex_, p_, model_->speciesCount());
-        const std::vector<std::uint64_t> die =
-            chooseDeaths(params, gatherMarks(*ex_, markDeaths(params, {*local_, local_->box, seen, owned}, step)),
-                         count, construction_.birthSwitches());
+        const std::vector<std::uint64_t> die = chooseDeaths(
+            params,
+            gatherMarks(*ex_, markDeaths(params, {*model_, maps_.region, seen, owned, maps_.map().get()}, step)), count,
+            construction_.birthSwitches());
         removeIds(p_, die);
         removeIds(seen, die);
         built.deaths = die.size();
 
         count = speciesCounts(*ex_, p_, model_->speciesCount());
-        for (int s = 1; local_->map && s <= model_->speciesCount(); ++s) {
+        for (int s = 1; maps_.map() && s <= model_->speciesCount(); ++s) {
             if (!construction_.birthOn(s) || count[std::size_t(s)] == 0) continue;  // births grow from a seed
-            const auto found = birthCandidates(params, {*local_, local_->box, seen, p_.size()}, s, step,
-                                               [&](const Eigen::Vector3d& x) { return ex_->owns(x); });
+            const auto found = birthCandidates(params, {*model_, maps_.region, seen, p_.size(), maps_.map().get()}, s,
+                                               step, [&](const Eigen::Vector3d& x) { return ex_->owns(x); });
             const auto winners =
                 chooseBirths(params, model_->box, gatherCandidates(*ex_, found), count[std::size_t(s)]);
             const std::uint64_t firstId = construction_.takeIds(winners.size());  // in the winners' order
             for (std::size_t k = 0; k < winners.size(); ++k) {
                 const BirthCandidate& w = winners[k];
                 const std::uint64_t id = firstId + k;
-                if (ex_->owns(w.pos)) addBirth(*local_, p_, s, w, id);
+                if (ex_->owns(w.pos)) addBirth(*model_, *maps_.map(), p_, s, w, id);
                 // Every newborn blocks later species' births nearby, here too; across a periodic
                 // seam that other processes hold, as the image this process's ghosts would show.
                 for (int image = 0; image < 27; ++image) {

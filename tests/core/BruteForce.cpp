@@ -7,7 +7,7 @@ namespace bop::test {
 BruteForceComparison compareWithBruteForce(const core::Model& m, const core::Params& params, core::ForceField& field,
                                            core::Particles& p, bool energies) {
     BruteForceComparison c;
-    field.compute(m, core::ProbeState{}, p, c.field, nullptr, energies);
+    field.compute(m, core::wholeMapOf(m), core::ProbeState{}, p, c.field, nullptr, energies);
     core::Particles q = p;
     for (std::size_t i = 0; i < q.size(); ++i) {
         q.force[i].setZero();

@@ -41,7 +41,7 @@ void checkBagAgainstReference(bool uniformLj = false) {
     w.coPlanar(3, 1) = 0.7;
     w.coPlanar(3, 3) = 0.0;  // a surface pair with co-normal weight only
     m->species[1].alphaTorqueOp = 1.3;
-    REQUIRE(PairKernel(*m, w).ljUniform() == uniformLj);
+    REQUIRE(PairKernel(*m, w, false).ljUniform() == uniformLj);
     m->map = map;
     m->curvatureWeighting = true;
     const double h = voxelLength(map->r0Voxels);
@@ -64,7 +64,7 @@ void checkBagAgainstReference(bool uniformLj = false) {
             const float w = MapForces::curvatureWeight(*m, p.pos[i], p.species[i]);
             wLo = std::min(wLo, w), wHi = std::max(wHi, w);
         }
-    ForceField field(*m, w);
+    ForceField field(*m, w, m->map != nullptr);
     const test::BruteForceComparison c = test::compareWithBruteForce(*m, w, field, p);
     const ForceStats &a = c.field, &b = c.brute;
     const double maxF = c.maxForce, errF = c.forceError, errT = c.torqueError;

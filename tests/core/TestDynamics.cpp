@@ -77,7 +77,7 @@ TEST_CASE("cell-list forces and torques equal O(N^2) brute force", "[core][cells
     for (bool periodic : {false, true}) {
         auto m = mixedModel(false, false, periodic, 10.0);
         Particles p = randomParticles(*m, 300, 0.6, periodic ? 2 : 1);
-        ForceField field(*m, mixedParams(false, false));
+        ForceField field(*m, mixedParams(false, false), m->map != nullptr);
         const test::BruteForceComparison c = test::compareWithBruteForce(*m, mixedParams(false, false), field, p);
         const ForceStats &a = c.field, &b = c.brute;
         const double maxF = c.maxForce, errF = c.forceError, errT = c.torqueError;

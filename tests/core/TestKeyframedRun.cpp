@@ -39,7 +39,7 @@ TEST_CASE("keyframes at one process: the map switches every frame duration and t
         CHECK(at.a == int((step / 5) % 2));
         CHECK(at.b == 1 - at.a);
         CHECK(at.w == Approx(double(step % 5) / 5).margin(1e-9));
-        CHECK(sim->model().map == frames[std::size_t(at.a)]);
+        CHECK(sim->mapInForce().map() == frames[std::size_t(at.a)]);
         switches += at.a != last;
         last = at.a;
         const Eigen::Vector3d x = sim->particles().pos[0], n = sim->particles().normal[0];
@@ -89,7 +89,7 @@ method = "birth"  # no timeline: the gas below is all there is
 )");
     app::Scene scene = app::loadScene(path);
     test::OneProcessRun sim(scene);
-    const GradientMap& map = *sim->model().map;
+    const GradientMap& map = *sim->mapInForce().map();
     const double h = core::kR0 / map.r0Voxels, temperature = 0.4;
     std::mt19937_64 rng(7);
     std::normal_distribution<double> maxwell(0.0, std::sqrt(temperature));

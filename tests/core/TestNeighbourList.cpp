@@ -274,7 +274,7 @@ TEST_CASE("forces match brute force as particles drift across periodic faces and
         for (bool periodic : {true, false}) {
             auto m = model(surface, periodic, 9.0);
             Particles p = particles(*m, 320, periodic ? 3 : 4);
-            ForceField field(*m, weights(surface));
+            ForceField field(*m, weights(surface), m->map != nullptr);
             std::mt19937 rng(11);
             std::normal_distribution<double> g(0, 0.01 * kR0);  // per move, well below skin / 2
             const Eigen::Vector3d L = m->box.size();
@@ -315,7 +315,7 @@ TEST_CASE("pruned pair lists give the whole list's forces and torques to the bit
     whole.integration.pruneR0 = 0.0;
     pruned.integration.pruneR0 = 0.05;
     Particles p = particles(whole, 320, 3);
-    ForceField a(whole, weights(true)), b(pruned, weights(true));
+    ForceField a(whole, weights(true), false), b(pruned, weights(true), false);
     std::mt19937 rng(9);
     std::normal_distribution<double> g(0, 0.004 * kR0);  // per move
     const Eigen::Vector3d L = whole.box.size();
@@ -327,8 +327,8 @@ TEST_CASE("pruned pair lists give the whole list's forces and torques to the bit
         }
         Particles pa = p, pb = p;
         ForceStats sa, sb;
-        a.compute(whole, ProbeState{}, pa, sa, nullptr, it % 4 == 0);
-        b.compute(pruned, ProbeState{}, pb, sb, nullptr, it % 4 == 0);
+        a.compute(whole, core::wholeMapOf(whole), ProbeState{}, pa, sa, nullptr, it % 4 == 0);
+        b.compute(pruned, core::wholeMapOf(pruned), ProbeState{}, pb, sb, nullptr, it % 4 == 0);
         for (std::size_t i = 0; i < p.size(); ++i)
             differing += pa.force[i] != pb.force[i] || pa.torque[i] != pb.torque[i];
         CHECK(sa.pairsInRange == sb.pairsInRange);
@@ -358,9 +358,9 @@ TEST_CASE("two subdomains with halos give the forces and energy of the whole box
     for (bool surface : {true, false}) {
         auto m = model(surface, true, 9.0);
         Particles all = particles(*m, 320, 5);
-        ForceField whole(*m, weights(surface));
+        ForceField whole(*m, weights(surface), m->map != nullptr);
         ForceStats ref;
-        whole.compute(*m, ProbeState{}, all, ref);
+        whole.compute(*m, core::wholeMapOf(*m), ProbeState{}, all, ref);
         const double L = m->box.size().x(), cut = 0.5 * (m->box.lo.x() + m->box.hi.x());
         const double range = whole.pairs().neighbours().range();
         double energy = 0, virial = 0, worst = 0, maxF = 1;
@@ -388,9 +388,9 @@ TEST_CASE("two subdomains with halos give the forces and energy of the whole box
                     halo.species.push_back(all.species[i]);
                 }
             }
-            ForceField part(*sub, weights(surface));
+            ForceField part(*sub, weights(surface), sub->map != nullptr);
             ForceStats s;
-            part.compute(*sub, ProbeState{}, mine, s, nullptr, true, &halo);
+            part.compute(*sub, core::wholeMapOf(*sub), ProbeState{}, mine, s, nullptr, true, &halo);
             energy += s.pairEnergy;
             virial += s.virial;
             owned += mine.size();

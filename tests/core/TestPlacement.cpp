@@ -26,7 +26,7 @@ TEST_CASE("placement fills both of two balls at the counts r0 spacing gives", "[
         test::depthFrom(d, {[&](const Eigen::Vector3d& x) { return (x - a).norm() < ra || (x - b).norm() < rb; }}), 2.0,
         1.5);
     const Model model = test::bagModel(map);
-    const Placement placed = placeParticles(model, {});
+    const Placement placed = placeParticles(model, *model.map, {});
     const Particles& p = placed.particles;
     const double h = voxelLength(map.r0Voxels);
     REQUIRE(placed.species.size() == 2);
@@ -68,24 +68,21 @@ TEST_CASE("placement fills both of two balls at the counts r0 spacing gives", "[
     CHECK(closestSheet >= 0.5 * kR0);  // the sheet's spacing, found for the ideal count, is not tiny
 
     // The same particles every time; another seed moves them.
-    const Placement again = placeParticles(model, {});
+    const Placement again = placeParticles(model, *model.map, {});
     CHECK(again.particles.pos == p.pos);
     CHECK(again.particles.id == p.id);
     PlacementParams other;
     other.seed = 7;
-    CHECK(placeParticles(model, other).particles.pos != p.pos);
+    CHECK(placeParticles(model, *model.map, other).particles.pos != p.pos);
 }
 
 TEST_CASE("placement needs the whole map", "[core][placement]") {
     const Dims d{20, 20, 20};
     GradientMap map = test::mapFrom(
         test::depthFrom(d, {[](const Eigen::Vector3d& x) { return (x - Eigen::Vector3d(10, 10, 10)).norm() < 6; }}));
-    Model none = test::bagModel(map);
-    none.map.reset();
-    CHECK_THROWS_AS(placeParticles(none, {}), std::invalid_argument);
     map.origin = Eigen::Vector3i(1, 0, 0);  // a window of a bigger map
     map.whole = Dims{21, 20, 20};
-    CHECK_THROWS_AS(placeParticles(test::bagModel(map), {}), std::invalid_argument);
+    CHECK_THROWS_AS(placeParticles(test::bagModel(map), map, {}), std::invalid_argument);
 }
 
 TEST_CASE("a mid-shell sheet is counted over the area where the map holds it", "[core][placement]") {
@@ -97,7 +94,7 @@ TEST_CASE("a mid-shell sheet is counted over the area where the map holds it", "
         const Model model = test::bagModel(map);
         PlacementParams mid;
         mid.sheetArea = SheetArea::MidShell;
-        const Placement faces = placeParticles(model, {}), shell = placeParticles(model, mid);
+        const Placement faces = placeParticles(model, *model.map, {}), shell = placeParticles(model, *model.map, mid);
         const double h = voxelLength(map.r0Voxels);
         const double outer = 4 * kPi * r * r * h * h, inner = 4 * kPi * (r - 0.5) * (r - 0.5) * h * h;
         INFO("radius " << r << " voxels: faces " << faces.species[0].areaOrVolume << " (sphere " << outer

@@ -97,9 +97,9 @@ TEST_CASE("forces on every particle equal the single process's for a frozen conf
         auto m = mixedModel(periodic, Eigen::Vector3d(14, 11, 9));
         const Params w = mixedParams(1.0);
         Particles all = scatter(*m, 500, 3, 0.0);
-        ForceField single(*m, w);
+        ForceField single(*m, w, m->map != nullptr);
         ForceStats ref;
-        single.compute(*m, ProbeState{}, all, ref);
+        single.compute(*m, core::wholeMapOf(*m), ProbeState{}, all, ref);
         CartComm comm(MPI_COMM_WORLD, m->box);
         RankRun run(m, all, {.params = w});
         const double worst = forceDifference(all, run.gather());
@@ -190,9 +190,9 @@ TEST_CASE("a lopsided configuration is balanced and keeps the single-process for
     auto crowded = std::make_shared<Model>(*m);  // every particle in the lower 45% of x
     crowded->box.hi.x() = 0.45 * m->box.hi.x();
     Particles all = scatter(*crowded, 600, 13, 0.0);
-    ForceField single(*m, w);
+    ForceField single(*m, w, m->map != nullptr);
     ForceStats ref;
-    single.compute(*m, ProbeState{}, all, ref);
+    single.compute(*m, core::wholeMapOf(*m), ProbeState{}, all, ref);
     CartComm comm(MPI_COMM_WORLD, m->box);
     RankRun run(m, all, {.params = w});
     const double before = run.counters().initialImbalance, after = run.counters().imbalance;
@@ -217,9 +217,9 @@ TEST_CASE("the probe's forces and reaction equal the single process's", "[mpi][p
     probe.active = true;
     probe.params = {2.0, 3.0};
     probe.position = 0.5 * (m->box.lo + m->box.hi);  // inside the material, near the middle cut
-    ForceField single(*m, w);
+    ForceField single(*m, w, m->map != nullptr);
     ForceStats ref;
-    single.compute(*m, probe, all, ref);
+    single.compute(*m, core::wholeMapOf(*m), probe, all, ref);
     CartComm comm(MPI_COMM_WORLD, m->box);
     RankRun run(m, all, {.params = w});
     run.setProbe(probe);
@@ -325,9 +325,9 @@ TEST_CASE("a particle a hair below a periodic face is wrapped onto the face, not
     const Params w = mixedParams(1.0);
     Particles all = scatter(*m, 400, 23, 0.0);
     all.pos[0].x() = m->box.lo.x() - 1e-17;
-    ForceField single(*m, w);
+    ForceField single(*m, w, m->map != nullptr);
     ForceStats ref;
-    single.compute(*m, ProbeState{}, all, ref);
+    single.compute(*m, core::wholeMapOf(*m), ProbeState{}, all, ref);
     CartComm comm(MPI_COMM_WORLD, m->box);
     RankRun run(m, all, {.params = w});
     const Particles got = run.gather();

@@ -96,8 +96,8 @@ TEST_CASE("each rank holds only its window of the gradient map", "[mpi][construc
     // Windows overlap only by their margins: together they hold at most a few times the map.
     CHECK(sum < 4.0 * whole);
     // Every rank's window answers like the whole map where its particles can be.
-    const GradientMap& crop = *run.simulation().model().map;
-    const core::Box& sub = run.simulation().model().box;
+    const GradientMap& crop = *run.simulation().mapInForce().map();
+    const core::Box& sub = run.simulation().mapInForce().region;
     const double h = core::kR0 / map.r0Voxels;
     std::size_t checked = 0;
     for (std::size_t v = 0; v < crop.occ.size(); ++v) {
@@ -124,7 +124,8 @@ TEST_CASE("seed and birth commands sent to rank 0 build the same bag as the time
     if (comm.rank() == 0)
         for (int s : {1, 2}) {
             // the seed's map: the whole grid
-            run.submit(core::SeedCommand{s, timeline.defaultSeedPosition(b.serial->model(), s)});
+            run.submit(core::SeedCommand{
+                s, timeline.defaultSeedPosition(b.serial->model(), b.serial->mapInForce().map().get(), s)});
             run.submit(core::BirthCommand{s, true});
         }
     run.run(steps);

@@ -44,7 +44,7 @@ std::size_t count(const core::Model& m, const core::Particles& p, bool surface) 
 TEST_CASE("torus and star bags take their shape", "[physics][fidelity]") {
     for (const char* name : {"torus", "star"}) {
         Built& b = built(name);
-        const app::Fidelity f = app::measureFidelity(b.sim->model(), b.sim->particles());
+        const app::Fidelity f = app::measureFidelity(b.sim->model(), *b.sim->mapInForce().map(), b.sim->particles());
         INFO(name << ": " << f.surface << " surface, " << f.volume << " volume particles; "
                   << 100 * f.surfaceInOwnVoxels << "% / " << 100 * f.volumeInOwnVoxels
                   << "% in their voxels; median normal angle " << f.medianNormalAngleDeg << " deg; E_kin "
@@ -61,7 +61,7 @@ TEST_CASE("torus and star bags take their shape", "[physics][fidelity]") {
 TEST_CASE("a bag in a bag keeps each species in its own region", "[physics][fidelity]") {
     Built& b = built("bag-in-bag");
     const core::Model& m = b.sim->model();
-    const app::Fidelity f = app::measureFidelity(m, b.sim->particles());
+    const app::Fidelity f = app::measureFidelity(m, *b.sim->mapInForce().map(), b.sim->particles());
     const double own = (f.surfaceInOwnVoxels * double(f.surface) + f.volumeInOwnVoxels * double(f.volume)) /
                        double(f.surface + f.volume);
     std::map<int, std::size_t> perSpecies;
@@ -78,7 +78,7 @@ TEST_CASE("the torus recovers its shape after a 3-voxel poke", "[physics][elasti
     for (int s = 1; s <= m.speciesCount(); ++s) sim.construction().setBirth(s, false);
     sim.run(3000);  // let the finished bag come to rest before the poke
     const double restKinetic = sim.stats().kinetic;
-    const double h = core::kR0 / m.map->r0Voxels;
+    const double h = core::kR0 / sim.mapInForce().map()->r0Voxels;
     std::map<std::uint64_t, Eigen::Vector3d> before;
     std::size_t top = 0;
     for (std::size_t i = 0; i < sim.particles().size(); ++i) {
@@ -124,10 +124,11 @@ TEST_CASE("the torus recovers its shape after a 3-voxel poke", "[physics][elasti
         return std::sqrt(sum / double(std::max<std::size_t>(n, 1))) / h;
     };
     const double heldLocal = rms(held, true), heldAll = rms(held, false);
-    const app::Fidelity heldShape = app::measureFidelity(m, held);
+    const GradientMap& map = *sim.mapInForce().map();  // the whole map: one process
+    const app::Fidelity heldShape = app::measureFidelity(m, map, held);
     int recovered = -1;
     for (int s = 0; s <= 3000; s += 50) {
-        const app::Fidelity f = app::measureFidelity(m, sim.particles());
+        const app::Fidelity f = app::measureFidelity(m, map, sim.particles());
         if (rms(sim.particles(), false) < 0.3 && f.surfaceInOwnVoxels >= 0.98 && f.volumeInOwnVoxels >= 0.98) {
             recovered = s;
             break;
@@ -147,7 +148,7 @@ TEST_CASE("the torus recovers its shape after a 3-voxel poke", "[physics][elasti
     CHECK(recovered >= 0);
     CHECK(recovered <= 2000);
     CHECK(sim.particles().size() == n0);  // no particle left or died
-    const app::Fidelity f = app::measureFidelity(m, sim.particles());
+    const app::Fidelity f = app::measureFidelity(m, map, sim.particles());
     CHECK(f.surfaceInOwnVoxels >= 0.98);
     CHECK(f.volumeInOwnVoxels >= 0.98);
 }

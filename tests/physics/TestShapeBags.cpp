@@ -135,9 +135,7 @@ TEST_CASE("a thin plate and two balls placed and settled within the targets", "[
         const long long steps = settleRun(run, scene, settling);
         const core::Particles& p = run->particles();
         const GradientMap map = run.wholeMap();
-        core::Model whole = *scene.model;
-        whole.map = std::make_shared<GradientMap>(map);
-        const app::Fidelity f = app::measureFidelity(whole, p);
+        const app::Fidelity f = app::measureFidelity(*scene.model, map, p);
         const double h = voxelLength(map.r0Voxels);
         const double surfaceIdeal = s.area / (std::sqrt(3.0) / 2 * map.r0Voxels * map.r0Voxels);
         const double volumeIdeal =

@@ -21,7 +21,7 @@ TEST_CASE("the ventricle beats: ejection fraction and the pressure peak in systo
     REQUIRE(scene.pressure);
     scene.pressure->skipCycles = 0;  // construction ends at rest at end-diastole: the first cycle counts
     test::OneProcessRun sim(scene);
-    app::CardiacRun cardiac(scene, *sim->model().map, sim->frameVolumes());
+    app::CardiacRun cardiac(scene, *sim->mapInForce().map(), sim->frameVolumes());
     const core::KeyframeSchedule& k = scene.model->keyframes;
     const long long start = std::llround(k.startTime / scene.model->integration.dt);
     const long long steps = start + std::llround(k.period() / scene.model->integration.dt);
@@ -41,7 +41,7 @@ TEST_CASE("the ventricle beats: ejection fraction and the pressure peak in systo
     const app::CardiacCycle c = cardiac.series().cycle();
     const double truth = shape::makeLvPhantom({}).ejectionFraction();  // the generator's ground truth
     const double cavityEd =
-        sim->frameVolumes()[0].bagVoxels * std::pow(sim->model().map->grid.voxelMm, 3) / 1000;  // mL
+        sim->frameVolumes()[0].bagVoxels * std::pow(sim->mapInForce().map()->grid.voxelMm, 3) / 1000;  // mL
     std::ostringstream what;
     what << "built at end-diastole: " << builtSurface << " surface and " << builtVolume << " volume particles filling "
          << builtMl << " mL of the " << cavityEd << " mL cavity; " << app::CardiacSeries::summary(c) << "; truth EF "

@@ -38,7 +38,7 @@ TEST_CASE("a default seed becomes one seed in every piece of its species", "[sha
     const Eigen::Vector3d given(14.5, 14.5, 14.5);
     const std::vector<core::ConstructionEvent> timeline = {
         {0, A::Seed, 1, {}}, {0, A::BirthOn, 1, {}}, {100, A::Seed, 2, given}, {100, A::Seed, 2, {}}};
-    const app::PieceSeeding s = app::seedEveryPiece(model, {}, timeline);
+    const app::PieceSeeding s = app::seedEveryPiece(model, map, {}, timeline);
 
     std::vector<core::ConstructionEvent> sheet, volume;
     for (const auto& e : s.timeline) {
@@ -73,11 +73,11 @@ TEST_CASE("a default seed becomes one seed in every piece of its species", "[sha
         test::depthFrom(Dims{28, 28, 28}, {[&](const Eigen::Vector3d& x) { return (x - a).norm() < ra; }}), 2.0, 1.5);
     const core::Model single = test::bagModel(one);
     const core::Construction c({}, {}, 2);
-    const app::PieceSeeding s1 = app::seedEveryPiece(single, {}, {{0, A::Seed, 1, {}}, {0, A::Seed, 2, {}}});
+    const app::PieceSeeding s1 = app::seedEveryPiece(single, one, {}, {{0, A::Seed, 1, {}}, {0, A::Seed, 2, {}}});
     REQUIRE(s1.timeline.size() == 2);
     const double h = voxelLength(one.r0Voxels);
     for (int species = 1; species <= 2; ++species)
-        CHECK((*s1.timeline[std::size_t(species - 1)].positionVoxels * h - c.defaultSeedPosition(single, species))
+        CHECK((*s1.timeline[std::size_t(species - 1)].positionVoxels * h - c.defaultSeedPosition(single, &one, species))
                   .norm() < 1e-12);
     CHECK(s1.notes.empty());
 }

@@ -44,11 +44,10 @@ void printMap(const Scene& scene, const core::Run& run, double mapBytes, int fra
     const auto view = shape::GradientMapFileView::open(cache, bop::hashText(scene.shape->canonical));
     if (!view) return;
     const GradientMap header = view->header(frame);
-    core::Model whole = *scene.model;
-    whole.map = std::make_shared<GradientMap>(view->crop(
+    const GradientMap whole = view->crop(
         frame, bop::VoxelWindow{Eigen::Vector3i::Zero(),
-                                Eigen::Vector3i(header.wholeDims().nx, header.wholeDims().ny, header.wholeDims().nz)}));
-    printFidelity(std::cout, measureFidelity(whole, all));
+                                Eigen::Vector3i(header.wholeDims().nx, header.wholeDims().ny, header.wholeDims().nz)});
+    printFidelity(std::cout, measureFidelity(*scene.model, whole, all));
 }
 
 void printSettling(const RunSettings& r, const Settling& settling, bool minimising, long long step, double rate) {

@@ -20,7 +20,7 @@ void BatchReport::progress(long long done, long long total, std::chrono::steady_
     if (c.births > 0 || c.deaths > 0)
         os_ << "  construction so far: " << std::setprecision(0) << c.births << " births, " << c.deaths << " deaths, "
             << std::setprecision(1) << (c.births + c.deaths) / std::max(seconds, 1e-9) << " per second\n";
-    if (run_.simulation().model().map)
+    if (run_.simulation().mapInForce().map())
         os_ << "  in their own voxels: " << std::setprecision(1)
             << 100 * shape.surfaceInOwn / std::max(1.0, shape.surface) << "% of surface, "
             << 100 * shape.volumeInOwn / std::max(1.0, shape.volume) << "% of volume particles\n";

@@ -18,9 +18,9 @@ struct PieceSeeding {
     std::vector<std::string> notes;                 // per species of several pieces: how many, their sizes
 };
 
-// `whole`: the scene's model with the whole map. Seeds with a position, birth switches and species
-// without voxels (the run then reports them) are kept as they are; the timeline's order is kept.
-PieceSeeding seedEveryPiece(const core::Model& whole, const core::ConstructionParams& params,
+// `map`: the whole map. Seeds with a position, birth switches and species without voxels (the
+// run then reports them) are kept as they are; the timeline's order is kept.
+PieceSeeding seedEveryPiece(const core::Model& model, const GradientMap& map, const core::ConstructionParams& params,
                             const std::vector<core::ConstructionEvent>& timeline);
 
 // Whether the timeline has a seed event without a position.

@@ -87,26 +87,25 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
     const bool place = scene.placement && restart.empty(), warn = root && progress && restart.empty();
     if (scene.shape && (place || warn || hasDefaultSeed(scene.timeline))) {
         const GradientMap header = s.options.map->header;
-        core::Model whole = *scene.model;
-        whole.map = std::make_shared<GradientMap>(s.options.map->crop(
+        const GradientMap whole = s.options.map->crop(
             0, bop::VoxelWindow{Eigen::Vector3i::Zero(),
-                                Eigen::Vector3i(header.wholeDims().nx, header.wholeDims().ny, header.wholeDims().nz)}));
+                                Eigen::Vector3i(header.wholeDims().nx, header.wholeDims().ny, header.wholeDims().nz)});
         // The thin parts: said, and held as membranes where the bag is placed (one search for both).
         std::vector<char> membrane;
         if (warn || place) {
             const std::vector<std::string> thin =
-                shape::thinPartsWarnings(*whole.map, scene.shape->bagNames(), place ? &membrane : nullptr);
+                shape::thinPartsWarnings(whole, scene.shape->bagNames(), place ? &membrane : nullptr);
             if (warn)
                 for (const std::string& w : thin) progress("warning: " + w);
         }
-        PieceSeeding seeding = seedEveryPiece(whole, scene.construction, scene.timeline);
+        PieceSeeding seeding = seedEveryPiece(*scene.model, whole, scene.construction, scene.timeline);
         scene.timeline = std::move(seeding.timeline);  // every process alike, from the same map
         if (warn && !place)
             for (const std::string& n : seeding.notes) progress(n);
         if (place) {  // every process places on the whole map alike and keeps what it owns (core::Run)
             core::PlacementParams params = *scene.placement;
             params.membrane = &membrane;
-            core::Placement placed = core::placeParticles(whole, params);
+            core::Placement placed = core::placeParticles(*scene.model, whole, params);
             if (root && progress) progress(placementReport(*scene.model, placed.species));
             s.particles = std::move(placed.particles);
         }
@@ -157,10 +156,8 @@ double median(std::vector<double>& v) {  // 0 for none; the upper one of an even
 
 }  // namespace
 
-Fidelity measureFidelity(const core::Model& model, const core::Particles& p) {
+Fidelity measureFidelity(const core::Model& model, const GradientMap& m, const core::Particles& p) {
     Fidelity f;
-    if (!model.map) return f;
-    const GradientMap& m = *model.map;
     const double h = voxelLength(m.r0Voxels);
     std::size_t surfaceIn = 0, volumeIn = 0;
     std::vector<double> angles;

@@ -59,7 +59,8 @@ struct Fidelity {
     std::size_t surface = 0, volume = 0;
     std::vector<BagFidelity> bags;  // per bag of the map, one alone too
 };
-Fidelity measureFidelity(const core::Model& model, const core::Particles& p);
+// `map`: the whole map the bags were built on.
+Fidelity measureFidelity(const core::Model& model, const GradientMap& map, const core::Particles& p);
 // "shape fidelity: ..." as the batch runs' summaries print it, one line, then one line per bag
 // ("  bag 'NAME': ...").
 void printFidelity(std::ostream& out, const Fidelity& f);
