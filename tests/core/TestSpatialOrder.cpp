@@ -74,7 +74,7 @@ TEST_CASE("a bag re-sorted as it moves follows the unsorted trajectory to the la
         setThreadCount(every == 0 ? 1 : 2);
         SimulationOptions options = start.options;
         options.sortEverySteps = every;
-        Simulation sim(scene.model, start.particles, options);
+        Simulation sim(start.model, start.particles, options);
         sim.run(1000);
         ends.push_back(sim.particles());
         reordered.push_back(sim.particles().id != start.particles.id);

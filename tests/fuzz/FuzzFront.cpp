@@ -107,8 +107,8 @@ void setUp(int* argc, char*** argv) {
     std::ofstream(path) << kScene;
     w->scene = app::loadScene(path);
     app::RunStart start = app::startRun(w->scene, w->dir + "/ball.bopgm", "", true, parallel::MpiSession::barrier);
-    w->run = std::make_unique<core::Run>(w->scene.model, start.particles, std::move(start.options));
-    w->run->setProbe(w->scene.probe);
+    w->run = std::make_unique<core::Run>(start.model, start.particles, std::move(start.options));
+    w->run->setProbe(start.probe);
     w->run->setEnergyEvery(1);
     for (long long s = 0; s < kBuildSteps; ++s) w->run->step();
     w->built = w->run->gather();
@@ -117,7 +117,7 @@ void setUp(int* argc, char*** argv) {
     protocol::FrontOptions o;
     o.basePort = 0;
     o.mapFile = w->dir + "/ball.bopgm";
-    protocol::SceneInfo info = app::sceneInfoOf(w->scene, nullptr);
+    protocol::SceneInfo info = app::sceneInfoOf(w->scene, w->run->simulation().model(), nullptr);
     info.mapBytes = std::filesystem::file_size(o.mapFile);
     w->front = std::make_unique<protocol::ServerFront>(o, info);
     w->serve.front = o;

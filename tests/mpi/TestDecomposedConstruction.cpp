@@ -41,7 +41,7 @@ TorusBuild torus(long long steps) {
 // The decomposed run's start: the scene's construction, the map windows from the serial run's cache.
 core::SimulationOptions optionsFor(const TorusBuild& b) {
     core::SimulationOptions o;
-    o.construction = core::Construction(b.scene.construction, b.scene.timeline, b.scene.model->speciesCount());
+    o.construction = core::Construction(b.scene.construction, b.serialRun->timeline(), b.scene.model->speciesCount());
     o.map = b.serialRun->mapSource();
     o.params = b.scene.params;
     return o;
@@ -55,8 +55,8 @@ TEST_CASE("the torus built across ranks has the single process's particles and i
     const core::Particles& expected = b.serial->particles();
     REQUIRE(b.serial->construction().totals().births > 300);  // the test builds something
 
-    const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
-    RankRun run(b.scene.model, core::Particles{}, optionsFor(b));
+    const CartComm comm(MPI_COMM_WORLD, b.serialRun->model()->box);
+    RankRun run(b.serialRun->model(), core::Particles{}, optionsFor(b));
     run.run(steps);
     const core::Particles got = run.gather();
 
@@ -82,8 +82,8 @@ TEST_CASE("the torus built across ranks has the single process's particles and i
 
 TEST_CASE("each rank holds only its window of the gradient map", "[mpi][construction]") {
     TorusBuild b = torus(0);
-    const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
-    RankRun run(b.scene.model, core::Particles{}, optionsFor(b));
+    const CartComm comm(MPI_COMM_WORLD, b.serialRun->model()->box);
+    RankRun run(b.serialRun->model(), core::Particles{}, optionsFor(b));
     const std::vector<double> bytes = comm.allGather(std::vector<double>{double(run.simulation().mapBytes())});
     const GradientMap map = b.serialRun->wholeMap();
     const double whole = double(bop::gradientMapBytes(map));
@@ -116,11 +116,11 @@ TEST_CASE("each rank holds only its window of the gradient map", "[mpi][construc
 TEST_CASE("seed and birth commands sent to rank 0 build the same bag as the timeline", "[mpi][construction]") {
     const long long steps = 120;
     TorusBuild b = torus(steps);
-    const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
+    const CartComm comm(MPI_COMM_WORLD, b.serialRun->model()->box);
     core::SimulationOptions o = optionsFor(b);
     o.construction = core::Construction(b.scene.construction, {}, b.scene.model->speciesCount());
-    RankRun run(b.scene.model, core::Particles{}, std::move(o));
-    const core::Construction timeline(b.scene.construction, b.scene.timeline, b.scene.model->speciesCount());
+    RankRun run(b.serialRun->model(), core::Particles{}, std::move(o));
+    const core::Construction timeline(b.scene.construction, b.serialRun->timeline(), b.scene.model->speciesCount());
     if (comm.rank() == 0)
         for (int s : {1, 2}) {
             // the seed's map: the whole grid
@@ -190,7 +190,7 @@ TEST_CASE("deaths across ranks take the single process's victims and keep ids un
 TEST_CASE("a run that reads its map windows from the cache file builds the same bag", "[mpi][construction]") {
     const long long steps = 500;
     TorusBuild b = torus(steps);
-    const CartComm comm(MPI_COMM_WORLD, b.scene.model->box);
+    const CartComm comm(MPI_COMM_WORLD, b.serialRun->model()->box);
     test::TempDir dir("decomposed-cache");
     // Each rank keeps its own scene, as bop-server's ranks do; rank 0 writes the cache.
     app::Scene scene = app::loadScene(test::sourceDir() + "/config/scenes/torus.toml");
@@ -201,7 +201,7 @@ TEST_CASE("a run that reads its map windows from the cache file builds the same 
     cache.assign(path.begin(), path.end());
     app::RunStart start = app::startRun(scene, cache, "", comm.rank() == 0, [&] { comm.allTrue(true); });
     CHECK(!scene.model->map);  // no rank holds the whole map
-    RankRun run(scene.model, start.particles, std::move(start.options));
+    RankRun run(start.model, start.particles, std::move(start.options));
     run.run(steps);
     const core::Particles got = run.gather();
     const std::set<std::uint64_t> ids(got.id.begin(), got.id.end());

@@ -23,12 +23,12 @@ TEST_CASE("keyframes switch at the stated times at any rank count, as in one pro
     const std::string scene = test::writeKeyframeScene(dir.path.string(), 0.5, true, test::kGrowFromSeeds);
     app::Scene s = app::loadScene(scene);
     test::OneProcessRun serial(s);
-    const CartComm comm(MPI_COMM_WORLD, s.model->box);
+    const CartComm comm(MPI_COMM_WORLD, serial.model()->box);
     core::SimulationOptions o;
-    o.construction = core::Construction(s.construction, s.timeline, s.model->speciesCount());
+    o.construction = core::Construction(s.construction, serial.timeline(), s.model->speciesCount());
     o.map = serial.mapSource();  // the windows of the serial run's cache
     o.params = s.params;
-    RankRun run(s.model, core::Particles{}, o);
+    RankRun run(serial.model(), core::Particles{}, o);
     const double dt = s.model->integration.dt;
     int switches = 0;
     for (long long step = 1; step <= 125; ++step) {
@@ -83,8 +83,8 @@ TEST_CASE("bop-server's start under mpirun reads every keyframe's window from th
     CHECK(start.options.map->frames == 2);
     app::Scene serialScene = app::loadScene(dir + "/keyframes.toml");
     test::OneProcessRun serial(serialScene);
-    const CartComm comm(MPI_COMM_WORLD, s.model->box);
-    RankRun run(s.model, start.particles, std::move(start.options));
+    const CartComm comm(MPI_COMM_WORLD, start.model->box);
+    RankRun run(start.model, start.particles, std::move(start.options));
     for (long long step = 1; step <= 60; ++step) {
         serial->step();
         run.step();

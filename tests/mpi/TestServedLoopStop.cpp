@@ -21,7 +21,7 @@ TEST_CASE("an error inside rank 0's pass stops the served loop on every rank at 
     app::Scene scene = app::loadScene(test::sourceDir() + "/config/scenes/bulk-box.toml");
     app::RunStart start =
         app::startRun(scene, "", "", parallel::MpiSession::worldRank() == 0, parallel::MpiSession::barrier);
-    testing::RankRun run(scene.model, start.particles, std::move(start.options));
+    testing::RankRun run(start.model, start.particles, std::move(start.options));
     const std::size_t count = run.gather().size();
     REQUIRE(count > 1000);
     run.setProbe(scene.probe);
@@ -30,13 +30,14 @@ TEST_CASE("an error inside rank 0's pass stops the served loop on every rank at 
     app::ServeOptions serve;
     serve.front.basePort = 0;  // ephemeral ports on 127.0.0.1
     std::unique_ptr<protocol::ServerFront> front;
-    if (root) front = std::make_unique<protocol::ServerFront>(serve.front, app::sceneInfoOf(scene, nullptr));
+    if (root)
+        front = std::make_unique<protocol::ServerFront>(serve.front, app::sceneInfoOf(scene, *start.model, nullptr));
     int asked = 0;
     const auto stopRequested = [&]() -> bool {
         if (++asked == 4) throw std::logic_error("an invariant broke");
         return false;
     };
-    app::ServedLoop loop(scene, run, front.get(), serve, stopRequested, nullptr, std::chrono::microseconds(0));
+    app::ServedLoop loop(scene, run, front.get(), serve, stopRequested, {}, std::chrono::microseconds(0));
     int passes = 0;
     while (loop.pass() && passes < 100) ++passes;
     CHECK(passes == 3);  // on every rank: the fourth pass stopped

@@ -51,7 +51,7 @@ struct Outcome {
 Outcome run(bool poke, double ljBetweenBags) {
     test::TempDir dir("bag-contact");
     app::Scene scene = app::loadScene(writeScene(dir));
-    core::Model& m = *scene.model;
+    const core::Model& m = *scene.model;
     REQUIRE(m.speciesCount() == 4);
     for (int a : {1, 2})
         for (int b : {3, 4}) scene.params.lj(a, b) = scene.params.lj(b, a) = ljBetweenBags;

@@ -128,8 +128,7 @@ TEST_CASE("a thin plate and two balls placed and settled within the targets", "[
         app::Scene scene = app::loadScene(writeScene(dir, s));
         REQUIRE(scene.placement);
         REQUIRE(scene.run.untilSettled);
-        app::applySettleTimeStep(scene);  // as bop-server's batch run settles it
-        test::OneProcessRun run(scene);
+        test::OneProcessRun run(scene, "", true);      // at the settle time step, as bop-server's batch run settles it
         app::Settling settling(run.run(), scene.run);  // the minimiser, then the dynamics, as bop-server settles it
         REQUIRE(run.run().minimising());
         const long long steps = settleRun(run, scene, settling);
@@ -193,8 +192,7 @@ TEST_CASE("a membrane one voxel thick holds a single sheet", "[physics][placemen
         }};
     test::TempDir dir("membrane");
     app::Scene scene = app::loadScene(writeScene(dir, s));
-    app::applySettleTimeStep(scene);
-    test::OneProcessRun run(scene);
+    test::OneProcessRun run(scene, "", true);
     app::Settling settling(run.run(), scene.run);
     const long long steps = settleRun(run, scene, settling);
     const core::Particles& p = run->particles();

@@ -47,7 +47,7 @@ void printMap(const Scene& scene, const core::Run& run, double mapBytes, int fra
     const GradientMap whole = view->crop(
         frame, bop::VoxelWindow{Eigen::Vector3i::Zero(),
                                 Eigen::Vector3i(header.wholeDims().nx, header.wholeDims().ny, header.wholeDims().nz)});
-    printFidelity(std::cout, measureFidelity(*scene.model, whole, all));
+    printFidelity(std::cout, measureFidelity(run.simulation().model(), whole, all));
 }
 
 void printSettling(const RunSettings& r, const Settling& settling, bool minimising, long long step, double rate) {
@@ -72,10 +72,10 @@ void printSettled(const RunSettings& r, const Settling& settling, long long step
 }  // namespace
 
 int runBatch(const Scene& scene, RunStart start, const BatchOptions& o, core::ExchangeMaker exchanges) {
-    const core::Model& model = *scene.model;
     std::string settleFrom = std::move(start.settle), settleFile = std::move(start.settleFile);
     RunLifecycle life(scene, std::move(start), std::move(exchanges), {o.outDir, o.checkpointEvery});
     core::Run& run = life.run();
+    const core::Model& model = life.model();
     const bool root = life.root();
     spdlog::info("ready in {:.2f} s: {} particles at step {}", life.readySeconds(), run.totals().particles,
                  run.stepNumber());

@@ -39,12 +39,14 @@ bool stopRequested() {
 
 RunLifecycle::RunLifecycle(const Scene& scene, RunStart start, core::ExchangeMaker exchanges, LifecycleOptions o)
     : scene_(scene),
+      model_(start.model),
+      timeline_(std::move(start.timeline)),
       started_(std::chrono::steady_clock::now()),
       mapHeader_(start.options.map ? std::optional(start.options.map->header) : std::nullopt),
-      run_(scene.model, start.particles, std::move(start.options), std::move(exchanges)),
+      run_(model_, start.particles, std::move(start.options), std::move(exchanges)),
       o_(std::move(o)) {
     if (scene.pressure && mapHeader_) cardiac_.emplace(scene, *mapHeader_, run_.frameVolumes());
-    run_.setProbe(scene.probe);
+    run_.setProbe(start.probe);
     // Energies only where a report or a frame asks for them (the drivers' passes).
     run_.setEnergyEvery(std::numeric_limits<long long>::max());
     run_.refreshForces();  // set-up: with the probe, outside the timed steps
@@ -54,7 +56,7 @@ RunLifecycle::RunLifecycle(const Scene& scene, RunStart start, core::ExchangeMak
 }
 
 void RunLifecycle::checkpoint(const core::Particles& all, bool goOn) {
-    const core::Model& model = *scene_.model;
+    const core::Model& model = *model_;
     if (root()) try {
             writeCheckpoint(o_.outDir + "/checkpoint.xyz", all, model, run_.construction(), run_.stepNumber(),
                             extra_ ? extra_() : std::string());
@@ -63,7 +65,7 @@ void RunLifecycle::checkpoint(const core::Particles& all, bool goOn) {
         }
     if (!goOn) return;
     // The run goes on from the file's values, with the construction a restart from it makes.
-    core::Construction construction(scene_.construction, scene_.timeline, model.speciesCount());
+    core::Construction construction(scene_.construction, timeline_, model.speciesCount());
     construction.restore({run_.construction().birthSwitches().begin() + 1, run_.construction().birthSwitches().end()},
                          run_.construction().seedCount(), run_.construction().nextId());
     construction.addToTotals(run_.construction().totals());  // the run's births and deaths so far
@@ -72,7 +74,7 @@ void RunLifecycle::checkpoint(const core::Particles& all, bool goOn) {
 }
 
 void RunLifecycle::afterStep(bool last) {
-    if (cardiac_) cardiac_->record(run_, *scene_.model);
+    if (cardiac_) cardiac_->record(run_, *model_);
     if (!last && o_.checkpointEvery > 0 && run_.stepNumber() % o_.checkpointEvery == 0) checkpoint(run_.gather(), true);
 }
 
@@ -99,7 +101,7 @@ RunEnding RunLifecycle::drive(const std::function<bool()>& pass, const std::func
             spdlog::error("the run's start was not sound: no checkpoint written");
             return end;
         }
-        writeCheckpoint(checkpointFile, last->particles, *scene_.model, last->construction, last->step);
+        writeCheckpoint(checkpointFile, last->particles, *model_, last->construction, last->step);
         spdlog::error("the last sound state (step {}) is in {}", last->step, checkpointFile);
         return end;
     }
@@ -107,8 +109,7 @@ RunEnding RunLifecycle::drive(const std::function<bool()>& pass, const std::func
     checkpoint(end.final, false);
     if (!root()) return end;
     fs::remove(finalFile);
-    appendExtendedXyz(finalFile, end.final, speciesNames(*scene_.model),
-                      snapshotInfo(*scene_.model, run_.stepNumber()));
+    appendExtendedXyz(finalFile, end.final, speciesNames(*model_), snapshotInfo(*model_, run_.stepNumber()));
     if (end.code == kExitStoppedByError)
         spdlog::error("stopped by an error: {}; the state at step {} is in {}", end.why, run_.stepNumber(),
                       checkpointFile);

@@ -48,6 +48,7 @@ public:
     core::Run& run() { return run_; }
     bool root() const { return run_.rank() == 0; }
     const Scene& scene() const { return scene_; }
+    const core::Model& model() const { return *model_; }   // the start's (core::Run's)
     double readySeconds() const { return readySeconds_; }  // wall time from the start to the first forces
     CardiacRun* cardiac() { return cardiac_ ? &*cardiac_ : nullptr; }
     const GradientMap* mapHeader() const { return mapHeader_ ? &*mapHeader_ : nullptr; }
@@ -68,6 +69,8 @@ private:
     void checkpoint(const core::Particles& all, bool goOn);
 
     const Scene& scene_;
+    std::shared_ptr<const core::Model> model_;       // the start's
+    std::vector<core::ConstructionEvent> timeline_;  // the start's, for the construction a checkpoint restarts with
     std::chrono::steady_clock::time_point started_;
     std::optional<GradientMap> mapHeader_;
     core::Run run_;

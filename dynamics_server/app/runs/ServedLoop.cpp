@@ -49,14 +49,14 @@ ServedLoop::ServedLoop(const Scene& scene, core::Run& run, protocol::ServerFront
                        std::function<bool()> stopRequested, std::function<void()> afterStep,
                        std::chrono::microseconds idle)
     : scene_(scene),
-      model_(*scene.model),
+      model_(run.simulation().model()),
       run_(run),
       front_(front),
       o_(o),
       stopRequested_(std::move(stopRequested)),
       afterStep_(std::move(afterStep)),
       idle_(idle),
-      info_(sceneInfoOf(scene, nullptr)),
+      info_(sceneInfoOf(scene, model_, nullptr)),
       volume_(model_.box.size().prod()),
       rateClock_(Clock::now()) {
     if (o.replay)

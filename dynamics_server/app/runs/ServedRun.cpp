@@ -13,8 +13,7 @@
 
 namespace bop::app {
 
-protocol::SceneInfo sceneInfoOf(const Scene& scene, const GradientMap* map) {
-    const core::Model& m = *scene.model;
+protocol::SceneInfo sceneInfoOf(const Scene& scene, const core::Model& m, const GradientMap* map) {
     const core::Params& p = scene.params;
     protocol::SceneInfo s;
     for (int k = 1; k <= m.speciesCount(); ++k) {
@@ -61,7 +60,7 @@ int runServed(const Scene& scene, RunStart start, const ServeOptions& o, core::E
     installStopSignals();
     std::unique_ptr<protocol::ServerFront> front;
     if (life.root()) {
-        protocol::SceneInfo info = sceneInfoOf(scene, life.mapHeader());
+        protocol::SceneInfo info = sceneInfoOf(scene, life.model(), life.mapHeader());
         info.particleCount = particles;
         std::error_code ec;  // the gradient-map cache, for haptic clients to download
         if (scene.shape && !o.front.mapFile.empty() && std::filesystem::is_regular_file(o.front.mapFile, ec)) {

@@ -32,7 +32,7 @@ struct ServeOptions {
 int runServed(const Scene& scene, RunStart start, const ServeOptions& options, core::ExchangeMaker exchanges);
 
 // The handshake's description of a scene (species with colours, box, map grid when `map`, a
-// header or whole map, is given, r0, dt).
-protocol::SceneInfo sceneInfoOf(const Scene& scene, const GradientMap* map);
+// header or whole map, is given, r0, dt): `model` the run's (RunStart::model).
+protocol::SceneInfo sceneInfoOf(const Scene& scene, const core::Model& model, const GradientMap* map);
 
 }  // namespace bop::app

@@ -189,11 +189,10 @@ void readConstruction(const ConfigTable& root, Scene& s) {
 }
 
 // [keyframes]: the frames come from the shape's image sequence.
-void readKeyframes(const ConfigTable& root, Scene& s) {
+void readKeyframes(const ConfigTable& root, const Scene& s, core::KeyframeSchedule& k) {
     const auto t = root.optionalTable("keyframes");
     if (!t) return;
     if (!s.shape) root.fail("keyframes", "keyframes cycle the frames of a [shape]; the scene has none");
-    core::KeyframeSchedule& k = s.model->keyframes;
     for (const auto& bag : s.shape->bags) k.frames = std::max(k.frames, bag.source->frameCount());
     if (k.frames < 2)
         root.fail("keyframes",
@@ -236,17 +235,14 @@ void defaultSpecies(core::Model& m, core::Params& params, int bags) {
     for (int s = 1; s <= n; s += 2) params.coNormal(s, s) = params.coPlanar(s, s) = 0.3;  // docs/physics.md §7.4
 }
 
-void applySettleTimeStep(Scene& scene) {
-    if (scene.run.untilSettled) scene.model->integration.dt = scene.run.settleTimeStep;
-}
-
 Scene loadScene(const std::string& path) {
     const toml::table doc = ConfigTable::parseFile(path);
     const ConfigTable root(doc, path, "");
     Scene s;
     s.file = path;
-    s.model = std::make_shared<core::Model>();
-    core::Model& m = *s.model;
+    auto model = std::make_shared<core::Model>();  // the scene's own until it is parsed, then constant
+    s.model = model;
+    core::Model& m = *model;
     if (root.has("box")) {
         if (root.has("shape"))
             root.fail("box", "give either [box] (bulk material) or [grid] and [shape] (bags), not both");
@@ -306,7 +302,7 @@ Scene loadScene(const std::string& path) {
         s.probe.params.k1 = within("k1", protocol::ranges::kMinProbeK1, protocol::ranges::kMaxProbeK1);
         t->finish();
     }
-    readKeyframes(root, s);
+    readKeyframes(root, s, m.keyframes);
     if (const auto t = root.optionalTable("pressure")) {
         PressureSettings p;
         p.averageSteps = t->integer("average_steps", p.averageSteps);

@@ -38,7 +38,7 @@ struct RunSettings {
     long long settleCalmSteps = 50;   // steps the checks must stay calm over
     // The time step of a batch run that ends once settled, simulation time units: the settling
     // wants the minimum, not the trajectory to it (default 1.5 x [dynamics] time_step, at most
-    // 0.03, the paper's largest). applySettleTimeStep() puts it in the model.
+    // 0.03, the paper's largest). useSettleTimeStep() puts it in the start's model.
     double settleTimeStep = 0.03;
     // How the bag settles: by the minimiser (core/Fire.hpp, the default) until the rule above
     // holds under it, then by the damped dynamics from rest until it holds again
@@ -59,8 +59,8 @@ struct Scene {
     std::string file;
     std::optional<shape::ShapeSpec> shape;  // the bag(s), or nothing for bulk material
     std::optional<BulkBox> bulk;
-    std::shared_ptr<core::Model> model;  // without its map: the server builds or loads it
-    core::Params params;                 // the first weights and drags (commands change them); probe: `probe`
+    std::shared_ptr<const core::Model> model;  // as parsed: without its map or box (RunStart::model has them)
+    core::Params params;                       // the first weights and drags (commands change them); probe: `probe`
     core::ConstructionParams construction;
     std::vector<core::ConstructionEvent> timeline;
     std::optional<core::PlacementParams> placement;  // method = "place": particles set on the map at the start
@@ -70,11 +70,6 @@ struct Scene {
     std::optional<PressureSettings> pressure;  // [pressure]: write the pressure curve and volumes
     std::uint64_t seed = 1;
 };
-
-// For a batch run that ends once settled (a placed bag's build): the model steps at the scene's
-// settleTimeStep instead of its time_step. A served run, or one that goes on past settling,
-// keeps time_step.
-void applySettleTimeStep(Scene& scene);
 
 // Reads and checks every table; bop::Error naming the file and key on any problem.
 Scene loadScene(const std::string& path);

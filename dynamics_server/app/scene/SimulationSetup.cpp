@@ -25,25 +25,28 @@ std::vector<std::string> speciesNames(const core::Model& model) {
 namespace {
 
 // The box around a map of `dims` voxels, and the probe's start in simulation units.
-void placeInMap(Scene& scene, const GradientMap& map) {
+void placeInMap(const Scene& scene, const GradientMap& map, RunStart& s) {
     const Dims& d = map.wholeDims();
     const double h = voxelLength(map.r0Voxels);
-    scene.model->box.lo.setZero();
-    scene.model->box.hi = Eigen::Vector3d(d.nx, d.ny, d.nz) * h;
-    if (scene.probePositionVoxels) scene.probe.position = *scene.probePositionVoxels * h;
+    auto model = std::make_shared<core::Model>(*scene.model);
+    model->box.lo.setZero();
+    model->box.hi = Eigen::Vector3d(d.nx, d.ny, d.nz) * h;
+    s.model = std::move(model);
+    if (scene.probePositionVoxels) s.probe.position = *scene.probePositionVoxels * h;
 }
 
 }  // namespace
 
-core::Particles initialParticles(const Scene& scene, const std::string& restart, long long& firstStep,
-                                 core::Construction& construction, std::string& settle) {
+core::Particles initialParticles(const Scene& scene, const core::Model& model,
+                                 const std::vector<core::ConstructionEvent>& timeline, const std::string& restart,
+                                 long long& firstStep, core::Construction& construction, std::string& settle) {
     firstStep = 0;
     settle.clear();
-    construction = core::Construction(scene.construction, scene.timeline, scene.model->speciesCount());
+    construction = core::Construction(scene.construction, timeline, model.speciesCount());
     if (!restart.empty()) {
-        XyzFrame f = readExtendedXyz(restart, speciesNames(*scene.model));
+        XyzFrame f = readExtendedXyz(restart, speciesNames(model));
         // A state a run can start from: finite, near the box, not flung (core/SoundState.hpp).
-        if (const core::Unsoundness u = core::findUnsound(*scene.model, f.particles, Eigen::Vector3d::Zero()); u.what)
+        if (const core::Unsoundness u = core::findUnsound(model, f.particles, Eigen::Vector3d::Zero()); u.what)
             throw Error(restart, "not a state a run can start from: " + u.text());
         firstStep = f.info.step;
         settle = f.info.settle;
@@ -60,9 +63,12 @@ core::Particles initialParticles(const Scene& scene, const std::string& restart,
     return scene.bulk ? bulkLattice(scene) : core::Particles{};
 }
 
-RunStart startRun(Scene& scene, const std::string& cache, const std::string& restart, bool root,
+RunStart startRun(const Scene& scene, const std::string& cache, const std::string& restart, bool root,
                   const std::function<void()>& waitForAll, const shape::ProgressFn& progress) {
     RunStart s;
+    s.model = scene.model;
+    s.timeline = scene.timeline;
+    s.probe = scene.probe;
     if (scene.shape) {
         if (cache.empty()) throw Error("--cache", "a run on several ranks reads the gradient map from its cache file");
         const std::uint64_t key = bop::hashText(scene.shape->canonical);
@@ -76,7 +82,7 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
             throw Error(cache,
                         "gradient-map cache not found by this rank: put --cache on a filesystem every rank sees");
         auto shared = std::make_shared<const shape::GradientMapFileView>(std::move(*view));
-        placeInMap(scene, shared->header(0));
+        placeInMap(scene, shared->header(0), s);
         // Every frame when the scene cycles them (keyframes), else the first.
         const int frames = scene.model->keyframes.animated() ? shared->frames() : 1;
         s.options.map = core::MapSource{
@@ -98,27 +104,35 @@ RunStart startRun(Scene& scene, const std::string& cache, const std::string& res
             if (warn)
                 for (const std::string& w : thin) progress("warning: " + w);
         }
-        PieceSeeding seeding = seedEveryPiece(*scene.model, whole, scene.construction, scene.timeline);
-        scene.timeline = std::move(seeding.timeline);  // every process alike, from the same map
+        PieceSeeding seeding = seedEveryPiece(*s.model, whole, scene.construction, s.timeline);
+        s.timeline = std::move(seeding.timeline);  // every process alike, from the same map
         if (warn && !place)
             for (const std::string& n : seeding.notes) progress(n);
         if (place) {  // every process places on the whole map alike and keeps what it owns (core::Run)
             core::PlacementParams params = *scene.placement;
             params.membrane = &membrane;
-            core::Placement placed = core::placeParticles(*scene.model, whole, params);
-            if (root && progress) progress(placementReport(*scene.model, placed.species));
+            core::Placement placed = core::placeParticles(*s.model, whole, params);
+            if (root && progress) progress(placementReport(*s.model, placed.species));
             s.particles = std::move(placed.particles);
         }
     }
-    core::Construction construction({}, {}, scene.model->speciesCount());
-    core::Particles fromFile = initialParticles(scene, restart, s.firstStep, construction, s.settle);
+    core::Construction construction({}, {}, s.model->speciesCount());
+    core::Particles fromFile =
+        initialParticles(scene, *s.model, s.timeline, restart, s.firstStep, construction, s.settle);
     s.settleFile = restart;
     if (!place) s.particles = std::move(fromFile);
     s.options.firstStep = s.firstStep;
     s.options.params = scene.params;
-    s.options.params->probe = scene.probe;
+    s.options.params->probe = s.probe;
     s.options.construction = std::move(construction);
     return s;
+}
+
+void useSettleTimeStep(const Scene& scene, RunStart& start) {
+    if (!scene.run.untilSettled) return;
+    auto model = std::make_shared<core::Model>(*start.model);
+    model->integration.dt = scene.run.settleTimeStep;
+    start.model = std::move(model);
 }
 
 std::string placementReport(const core::Model& model, const std::vector<core::PlacedSpecies>& placed) {

@@ -18,6 +18,12 @@ namespace bop::app {
 // which must therefore lie on a filesystem every process sees. restart: extended XYZ file ("" =
 // none); progress: messages while the map is built.
 struct RunStart {
+    // What the start derives from the scene, which it leaves as parsed: the scene's model with its
+    // box around the map, the timeline with a default seed in every piece of its species
+    // (PieceSeeds.hpp), the probe with its position in simulation units.
+    std::shared_ptr<const core::Model> model;
+    std::vector<core::ConstructionEvent> timeline;
+    core::ProbeState probe;
     core::Particles particles;
     long long firstStep = 0;
     core::SimulationOptions options;
@@ -25,14 +31,21 @@ struct RunStart {
     // empty: settle from the start.
     std::string settle, settleFile;
 };
-RunStart startRun(Scene& scene, const std::string& cache, const std::string& restart, bool root,
+RunStart startRun(const Scene& scene, const std::string& cache, const std::string& restart, bool root,
                   const std::function<void()>& waitForAll, const shape::ProgressFn& progress = {});
 
+// For a batch run that ends once settled (a placed bag's build): the start's model steps at the
+// scene's settleTimeStep instead of its time_step. A served run, or one that goes on past
+// settling, keeps time_step.
+void useSettleTimeStep(const Scene& scene, RunStart& start);
+
 // The particles to start from (a restart file's, a bulk lattice, or none) and the construction:
-// the scene's timeline, with a checkpoint's birth switches and seed count when the restart file
-// is one (app/Checkpoint.hpp). firstStep: the file's step, else 0; settle: the file's Settle=.
-core::Particles initialParticles(const Scene& scene, const std::string& restart, long long& firstStep,
-                                 core::Construction& construction, std::string& settle);
+// `timeline`, with a checkpoint's birth switches and seed count when the restart file is one
+// (app/Checkpoint.hpp). model: the start's; firstStep: the file's step, else 0; settle: the file's
+// Settle=.
+core::Particles initialParticles(const Scene& scene, const core::Model& model,
+                                 const std::vector<core::ConstructionEvent>& timeline, const std::string& restart,
+                                 long long& firstStep, core::Construction& construction, std::string& settle);
 
 // "placed on the map: ..." with each species' count against its ideal at r0 spacing.
 std::string placementReport(const core::Model& model, const std::vector<core::PlacedSpecies>& placed);

@@ -134,12 +134,7 @@ int run(int argc, char** argv) {
     if (reportEvery == 0) throw Error("--report-every", "expected a period of at least 1 step");
     if (snapshotEvery < 0) throw Error("--snapshot-every", "expected 0 (final state only) or a period in steps");
 
-    if (noListen && scene.run.untilSettled) {  // a batch run to the settled state steps at its own time step
-        spdlog::info("until settled: time step {} (settle_time_step; [dynamics] time_step {})",
-                     scene.run.settleTimeStep, scene.model->integration.dt);
-        app::applySettleTimeStep(scene);
-    }
-    core::Model& model = *scene.model;
+    const core::Model& model = *scene.model;
     if (model.ljParams.mode == core::LjCutoff::Truncated)
         spdlog::warn("paper mode: LJ truncated at {} r0; bulk material collapses with this cutoff (docs/dynamics.md)",
                      model.ljParams.rCutR0);
@@ -147,6 +142,11 @@ int run(int argc, char** argv) {
     // One start for every mode and rank count; one process exchanges nothing, ranks over MPI.
     app::RunStart start = app::startRun(scene, cache, restart, parallel::MpiSession::worldRank() == 0,
                                         parallel::MpiSession::barrier, progress);
+    if (noListen && scene.run.untilSettled) {  // a batch run to the settled state steps at its own time step
+        spdlog::info("until settled: time step {} (settle_time_step; [dynamics] time_step {})",
+                     scene.run.settleTimeStep, scene.model->integration.dt);
+        app::useSettleTimeStep(scene, start);
+    }
     core::ExchangeMaker exchanges = ranks > 1 ? parallel::rankExchanges() : core::oneProcess();
     if (!noListen) {
         front.recordMeta = {
