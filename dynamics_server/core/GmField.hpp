@@ -20,6 +20,7 @@
 //    rules have no in-voxel spring, so their force is continuous.
 // Outside the grid the nearest border voxel's rule is used plus a spring back to its centre.
 #include "bop/common/GradientMap.hpp"
+#include "bop/common/MapInterpolation.hpp"
 #include "bop/common/Units.hpp"
 
 #include <Eigen/Core>
@@ -31,7 +32,7 @@
 namespace bop::core {
 
 enum class ParticleKind : std::uint8_t { Surface, Volume };
-enum class Interpolation : std::uint8_t { Mixed, Trilinear, Nearest };
+using bop::Interpolation;  // bop/common/MapInterpolation.hpp
 
 struct GmSample {
     Eigen::Vector3d force = Eigen::Vector3d::Zero();   // f^GM, simulation length units

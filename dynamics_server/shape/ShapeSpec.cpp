@@ -110,9 +110,9 @@ ShapeSpec readShapeSpec(const ConfigTable& root) {
                                   ? CpWeightForm::Linear
                                   : CpWeightForm::Quadratic;
     const std::string interp = shape.choice("interpolation", {"mixed", "trilinear", "nearest"}, "mixed");
-    s.interpolation = interp == "mixed"       ? core::Interpolation::Mixed
-                      : interp == "trilinear" ? core::Interpolation::Trilinear
-                                              : core::Interpolation::Nearest;
+    s.interpolation = interp == "mixed"       ? Interpolation::Mixed
+                      : interp == "trilinear" ? Interpolation::Trilinear
+                                              : Interpolation::Nearest;
     std::string stamps;
     const std::vector<ConfigTable> bags = shape.tableArray("bag");
     if (bags.empty() || bags.size() > std::size_t(kMaxBags))

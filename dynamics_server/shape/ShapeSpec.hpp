@@ -5,7 +5,7 @@
 #include "ModelSource.hpp"
 #include "SurfaceGeometry.hpp"
 #include "bop/common/ConfigTable.hpp"
-#include "core/GmField.hpp"
+#include "bop/common/MapInterpolation.hpp"
 
 #include <array>
 #include <memory>
@@ -43,7 +43,7 @@ struct ShapeSpec {
     GridSpec grid;
     std::vector<BagSpec> bags;  // bag k = bags[k - 1], in the order the scene lists them
     SurfaceGeometryParams geometry;
-    core::Interpolation interpolation = core::Interpolation::Mixed;
+    Interpolation interpolation = Interpolation::Mixed;
     std::string canonical;              // the shape tables as TOML text (for the cache key)
     std::vector<std::string> warnings;  // what the sources found and mended, one line each
 

@@ -29,7 +29,7 @@ std::string thinPartsWarning(const std::string& bagName, const ThinParts& t, dou
 // The warnings of every bag of the whole map `map` (bag k + 1 named bagNames[k]) that has parts
 // under 2 r0 across, as bop-shape and bop-server print them before a bag is built.
 // With `membrane` (resized to the map's voxels), every bag's voxels in those parts are set to 1:
-// where a bag is a membrane, one sheet thick (core::PlacementParams::membrane).
+// where a bag is a membrane, one sheet thick (app::PlacementParams::membrane).
 std::vector<std::string> thinPartsWarnings(const GradientMap& map, const std::vector<std::string>& bagNames,
                                            std::vector<char>* membrane = nullptr);
 

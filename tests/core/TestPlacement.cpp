@@ -1,7 +1,7 @@
-// Placement (core/Placement.hpp): every piece of a shape gets its sheet and its lattice, at the
+// Placement (app/scene/Placement.hpp): every piece of a shape gets its sheet and its lattice, at the
 // counts a hexagonal sheet and an fcc lattice at r0 give over the analytic area and the voxel
 // volume, every particle in its own species' voxels, the same particles every time.
-#include "core/Placement.hpp"
+#include "app/scene/Placement.hpp"
 #include "shape/ShapeTestUtil.hpp"
 
 #include <catch2/catch.hpp>
@@ -11,6 +11,7 @@
 
 using namespace bop;
 using namespace bop::core;
+using namespace bop::app;
 
 namespace {
 

@@ -63,7 +63,7 @@ TEST_CASE("a bag re-sorted as it moves follows the unsorted trajectory to the la
     // The torus placed on its map: the surface particles start in hash order, far from the cells' order.
     app::Scene scene = app::loadScene(test::sourceDir() + "/config/scenes/torus.toml");
     scene.timeline.clear();
-    scene.placement = PlacementParams{};
+    scene.placement = app::PlacementParams{};
     test::TempDir dir("spatial-order");
     app::RunStart start = app::startRun(scene, dir.file("map.bopgm"), "", true, [] {});
     REQUIRE(start.particles.size() > 1000);

@@ -1,5 +1,5 @@
 // Bags of shapes with thin parts and several pieces. Placed on their maps and relaxed until
-// settled (core/Placement.hpp, scene without a construction timeline): a plate a tenth as thick
+// settled (app/scene/Placement.hpp, scene without a construction timeline): a plate a tenth as thick
 // as it is wide and a label of two separate balls, each within the real-shapes targets: >= 95% of
 // surface particles in surface voxels, >= 98% of volume particles in volume voxels, median normal
 // angle <= 10 deg, counts within 10% of a hexagonal sheet at r0 over the analytic area and of an
@@ -184,7 +184,7 @@ TEST_CASE("two balls built by birth, each from seeds of its own", "[physics][con
 }
 
 TEST_CASE("a membrane one voxel thick holds a single sheet", "[physics][placement]") {
-    // Faces on both sides of a part thinner than 2 r0 count half (core/Placement.hpp): one sheet
+    // Faces on both sides of a part thinner than 2 r0 count half (app/scene/Placement.hpp): one sheet
     // of about 4 pi R^2 / (sqrt(3)/2 r0^2) particles, where two sheets, one per side, would not fit.
     const Shape s{
         "membrane", {33, 33, 33}, onMembrane, 4 * kPi * kMembraneRadius * kMembraneRadius, [](const Eigen::Vector3d&) {

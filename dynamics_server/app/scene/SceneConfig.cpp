@@ -132,12 +132,12 @@ void readConstruction(const ConfigTable& root, Scene& s) {
     if (method == "place" && s.shape) {
         if (events)
             t->fail("method", "\"place\" sets every particle at the start; drop the [[construction.event]] list");
-        core::PlacementParams p;
+        app::PlacementParams p;
         p.seed = s.seed;
         if (t) p.gapR0 = t->number("gap_r0", p.gapR0);
         if (!(p.gapR0 >= 0)) t->fail("gap_r0", "expected a distance of 0 or more, in r0");
         if (t && t->choice("sheet_area", {"faces", "mid-shell"}, "faces") == "mid-shell")
-            p.sheetArea = core::SheetArea::MidShell;
+            p.sheetArea = app::SheetArea::MidShell;
         s.placement = p;
         s.run.untilSettled = t ? t->boolean("until_settled", true) : true;
         if (t) s.run.settleKinetic = t->number("settle_kinetic", s.run.settleKinetic);

@@ -2,12 +2,12 @@
 // A whole scene for the server: the shape ([grid], [shape]) or a bulk box ([box]), the species
 // table, interspecies weights, dynamics parameters, probe, construction timeline and run
 // settings. See docs/scene-format.md for every key and its unit.
+#include "app/scene/Placement.hpp"
 #include "core/Construction.hpp"
 #include "core/Fire.hpp"
 #include "core/ForceField.hpp"
 #include "core/Model.hpp"
 #include "core/Params.hpp"
-#include "core/Placement.hpp"
 #include "shape/ShapeSpec.hpp"
 
 #include <memory>
@@ -63,7 +63,7 @@ struct Scene {
     core::Params params;                       // the first weights and drags (commands change them); probe: `probe`
     core::ConstructionParams construction;
     std::vector<core::ConstructionEvent> timeline;
-    std::optional<core::PlacementParams> placement;  // method = "place": particles set on the map at the start
+    std::optional<PlacementParams> placement;  // method = "place": particles set on the map at the start
     core::ProbeState probe;
     std::optional<Eigen::Vector3d> probePositionVoxels;
     RunSettings run;

@@ -109,9 +109,9 @@ RunStart startRun(const Scene& scene, const std::string& cache, const std::strin
         if (warn && !place)
             for (const std::string& n : seeding.notes) progress(n);
         if (place) {  // every process places on the whole map alike and keeps what it owns (core::Run)
-            core::PlacementParams params = *scene.placement;
+            app::PlacementParams params = *scene.placement;
             params.membrane = &membrane;
-            core::Placement placed = core::placeParticles(*s.model, whole, params);
+            app::Placement placed = app::placeParticles(*s.model, whole, params);
             if (root && progress) progress(placementReport(*s.model, placed.species));
             s.particles = std::move(placed.particles);
         }
@@ -135,7 +135,7 @@ void useSettleTimeStep(const Scene& scene, RunStart& start) {
     start.model = std::move(model);
 }
 
-std::string placementReport(const core::Model& model, const std::vector<core::PlacedSpecies>& placed) {
+std::string placementReport(const core::Model& model, const std::vector<app::PlacedSpecies>& placed) {
     std::ostringstream out;
     out << "placed on the map:";
     for (const auto& p : placed)

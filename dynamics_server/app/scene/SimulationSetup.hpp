@@ -48,7 +48,7 @@ core::Particles initialParticles(const Scene& scene, const core::Model& model,
                                  long long& firstStep, core::Construction& construction, std::string& settle);
 
 // "placed on the map: ..." with each species' count against its ideal at r0 spacing.
-std::string placementReport(const core::Model& model, const std::vector<core::PlacedSpecies>& placed);
+std::string placementReport(const core::Model& model, const std::vector<app::PlacedSpecies>& placed);
 
 // Species names by number (index 0 unused), as snapshots write them.
 std::vector<std::string> speciesNames(const core::Model& model);

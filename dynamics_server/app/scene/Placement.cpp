@@ -1,13 +1,15 @@
-#include "Placement.hpp"
+#include "app/scene/Placement.hpp"
 
-#include "Construction.hpp"
-#include "Integrator.hpp"
+#include "core/Construction.hpp"
+#include "core/Integrator.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace bop::core {
+namespace bop::app {
+
+using namespace core;  // placement sets the step's particles on the model's species
 namespace {
 
 constexpr int kLatticeOffsets = 8;  // shifts of a volume's lattice tried
@@ -234,4 +236,4 @@ Placement placeParticles(const Model& model, const GradientMap& m, const Placeme
     return out;
 }
 
-}  // namespace bop::core
+}  // namespace bop::app

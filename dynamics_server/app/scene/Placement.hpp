@@ -1,5 +1,6 @@
 #pragma once
-// Building a bag by placement (docs/physics.md §7.5), beside the paper's birth and death: every
+// Building a bag by placement (docs/physics.md §7.5), beside the paper's birth and death, once at
+// the run's start (SimulationSetup.hpp): every
 // species' particles are set directly on its voxels of the whole gradient map at r0 spacing, and
 // the run's damped dynamics relaxes them.
 //  - A surface species gets a sheet: its voxels' centres, each moved by a hashed jitter, taken in
@@ -21,13 +22,13 @@
 // Every connected piece of every species is filled (there are no seeds to grow from). Ids count
 // from 1 in placement order. Deterministic: the same map, parameters and seed give the same
 // particles on every process, in the same order.
-#include "Model.hpp"
-#include "Particles.hpp"
+#include "core/Model.hpp"
+#include "core/Particles.hpp"
 
 #include <cstdint>
 #include <vector>
 
-namespace bop::core {
+namespace bop::app {
 
 enum class SheetArea { Faces, MidShell };
 
@@ -49,12 +50,12 @@ struct PlacedSpecies {
 };
 
 struct Placement {
-    Particles particles;
+    core::Particles particles;
     std::vector<PlacedSpecies> species;  // every species with voxels, by number
 };
 
 // `map` must be the whole map (window origin 0, every voxel); std::invalid_argument if it is a
 // window.
-Placement placeParticles(const Model& model, const GradientMap& map, const PlacementParams& params);
+Placement placeParticles(const core::Model& model, const GradientMap& map, const PlacementParams& params);
 
-}  // namespace bop::core
+}  // namespace bop::app
