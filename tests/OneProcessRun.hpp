@@ -3,7 +3,7 @@
 // over core::oneProcess()), its gradient map built into a cache file of its own that goes with it.
 // sim-> reaches the run's Simulation between steps.
 #include "TestUtil.hpp"
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/RunStart.hpp"
 #include "core/Run.hpp"
 
 #include <memory>

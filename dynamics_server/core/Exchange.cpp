@@ -14,29 +14,29 @@ void Exchange::sortIfDue(Particles& p, bool now) {
 
 // New cut planes (when `balance`), then the sort (when due, or `sortNow`), then the halo's plan,
 // which names particles by index.
-Refreshed Exchange::rebuild(Particles& p, Halo& halo, double range, bool balance, bool sortNow) {
+RegionChange Exchange::rebuild(Particles& p, Halo& halo, double range, bool balance, bool sortNow) {
     const bool moved = balance && rebalance(p);
     sortIfDue(p, sortNow);
     buildHalo(p, range, halo);
-    return moved ? Refreshed::Moved : Refreshed::Rebuilt;
+    return moved ? RegionChange::Moved : RegionChange::Rebuilt;
 }
 
-Refreshed Exchange::start(Particles& p, Halo& halo, double range) {
+RegionChange Exchange::start(Particles& p, Halo& halo, double range) {
     return rebuild(p, halo, range, true, true);
 }
 
-Refreshed Exchange::afterDrift(Particles& p, Halo& halo, double range, bool listHolds) {
+RegionChange Exchange::afterDrift(Particles& p, Halo& halo, double range, bool listHolds) {
     ++driftsSinceSort_;
     if (allTrue(listHolds)) {
         updateHalo(p, halo);
-        return Refreshed::Kept;
+        return RegionChange::Kept;
     }
     migrate(p);
     return rebuild(p, halo, range, imbalance(p.size()) > kRebalanceAbove, false);
 }
 
-Refreshed Exchange::afterChange(Particles& p, Halo& halo, double range) {
-    if (!hasGhosts()) return Refreshed::Rebuilt;
+RegionChange Exchange::afterChange(Particles& p, Halo& halo, double range) {
+    if (!hasGhosts()) return RegionChange::Rebuilt;
     return rebuild(p, halo, range, imbalance(p.size()) > kRebalanceAbove, false);
 }
 

@@ -19,7 +19,7 @@ namespace bop::core {
 // What a refresh did (Exchange::refresh...): the ghosts moved along their plan (Kept); a new
 // halo, so a new neighbour list (Rebuilt); new cut planes too, so a new region and its map
 // windows (Moved).
-enum class Refreshed { Kept, Rebuilt, Moved };
+enum class RegionChange { Kept, Rebuilt, Moved };
 
 class Exchange {
 public:
@@ -30,13 +30,13 @@ public:
     // A rebuild moves the cut planes when the busiest process holds more than this over the mean.
     static constexpr double kRebalanceAbove = 1.1;
     // At the start: cut planes for similar counts, and the halo.
-    Refreshed start(Particles& p, Halo& halo, double range);
+    RegionChange start(Particles& p, Halo& halo, double range);
     // After a drift (`listHolds`: this process's neighbour list still holds): where every
     // process's holds, the ghosts' positions along the plan; otherwise every particle to its
     // owner, then new cut planes or a new halo.
-    Refreshed afterDrift(Particles& p, Halo& halo, double range, bool listHolds);
+    RegionChange afterDrift(Particles& p, Halo& halo, double range, bool listHolds);
     // After particles were born, died or moved on some process: new cut planes or a new halo.
-    Refreshed afterChange(Particles& p, Halo& halo, double range);
+    RegionChange afterChange(Particles& p, Halo& halo, double range);
     // Before construction's check: every particle to its owner and the ghosts out to `range`
     // (the birth front). Whether they may have moved (never for one process, which wraps them
     // into the box at every drift).
@@ -129,7 +129,7 @@ protected:
     virtual void broadcastBytes(std::vector<std::byte>&) {}
 
 private:
-    Refreshed rebuild(Particles& p, Halo& halo, double range, bool balance, bool sortNow);
+    RegionChange rebuild(Particles& p, Halo& halo, double range, bool balance, bool sortNow);
     void sortIfDue(Particles& p, bool now);
 
     Box sortBox_;

@@ -1,6 +1,6 @@
 #include "LjPairLoop.hpp"
 
-#include "HotLoop.hpp"
+#include "TargetClones.hpp"
 
 namespace bop::core {
 namespace {

@@ -21,13 +21,13 @@ void MapForces::set(const Model& model, const std::shared_ptr<const GradientMap>
         return;
     }
     if (fieldMap_ != map) {
-        field_ = std::make_unique<GmField>(*map, model.interpolation);
+        field_ = std::make_unique<MapField>(*map, model.interpolation);
         fieldMap_ = map;
         memo_.clear();  // voxels of the old map
     }
     memo_.resize(p.size());
     if (blendMap_ && blendFieldMap_ != blendMap_) {
-        blendField_ = std::make_unique<GmField>(*blendMap_, model.interpolation);  // the map held: never a freed one's
+        blendField_ = std::make_unique<MapField>(*blendMap_, model.interpolation);  // the map held: never a freed one's
         blendFieldMap_ = blendMap_;
     }
     const double w = blendMap_ ? blendW_ : 0.0;
@@ -37,10 +37,10 @@ void MapForces::set(const Model& model, const std::shared_ptr<const GradientMap>
         const Species& sp = model.species[p.species[i]];
         // A memo by index: after a sort or a migration it may hold another particle's voxel, whose
         // values are still that voxel's.
-        GmSample g = field_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i],
-                                    sp.kind == ParticleKind::Surface ? &memo_[i] : nullptr);
+        MapSample g = field_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i],
+                                     sp.kind == ParticleKind::Surface ? &memo_[i] : nullptr);
         if (w > 0) {  // keyframes: on the way to the next frame's shape
-            const GmSample n = blendField_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
+            const MapSample n = blendField_->sample(sp.kind, p.species[i], p.pos[i], p.normal[i]);
             g.force = (1 - w) * g.force + w * n.force;
             g.torque = (1 - w) * g.torque + w * n.torque;
         }

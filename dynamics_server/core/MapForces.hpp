@@ -31,14 +31,14 @@ public:
     static float curvatureWeight(const Model& model, const GradientMap* map, const Eigen::Vector3d& x, int species);
 
 private:
-    std::unique_ptr<GmField> field_;
+    std::unique_ptr<MapField> field_;
     std::shared_ptr<const GradientMap> fieldMap_;       // field_'s map, held: a new map never takes its address
-    std::unique_ptr<GmField> blendField_;               // of blendFieldMap_
+    std::unique_ptr<MapField> blendField_;              // of blendFieldMap_
     std::shared_ptr<const GradientMap> blendFieldMap_;  // held, as fieldMap_ is
     std::shared_ptr<const GradientMap> blendMap_;
     double blendW_ = 0;
     std::vector<float> curvature_;
-    std::vector<GmField::Memo> memo_;  // per particle index (surface particles'), of field_'s map
+    std::vector<MapField::Memo> memo_;  // per particle index (surface particles'), of field_'s map
 };
 
 }  // namespace bop::core

@@ -6,7 +6,7 @@
 #include "Keyframes.hpp"
 #include "Potentials.hpp"
 #include "bop/common/GradientMap.hpp"
-#include "core/GmField.hpp"
+#include "core/MapField.hpp"
 
 #include <array>
 #include <cmath>

@@ -1,8 +1,8 @@
 #include "OrientedPairLoop.hpp"
 
-#include "HotLoop.hpp"
 #include "OrientedTerms.hpp"
 #include "PairBlocks.hpp"
+#include "TargetClones.hpp"
 
 namespace bop::core {
 namespace {

@@ -94,7 +94,7 @@ std::size_t PairChunks::cut(const NeighbourList& list, std::size_t count, double
 
 void PairChunks::run(const PairKernel& kernel, const PrunedPairs::Sets& sets, PairInputs in, OrientedInputs o,
                      bool energies, bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums, double seconds[2],
-                     FoldInto into) {
+                     ParticleTargets into) {
     Eigen::Vector3d* f = in.f;
     Eigen::Vector3d* t = o.t;
     const std::size_t n = chunks_.size();

@@ -18,7 +18,7 @@ namespace bop::core {
 // Where PairChunks::run may add each entry's force and torque: force[owner[e]], torque[owner[e]].
 // Only where every entry is its particle's one entry (a list without images or ghosts), so that
 // no two entries add to one particle.
-struct FoldInto {
+struct ParticleTargets {
     Eigen::Vector3d* force = nullptr;
     Eigen::Vector3d* torque = nullptr;  // when oriented
     const std::uint32_t* owner = nullptr;
@@ -34,10 +34,11 @@ public:
     // of them: the same rows, so the same chunks). Writes f (and t when oriented) for every entry, and the
     // sums of the pairs within the subdomain and of those with halo ghosts; adds the LJ and the
     // oriented loops' time, summed over threads, to seconds[0] and seconds[1].
-    // With `into` set, each entry's force (and torque) is added to its particle's (FoldInto)
+    // With `into` set, each entry's force (and torque) is added to its particle's (ParticleTargets)
     // instead of written to f (and t).
     void run(const PairKernel& kernel, const PrunedPairs::Sets& sets, PairInputs in, OrientedInputs o, bool energies,
-             bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums, double seconds[2], FoldInto into = {});
+             bool halo, PairKernel::Sums& sums, PairKernel::Sums& haloSums, double seconds[2],
+             ParticleTargets into = {});
 
     std::size_t count() const { return chunks_.size(); }
 

@@ -130,7 +130,7 @@ void PairForces::add(const Model& model, const MapInForce& maps, Particles& p, c
     // else each particle's entry that is not an image on the threads, then the images in entry order.
     const auto& owner = list_.owner();
     const bool direct = list_.ghostCount() == 0;
-    FoldInto into;
+    ParticleTargets into;
     if (direct) into = {p.force.data(), oriented_ ? p.torque.data() : nullptr, owner.data()};
     chunks_.run(kernel_, sets, in, o, energies, halo != nullptr, sums, haloSums, loopSeconds, into);
     if (!direct) {

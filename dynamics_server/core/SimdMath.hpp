@@ -2,7 +2,7 @@
 // Four doubles at a time for the pair loops (GCC/Clang vector extensions): V4 holds four lanes,
 // arithmetic works lane by lane, with a few functions (square root, e^x, clamps, selects) the
 // compiler evaluates in every lane. simdExp also takes a double, so that its test compares one
-// lane with std::exp. In an x86-64-v3 clone (HotLoop.hpp) a V4 is one AVX register; in the
+// lane with std::exp. In an x86-64-v3 clone (TargetClones.hpp) a V4 is one AVX register; in the
 // baseline, two SSE2 halves.
 #include <bit>
 #include <cmath>

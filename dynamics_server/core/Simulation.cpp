@@ -118,9 +118,9 @@ void Simulation::refreshForces() {
     forces(true);
 }
 
-void Simulation::placeRegion(Refreshed r) {
-    if (r == Refreshed::Kept) return;
-    if (r == Refreshed::Moved) {
+void Simulation::placeRegion(RegionChange r) {
+    if (r == RegionChange::Kept) return;
+    if (r == RegionChange::Moved) {
         maps_.region = ex_->region(model_->box);
         placeMaps();
     }
@@ -164,8 +164,8 @@ void Simulation::step() {
     times_.integrate += secondsSince(t0);
     const bool holds = field_.listHolds(maps_.region, p_);
     t0 = PhaseClock::now();
-    const Refreshed r = ex_->afterDrift(p_, halo_, range_, holds);
-    if (r != Refreshed::Kept) ++rebuilds_;
+    const RegionChange r = ex_->afterDrift(p_, halo_, range_, holds);
+    if (r != RegionChange::Kept) ++rebuilds_;
     placeRegion(r);
     exchangeSeconds_ += secondsSince(t0);
     ++stats_.step;

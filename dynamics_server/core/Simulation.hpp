@@ -154,7 +154,7 @@ private:
     Eigen::Vector3d defaultSeed(int species) const;         // collective
     void placeMaps();                                       // this region's windows of the map(s); SimulationMaps.cpp
     void applyKeyframe(double time);
-    void placeRegion(Refreshed r);  // after the exchange's refresh: a new region's windows, a new list
+    void placeRegion(RegionChange r);  // after the exchange's refresh: a new region's windows, a new list
     void forces(bool energies);
     [[noreturn]] void throwUnsound() const;  // collective: UnsoundState naming what a process found
 

@@ -4,7 +4,7 @@
 // it is 0. The depth is the voxel centres' distances to the nearest surface voxel, negative
 // inside any bag, interpolated trilinearly, so the force is continuous. (Between nested bags
 // the depth is to the nearer surface; the torus and the ventricle have one bag.)
-// Map placement as the server's (dynamics_server/core/GmField.hpp): the corner of voxel (0,0,0) at the origin,
+// Map placement as the server's (dynamics_server/core/MapField.hpp): the corner of voxel (0,0,0) at the origin,
 // a voxel h = r0 / r0Voxels wide (r0 = sqrt 3).
 #include "bop/common/GradientMap.hpp"
 

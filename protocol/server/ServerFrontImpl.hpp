@@ -1,6 +1,6 @@
 #pragma once
 // The front's state (ServerFront.hpp), shared by its thread's side (ServerFront.cpp: sockets,
-// handshakes, publishing) and the step loop's side (ServerFrontSlots.cpp: the slots).
+// handshakes, publishing) and the step loop's side (FrontLoopSide.cpp: the slots).
 #include "codec/BufferPool.hpp"
 #include "codec/Codec.hpp"
 #include "codec/MessageKind.hpp"

@@ -8,7 +8,7 @@
 # steps/s, ns per particle-step, the pair phase per step (one rank) and the pairs in range of each
 # kind (LJ, oriented), ns per pair in range (both kinds together, wall time of the phase), and each
 # loop's CPU time per pair of its kind (summed over threads). The CPU model and the clone of the
-# pair loops the loader chose (core/HotLoop.hpp) head the table and go in every CSV row; the
+# pair loops the loader chose (core/TargetClones.hpp) head the table and go in every CSV row; the
 # targets of issue 35 are checked at the end (scripts/bench/bag_targets.py). A PNG plots the build
 # time beside steps/s and ns per particle-step against the particle count.
 #   scripts/bench/bag.sh [SCALE ...]   (default 1 2 4.2 9.1; CSV in out/bench/bag.csv, plot in

@@ -2,7 +2,7 @@
 // on a curved bag: two surface species and a volume species, asymmetric weights, and the map's
 // curvature weights on the co-planar terms, which vary along an ellipsoid's surface.
 #include "BruteForce.hpp"
-#include "core/HotLoop.hpp"
+#include "core/TargetClones.hpp"
 #include "shape/ShapeTestUtil.hpp"
 
 #include <catch2/catch.hpp>
@@ -93,7 +93,7 @@ TEST_CASE("with the same LJ weights for every species pair the loop takes them o
     checkBagAgainstReference(true);
 }
 
-// The AVX-512 clone (HotLoop.hpp) is the one the loader picks on a CPU that has x86-64-v4; there
+// The AVX-512 clone (TargetClones.hpp) is the one the loader picks on a CPU that has x86-64-v4; there
 // it must agree with the reference as the others do.
 TEST_CASE("the x86-64-v4 (AVX-512) clone equals the O(N^2) reference where the CPU has it", "[core][cells][clones]") {
     if (std::string(hotLoopClone()) != "x86-64-v4") {

@@ -4,7 +4,7 @@
 #include "OneProcessRun.hpp"
 #include "TestUtil.hpp"
 #include "app/cardiac/CardiacSeries.hpp"
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/RunStart.hpp"
 #include "shape/KeyframeTestScene.hpp"
 
 #include <catch2/catch.hpp>
@@ -28,7 +28,7 @@ TEST_CASE("keyframes at one process: the map switches every frame duration and t
     const double h = core::kR0 / 2;
     sim->particles().add(Eigen::Vector3d(12 + 7.5, 12.3, 11.8) * h, 2, 1);
     sim->refreshForces();
-    const core::GmField small(*frames[0], scene.model->interpolation), large(*frames[1], scene.model->interpolation);
+    const core::MapField small(*frames[0], scene.model->interpolation), large(*frames[1], scene.model->interpolation);
     const double alpha = sim->model().species[2].alphaForceGm;
     int switches = 0, last = 0;
     for (int s = 0; s < 40; ++s) {
@@ -43,8 +43,8 @@ TEST_CASE("keyframes at one process: the map switches every frame duration and t
         switches += at.a != last;
         last = at.a;
         const Eigen::Vector3d x = sim->particles().pos[0], n = sim->particles().normal[0];
-        const core::GmField& fa = at.a == 0 ? small : large;
-        const core::GmField& fb = at.b == 0 ? small : large;
+        const core::MapField& fa = at.a == 0 ? small : large;
+        const core::MapField& fb = at.b == 0 ? small : large;
         const Eigen::Vector3d expected = alpha * ((1 - at.w) * fa.sample(core::ParticleKind::Volume, 2, x, n).force +
                                                   at.w * fb.sample(core::ParticleKind::Volume, 2, x, n).force);
         CHECK((sim->particles().force[0] - expected).norm() < 1e-12);

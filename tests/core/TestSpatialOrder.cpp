@@ -3,7 +3,7 @@
 // trajectory, to the last bit, as one that keeps them in their first order.
 #include "OneProcessRun.hpp"
 #include "TestUtil.hpp"
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/RunStart.hpp"
 #include "core/CellList.hpp"
 #include "core/SpatialOrder.hpp"
 #include "core/Threads.hpp"

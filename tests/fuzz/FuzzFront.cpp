@@ -8,7 +8,7 @@
 // (little-endian, cut to what is left) and the message. op % 4 = 0 or 1: a message from peer
 // (op / 4) % 4; 2 or 3: 1 + (op / 4) % 8 passes of the loop. At most 16 passes an input. Every
 // input starts from the same built bag (the run is reseated after an input that stepped it or
-// left commands queued in it), paused, with a fresh desk, the scene's probe and nothing queued
+// left commands queued in it), paused, with a fresh controls, the scene's probe and nothing queued
 // in the front; the front's sessions go on. One thread: a campaign runs on one core.
 //
 // The contract, beyond the sanitizers': nothing thrown leaves the loop (no UnsoundState: no
@@ -16,8 +16,8 @@
 // run's totals stay finite.
 #include "app/runs/ServedLoop.hpp"
 #include "app/runs/ServedRun.hpp"
+#include "app/scene/RunStart.hpp"
 #include "app/scene/SceneConfig.hpp"
-#include "app/scene/SimulationSetup.hpp"
 #include "core/Run.hpp"
 #include "core/Threads.hpp"
 #include "parallel/Session.hpp"
@@ -149,7 +149,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         std::chrono::microseconds(0));  // a paused pass does not wait
     // Paused, as a client may leave a server: the run steps only when the input resumes it or
     // asks for single steps, so that an input's cost lies in its messages, not in the physics.
-    loop.desk().paused = true;
+    loop.controls().paused = true;
     const std::uint64_t errorsBefore = w.front->stats().internalErrors;
     int passes = 0;
     const auto pass = [&] {

@@ -4,7 +4,7 @@
 #include "OneProcessRun.hpp"
 #include "RankRun.hpp"
 #include "TestUtil.hpp"
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/RunStart.hpp"
 #include "parallel/Commands.hpp"
 #include "parallel/MpiExchange.hpp"
 

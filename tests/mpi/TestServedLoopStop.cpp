@@ -5,7 +5,7 @@
 #include "TestUtil.hpp"
 #include "app/runs/ServedLoop.hpp"
 #include "app/runs/ServedRun.hpp"
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/RunStart.hpp"
 #include "parallel/Session.hpp"
 #include "server/ServerFront.hpp"
 

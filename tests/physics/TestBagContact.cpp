@@ -7,7 +7,7 @@
 // its map, so the push is small: a's sheet slides aside under the probe more than it bulges.
 #include "OneProcessRun.hpp"
 #include "TestUtil.hpp"
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/RunStart.hpp"
 
 #include <catch2/catch.hpp>
 

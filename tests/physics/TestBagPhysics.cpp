@@ -3,7 +3,8 @@
 // and how particle counts scale with r0 (paper Table 1).
 #include "OneProcessRun.hpp"
 #include "TestUtil.hpp"
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/Fidelity.hpp"
+#include "app/scene/RunStart.hpp"
 #include "core/Threads.hpp"
 
 #include <catch2/catch.hpp>

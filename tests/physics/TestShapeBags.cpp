@@ -12,7 +12,8 @@
 #include "TestUtil.hpp"
 #include "app/runs/SettleWatch.hpp"
 #include "app/runs/Settling.hpp"
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/Fidelity.hpp"
+#include "app/scene/RunStart.hpp"
 
 #include <catch2/catch.hpp>
 

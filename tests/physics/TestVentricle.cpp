@@ -6,7 +6,7 @@
 #include "OneProcessRun.hpp"
 #include "TestUtil.hpp"
 #include "app/cardiac/CardiacRun.hpp"
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/RunStart.hpp"
 #include "shape/LvPhantom.hpp"
 
 #include <catch2/catch.hpp>

@@ -4,7 +4,7 @@
 // never pull a particle into another object; the bags' parents kept by the map file.
 #include "ShapeTestUtil.hpp"
 #include "bop/common/GradientMapFile.hpp"
-#include "core/GmField.hpp"
+#include "core/MapField.hpp"
 #include "shape/BagLayout.hpp"
 
 #include <catch2/catch.hpp>
@@ -135,7 +135,7 @@ TEST_CASE("the map never pulls a particle into another object", "[shape][bags]")
     // Touching boxes: left = bag 1 (species 1, 2), right = bag 2 (species 3, 4).
     const Built b = build({box({5, 5, 5}, {25, 25, 25}), box({25, 5, 5}, {45, 25, 25})});
     const GradientMap& m = b.map;
-    const core::GmField field(m, core::Interpolation::Nearest);
+    const core::MapField field(m, core::Interpolation::Nearest);
     std::size_t inOther = 0, outsideNearOther = 0;
     for (int species = 1; species <= 4; ++species) {
         const int own = bagOfSpecies(species), other = 3 - own;

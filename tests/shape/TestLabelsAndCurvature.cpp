@@ -1,6 +1,6 @@
 // Labels (6-connectivity shells, nested species order) and curvature of voxelised spheres.
 #include "ShapeTestUtil.hpp"
-#include "core/GmField.hpp"
+#include "core/MapField.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -137,7 +137,7 @@ TEST_CASE("nested bags: species are numbered outer to inner and GM forces point 
     }
     // Every species in every voxel outside its own region gets a force with the radial sign
     // that moves it toward its region (paper §3.4; docs/physics.md §4.6).
-    GmField field(m, Interpolation::Nearest);
+    MapField field(m, Interpolation::Nearest);
     std::size_t tested = 0, wrong = 0;
     for (int species = 1; species <= 4; ++species) {
         const ParticleKind kind = isSurfaceSpecies(species) ? ParticleKind::Surface : ParticleKind::Volume;

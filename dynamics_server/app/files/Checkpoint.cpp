@@ -1,6 +1,6 @@
 #include "app/files/Checkpoint.hpp"
 
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/RunStart.hpp"
 #include "bop/common/Npy.hpp"  // writeFileAtomic
 
 #include <ostream>

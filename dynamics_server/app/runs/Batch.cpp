@@ -5,6 +5,7 @@
 #include "app/runs/BatchReport.hpp"
 #include "app/runs/RunLifecycle.hpp"
 #include "app/runs/Settling.hpp"
+#include "app/scene/Fidelity.hpp"
 #include "bop/common/GradientMapCrop.hpp"
 #include "bop/common/GradientMapFile.hpp"
 #include "shape/GradientMapFileView.hpp"

@@ -3,7 +3,7 @@
 // (RunLifecycle.hpp: start, stop flag, checkpoints, unsound states, final files) with a pass of
 // one step and its progress reports, snapshots and settling checks, then the Table-1 style
 // summary (BatchReport.hpp). Rank 0 writes the files.
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/RunStart.hpp"
 #include "core/Run.hpp"
 
 #include <optional>

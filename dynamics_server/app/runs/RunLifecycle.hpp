@@ -11,7 +11,7 @@
 // gave, at any rank count. (A checkpoint that only wrote the file would leave the run on values
 // the file rounds, and the restarted run would part from it.)
 #include "app/cardiac/CardiacRun.hpp"
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/RunStart.hpp"
 #include "core/Run.hpp"
 
 #include <chrono>

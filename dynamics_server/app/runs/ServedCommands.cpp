@@ -19,7 +19,8 @@ protocol::CommandReply answer(const protocol::Command& c, protocol::ReplyStatus 
 
 }  // namespace
 
-protocol::CommandReply apply(const protocol::Command& c, Desk& desk, core::Run& run, const protocol::SceneInfo& scene) {
+protocol::CommandReply apply(const protocol::Command& c, ClientControls& controls, core::Run& run,
+                             const protocol::SceneInfo& scene) {
     using protocol::ReplyStatus;
     const long long next = run.stepNumber();
     const int speciesCount = int(scene.species.size());
@@ -51,11 +52,11 @@ protocol::CommandReply apply(const protocol::Command& c, Desk& desk, core::Run& 
             }
         } else if (const auto* r = std::get_if<protocol::RunControl>(&c.body)) {
             if (r->action == protocol::RunAction::Pause)
-                desk.paused = true;
+                controls.paused = true;
             else if (r->action == protocol::RunAction::Resume)
-                desk.paused = false, desk.singleSteps = 0;
+                controls.paused = false, controls.singleSteps = 0;
             else
-                desk.singleSteps += r->steps;
+                controls.singleSteps += r->steps;
             return answer(c, ReplyStatus::Ok, next);
         } else {
             return answer(c, ReplyStatus::Unsupported, next, "not supported by this server yet");

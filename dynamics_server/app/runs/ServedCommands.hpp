@@ -1,6 +1,6 @@
 #pragma once
 // Rank 0 of a served run turns clients' commands into run commands (parallel/Commands.hpp) or
-// changes of its desk (pause, single steps, the probe, damping), and starts or stops recording.
+// changes of its controls (pause, single steps, the probe, damping), and starts or stops recording.
 // Each answer names the step at which the command takes effect, or why it was refused.
 #include "codec/DecodeResult.hpp"
 #include "codec/Messages.hpp"
@@ -16,7 +16,7 @@
 namespace bop::app {
 
 // Rank 0's state between passes: what clients asked for and what the run is doing.
-struct Desk {
+struct ClientControls {
     bool paused = false;
     long long singleSteps = 0;   // steps still to do while paused
     std::uint64_t probeSeq = 0;  // the newest client probe's
@@ -25,9 +25,10 @@ struct Desk {
     std::chrono::steady_clock::time_point lastClientProbe{};  // ...at this time
 };
 
-// One client command (not Record): run commands submitted, or the desk changed. Checked again
+// One client command (not Record): run commands submitted, or the controls changed. Checked again
 // against the scene's ranges (server/InboundRanges.hpp): replayed commands come from a file.
-protocol::CommandReply apply(const protocol::Command& c, Desk& desk, core::Run& run, const protocol::SceneInfo& scene);
+protocol::CommandReply apply(const protocol::Command& c, ClientControls& controls, core::Run& run,
+                             const protocol::SceneInfo& scene);
 
 // Record start/stop. A client names at most a plain file name ending in .mcap: the recording
 // goes into the server's output folder `outDir`, never elsewhere, and never replaces a file.

@@ -16,7 +16,7 @@ std::int64_t nowNs() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
 }
 
-protocol::StateFrame frameOf(core::FrameArrays a, const core::Totals& t, const Desk& desk,
+protocol::StateFrame frameOf(core::FrameArrays a, const core::Totals& t, const ClientControls& controls,
                              const core::ProbeState& probe, long long step, double dt, double volume, double stepRate,
                              bool paperEq15) {
     protocol::StateFrame f;
@@ -33,7 +33,7 @@ protocol::StateFrame frameOf(core::FrameArrays a, const core::Totals& t, const D
                                 : core::virialPressure(t.bloodMv2, t.virialVolume, t.bloodVolume);
     f.stats = {t.kinetic,        t.pairEnergy + t.probeEnergy,
                pressure,         stepRate,
-               std::uint64_t(n), desk.loop,
+               std::uint64_t(n), controls.loop,
                t.cavityVolume,   t.keyframe.phase()};
     f.frameParticleCount = std::uint32_t(n);
     f.positions = std::move(a.positions);
@@ -65,10 +65,10 @@ ServedLoop::ServedLoop(const Scene& scene, core::Run& run, protocol::ServerFront
 }
 
 void ServedLoop::takeProbe(const protocol::Probe& p) {
-    desk_.probeSeq = p.seq;
-    desk_.loop = p.loop;
-    desk_.clientProbe = true;
-    desk_.lastClientProbe = Clock::now();
+    controls_.probeSeq = p.seq;
+    controls_.loop = p.loop;
+    controls_.clientProbe = true;
+    controls_.lastClientProbe = Clock::now();
     front_->probeApplied(p, std::uint64_t(run_.stepNumber()));
     run_.submit(core::ProbeCommand{{p.active, p.position, {p.k0, p.k1}}});
 }
@@ -80,7 +80,7 @@ ServedLoop::Decision ServedLoop::replayInputs() {
          ++nextCommand_) {
         const auto& rc = r.commands[nextCommand_];
         if ((long long)(rc.reply.step) < now || rc.reply.status != protocol::ReplyStatus::Ok) continue;
-        front_->reply({"", rc.command}, apply(rc.command, desk_, run_, info_));
+        front_->reply({"", rc.command}, apply(rc.command, controls_, run_, info_));
     }
     for (; nextProbe_ < r.probes.size() && (long long)(r.probes[nextProbe_].step) <= now; ++nextProbe_) {
         const protocol::Probe& p = r.probes[nextProbe_].probe;
@@ -91,7 +91,7 @@ ServedLoop::Decision ServedLoop::replayInputs() {
         }
         takeProbe(p);
     }
-    desk_.paused = false;  // the recording's steps drive the run
+    controls_.paused = false;  // the recording's steps drive the run
     const bool last = frameSteps_.empty() || now >= *frameSteps_.rbegin();
     return {stopRequested_() || last ? Stopped : Go, true, frameSteps_.count(now + 1) > 0,
             run_.paramsAhead().probe.active};
@@ -101,24 +101,24 @@ ServedLoop::Decision ServedLoop::decide() {
     for (const auto& pc : front_->takeCommands()) {
         const auto* rec = std::get_if<protocol::Record>(&pc.command.body);
         front_->reply(pc, rec ? record(pc.command, *rec, *front_, o_.outDir, o_.front.recordPath, run_.stepNumber())
-                              : apply(pc.command, desk_, run_, info_));
+                              : apply(pc.command, controls_, run_, info_));
     }
     if (const auto p = front_->takeProbe()) takeProbe(*p);
-    if (!front_->anyHaptic()) desk_.loop = {};  // no device loop probing now
+    if (!front_->anyHaptic()) controls_.loop = {};  // no device loop probing now
     // No probe from any client for a second: a dead client's probe lets go. Taken as a probe like
     // any other, so that a recording holds it and a replay applies it.
     const core::ProbeState& probe = run_.paramsAhead().probe;
-    if (desk_.clientProbe && probe.active && Clock::now() - desk_.lastClientProbe > std::chrono::seconds(1)) {
+    if (controls_.clientProbe && probe.active && Clock::now() - controls_.lastClientProbe > std::chrono::seconds(1)) {
         protocol::Probe off;
-        off.seq = desk_.probeSeq;
+        off.seq = controls_.probeSeq;
         off.position = probe.position;
         off.active = false;
         off.k0 = probe.params.k0;
         off.k1 = probe.params.k1;
         takeProbe(off);
     }
-    const bool step = !desk_.paused || desk_.singleSteps > 0;
-    if (desk_.paused && desk_.singleSteps > 0) --desk_.singleSteps;
+    const bool step = !controls_.paused || controls_.singleSteps > 0;
+    if (controls_.paused && controls_.singleSteps > 0) --controls_.singleSteps;
     // No gather while the front still holds a frame: it would only replace it.
     const bool frame = !front_->framePending() && front_->frameDue(Clock::now());
     const bool stop = stopRequested_() || (o_.steps > 0 && done_ >= o_.steps);
@@ -152,7 +152,7 @@ bool ServedLoop::pass() {
     if (ctl.publish && !run_.energiesCurrent()) run_.refreshForces();  // paused: the same forces, with energies
     const core::Totals t = run_.totals();                              // collective
     if (front_ && ctl.feedback)
-        front_->offerFeedback({desk_.probeSeq, std::uint64_t(run_.stepNumber()), t.probeReaction, nowNs()});
+        front_->offerFeedback({controls_.probeSeq, std::uint64_t(run_.stepNumber()), t.probeReaction, nowNs()});
     if (ctl.publish) publish(t);
     return true;
 }
@@ -170,7 +170,7 @@ void ServedLoop::publish(const core::Totals& t) {
     if (o_.replay)  // a replay is compared frame by frame: none may be replaced unsent
         while (front_->framePending()) std::this_thread::sleep_for(std::chrono::microseconds(200));
     front_->setParticleCount(arrays.species.size());
-    front_->offerFrame(frameOf(std::move(arrays), t, desk_, run_.paramsAhead().probe, run_.stepNumber(),
+    front_->offerFrame(frameOf(std::move(arrays), t, controls_, run_.paramsAhead().probe, run_.stepNumber(),
                                model_.integration.dt, volume_, stepRate_,
                                scene_.pressure && scene_.pressure->paperEq15));
 }

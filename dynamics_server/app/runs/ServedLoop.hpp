@@ -1,7 +1,7 @@
 #pragma once
 // The served run's loop, one pass at a time (runServed drives it; the front fuzzer too). Rank 0
 // takes the clients' commands and newest probe from the front (or a recording's, by step), turns
-// them into run commands or desk changes, and decides whether to stop, step, publish a frame and
+// them into run commands or changes of the client controls, and decides whether to stop, step, publish a frame and
 // send feedback; every rank agrees on that decision, steps, and joins the gathers when due. No
 // rank waits on a client. Nothing rank 0 meets while taking the inputs escapes: the run stops
 // cleanly instead, every rank at the same pass (error()).
@@ -31,7 +31,7 @@ public:
 
     long long stepsDone() const { return done_; }
     const std::string& error() const { return error_; }  // why rank 0 stopped the run; empty if nothing went wrong
-    Desk& desk() { return desk_; }
+    ClientControls& controls() { return controls_; }
 
 private:
     enum Stop : int { Go = 0, Stopped = 1, Failed = 2 };  // Decision::stop
@@ -50,7 +50,7 @@ private:
     std::function<void()> afterStep_;
     std::chrono::microseconds idle_;
     protocol::SceneInfo info_;  // the scene's ranges, for replayed inputs (server/InboundRanges.hpp)
-    Desk desk_;
+    ClientControls controls_;
     std::string error_;
     long long done_ = 0;
     std::size_t nextCommand_ = 0, nextProbe_ = 0;  // replayed inputs (ServeOptions::replay), by step

@@ -2,7 +2,7 @@
 // bop-server with its network front (docs/protocol.md): the run (core/Run.hpp) at any rank
 // count, rank 0 serving viewers and haptic clients; the loop itself is ServedLoop.hpp.
 #include "app/runs/ExitCodes.hpp"
-#include "app/scene/SimulationSetup.hpp"
+#include "app/scene/RunStart.hpp"
 #include "core/Run.hpp"
 #include "recording/SessionReader.hpp"
 #include "server/ServerFront.hpp"

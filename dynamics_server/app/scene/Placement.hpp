@@ -1,6 +1,6 @@
 #pragma once
 // Building a bag by placement (docs/physics.md §7.5), beside the paper's birth and death, once at
-// the run's start (SimulationSetup.hpp): every
+// the run's start (RunStart.hpp): every
 // species' particles are set directly on its voxels of the whole gradient map at r0 spacing, and
 // the run's damped dynamics relaxes them.
 //  - A surface species gets a sheet: its voxels' centres, each moved by a hashed jitter, taken in

@@ -5,9 +5,9 @@
 // square root (LjForm::forceOverR); an oriented pair needs both and an e^x besides. Where those
 // alone take longer than a ns-per-pair target, no layout of the loops meets it in double precision
 // on this CPU (scripts/bench/floor.sh).
-#include "core/HotLoop.hpp"
 #include "core/Potentials.hpp"
 #include "core/SimdMath.hpp"
+#include "core/TargetClones.hpp"
 
 #include <CLI/CLI.hpp>
 

@@ -2,7 +2,7 @@
 
 #include "bop/common/Error.hpp"
 #include "bop/common/Npy.hpp"
-#include "core/GmField.hpp"
+#include "core/MapField.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 #pragma once
 // How the gradient map's force is read between voxel centres (docs/physics.md §4.5): the scene
-// chooses it ([shape] interpolation), the force field reads it (core/GmField.hpp).
+// chooses it ([shape] interpolation), the force field reads it (core/MapField.hpp).
 #include <cstdint>
 
 namespace bop {

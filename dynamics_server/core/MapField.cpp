@@ -1,26 +1,27 @@
-#include "core/GmField.hpp"
+#include "core/MapField.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace bop::core {
 
-GmField::GmField(const GradientMap& map, Interpolation interp)
+MapField::MapField(const GradientMap& map, Interpolation interp)
     : map_(map), interp_(interp), h_(voxelLength(map.r0Voxels)) {
     surfaceAt_.reserve(map.surface.size());
     for (const SurfaceVoxel& s : map.surface) surfaceAt_.push_back(map.wholeDims().coords(s.voxel));
 }
 
-Eigen::Vector3d GmField::normalAtVoxel(std::size_t v) const {
+Eigen::Vector3d MapField::normalAtVoxel(std::size_t v) const {
     return map_.nearestSurface(v).normal.cast<double>();
 }
 
-Eigen::Vector3d GmField::ruleAtVoxel(std::size_t v, ParticleKind kind, int species, const Eigen::Vector3d& pVox) const {
+Eigen::Vector3d MapField::ruleAtVoxel(std::size_t v, ParticleKind kind, int species,
+                                      const Eigen::Vector3d& pVox) const {
     return rule(v, map_.dims().coords(v), kind, species, pVox);
 }
 
-Eigen::Vector3d GmField::rule(std::size_t v, const Eigen::Vector3i& c, ParticleKind kind, int species,
-                              const Eigen::Vector3d& pVox) const {
+Eigen::Vector3d MapField::rule(std::size_t v, const Eigen::Vector3i& c, ParticleKind kind, int species,
+                               const Eigen::Vector3d& pVox) const {
     const int o = map_.occ[v];
     if (o == species) {  // at home: no look-up of the nearest surface (most volume particles, every step)
         if (kind == ParticleKind::Surface) return c.cast<double>() + Eigen::Vector3d::Constant(0.5) - pVox;
@@ -53,8 +54,8 @@ Eigen::Vector3d GmField::rule(std::size_t v, const Eigen::Vector3i& c, ParticleK
     return inward();
 }
 
-GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
-                         Memo* memo) const {
+MapSample MapField::sample(ParticleKind kind, int species, const Eigen::Vector3d& position,
+                           const Eigen::Vector3d& normal, Memo* memo) const {
     const Dims& dm = map_.dims();
     const Dims& whole = map_.wholeDims();
     const Eigen::Vector3d pWhole = position / h_;
@@ -72,7 +73,7 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
             const std::size_t dy = std::size_t(dm.nx), dz = std::size_t(dm.nx) * std::size_t(dm.ny);
             const std::uint8_t* o = map_.occ.data() + v;
             const auto home = [&](std::size_t k) { return o[k] == species && o[k + 1] == species; };
-            if (home(0) && home(dy) && home(dz) && home(dy + dz)) return GmSample{};
+            if (home(0) && home(dy) && home(dz) && home(dy + dz)) return MapSample{};
         }
     }
     // Keep the evaluation point on the grid; a particle beyond the whole map's grid is pulled
@@ -135,7 +136,7 @@ GmSample GmField::sample(ParticleKind kind, int species, const Eigen::Vector3d& 
             cpWeight = map_.nearestSurface(floorVoxel(q)).cpWeight;
         }
     }
-    GmSample out;
+    MapSample out;
     out.force = (f + back) * h_;
     if (kind == ParticleKind::Surface) {
         out.torque = normal.cross(n);

@@ -1,6 +1,6 @@
 // Gradient-map force and torque rules: the paper's per-voxel table at voxel centres, a
 // continuous field between them, sensible torques, and a spring back from outside the grid.
-#include "core/GmField.hpp"
+#include "core/MapField.hpp"
 #include "shape/ShapeTestUtil.hpp"
 
 #include <catch2/catch.hpp>
@@ -29,7 +29,7 @@ GradientMap ball() {
 
 TEST_CASE("GM rules follow the paper's table for a single bag", "[shape][gm]") {
     const GradientMap m = slab();
-    const GmField f(m, Interpolation::Trilinear);
+    const MapField f(m, Interpolation::Trilinear);
     const double h = f.voxelSize();
     CHECK(h == Approx(std::sqrt(3.0) / 2.0));
     const Eigen::Vector3d nz(0, 0, 1);
@@ -48,7 +48,7 @@ TEST_CASE("GM rules follow the paper's table for a single bag", "[shape][gm]") {
     CHECK(up.z() < 0);
     CHECK(up.z() == Approx(-(2 * 0.2 - 0.04) * h));
     // The default (mixed) keeps the paper's spring to the voxel centre for surface particles.
-    const GmField paper(m);
+    const MapField paper(m);
     CHECK((paper.sample(ParticleKind::Surface, 1, at(4.2, 6.3, 19.7), nz).force - Eigen::Vector3d(0.3, 0.2, -0.2) * h)
               .norm() < 1e-12);
     // Volume particles: free inside, pushed in from outside, pushed one voxel inward on the surface.
@@ -61,7 +61,7 @@ TEST_CASE("GM rules follow the paper's table for a single bag", "[shape][gm]") {
 
 TEST_CASE("GM torque turns a surface particle's normal toward the surface normal", "[shape][gm]") {
     const GradientMap m = slab();
-    const GmField f(m);
+    const MapField f(m);
     const Eigen::Vector3d p = Eigen::Vector3d(6.5, 6.5, 19.5) * f.voxelSize();
     const Eigen::Vector3d ni = Eigen::Vector3d(1, 0, 0);
     const Eigen::Vector3d tau = f.sample(ParticleKind::Surface, 1, p, ni).torque;
@@ -73,7 +73,7 @@ TEST_CASE("GM torque turns a surface particle's normal toward the surface normal
 
 TEST_CASE("GM field equals the per-voxel rule at centres and is continuous between them", "[shape][gm]") {
     const GradientMap m = ball();
-    const GmField tri(m, Interpolation::Trilinear), near(m, Interpolation::Nearest);
+    const MapField tri(m, Interpolation::Trilinear), near(m, Interpolation::Nearest);
     const double h = tri.voxelSize();
     const Dims& d = m.dims();
     for (int species : {1, 2}) {
@@ -116,7 +116,7 @@ TEST_CASE("GM field equals the per-voxel rule at centres and is continuous betwe
 
 TEST_CASE("a particle beyond the grid is pulled back", "[shape][gm]") {
     const GradientMap m = ball();
-    const GmField f(m);
+    const MapField f(m);
     const double h = f.voxelSize();
     const Eigen::Vector3d far = Eigen::Vector3d(-5, 15, 15) * h;
     const Eigen::Vector3d force = f.sample(ParticleKind::Volume, 2, far, Eigen::Vector3d::UnitZ()).force;
@@ -130,7 +130,7 @@ TEST_CASE("trilinear samples blend the 8 voxels' rules, and carry the voxel's co
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> inside(1.0, 29.0), anywhere(-4.0, 34.0);
     for (const Interpolation interp : {Interpolation::Mixed, Interpolation::Trilinear, Interpolation::Nearest}) {
-        const GmField f(m, interp);
+        const MapField f(m, interp);
         const double h = f.voxelSize();
         std::size_t blendMismatches = 0, weightMismatches = 0, homeVolume = 0, weightsBelowOne = 0;
         for (int k = 0; k < 20000; ++k) {
@@ -177,9 +177,9 @@ TEST_CASE("a surface particle's memo gives the map's own samples as the particle
     std::normal_distribution<double> stepVoxels(0.0, 0.15);
     std::uniform_real_distribution<double> anywhere(-3.0, 33.0), unit(0.0, 1.0);
     for (const Interpolation interp : {Interpolation::Mixed, Interpolation::Nearest}) {
-        const GmField f(m, interp);
+        const MapField f(m, interp);
         const double h = f.voxelSize();
-        GmField::Memo memo;
+        MapField::Memo memo;
         Eigen::Vector3d x(15.5, 15.5, 25.4);  // voxel units, near the ball's top
         std::size_t same = 0, moved = 0, mismatches = 0;
         for (int k = 0; k < 20000; ++k) {
@@ -190,8 +190,8 @@ TEST_CASE("a surface particle's memo gives the map's own samples as the particle
                 x += Eigen::Vector3d(stepVoxels(rng), stepVoxels(rng), stepVoxels(rng));
             const Eigen::Vector3d n = Eigen::Vector3d(unit(rng) - 0.5, unit(rng) - 0.5, 1.0).normalized();
             const std::size_t before = memo.voxel;
-            const GmSample with = f.sample(ParticleKind::Surface, 1, x * h, n, &memo);
-            const GmSample without = f.sample(ParticleKind::Surface, 1, x * h, n);
+            const MapSample with = f.sample(ParticleKind::Surface, 1, x * h, n, &memo);
+            const MapSample without = f.sample(ParticleKind::Surface, 1, x * h, n);
             (memo.voxel == before ? same : moved) += 1;
             mismatches +=
                 with.force != without.force || with.torque != without.torque || with.cpWeight != without.cpWeight;

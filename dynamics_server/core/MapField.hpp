@@ -34,7 +34,7 @@ namespace bop::core {
 enum class ParticleKind : std::uint8_t { Surface, Volume };
 using bop::Interpolation;  // bop/common/MapInterpolation.hpp
 
-struct GmSample {
+struct MapSample {
     Eigen::Vector3d force = Eigen::Vector3d::Zero();   // f^GM, simulation length units
     Eigen::Vector3d torque = Eigen::Vector3d::Zero();  // tau^GM = n_i x n(p); zero for volume kind
     // Surface kind: the co-planar weight of the nearest surface of the voxel holding the particle
@@ -42,9 +42,9 @@ struct GmSample {
     float cpWeight = 1.0f;
 };
 
-class GmField {
+class MapField {
 public:
-    GmField(const GradientMap& map, Interpolation interp = Interpolation::Mixed);
+    MapField(const GradientMap& map, Interpolation interp = Interpolation::Mixed);
 
     // What a surface particle read from the map at its last sample: the voxel holding it and that
     // voxel's nearest surface's normal and co-planar weight. A sheet's particle stays in its
@@ -64,8 +64,8 @@ public:
     // position: simulation units; normal: unit normal of a surface particle (ignored for volume).
     // memo: a surface particle's memo (may be null), read and updated on the paths that look up
     // a single voxel's nearest surface (Nearest, and Mixed for surface particles).
-    GmSample sample(ParticleKind kind, int species, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
-                    Memo* memo = nullptr) const;
+    MapSample sample(ParticleKind kind, int species, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
+                     Memo* memo = nullptr) const;
 
     // The per-voxel rule in voxel units for a particle at pVox (voxel coordinates, where the
     // centre of voxel (i,j,k) is (i+1/2, j+1/2, k+1/2)). Exposed for tests.
