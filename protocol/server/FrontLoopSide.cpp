@@ -1,4 +1,5 @@
-// The step loop's side of the front: slots guarded by the front's mutex, never a socket call.
+// The step loop's side of the front: the inbound slots and the frame slot, each under its own
+// lock, never the sessions' and never a socket call (ServerFrontImpl.hpp).
 #include "codec/MessageKind.hpp"
 #include "server/ServerFrontImpl.hpp"
 
@@ -12,19 +13,19 @@ using Clock = front::Clock;
 
 namespace {
 
-// The step loop's hold on the front's mutex: taken at once when free; when one of the front's
-// threads holds it, the wait is timed into FrontStats (loopWait*), so that a run says how long
-// its step loop ever waited on the front.
+// The step loop's hold on a slot's lock: taken at once when free; when one of the front's
+// threads holds it, the wait is timed into the slot's LoopWaits (FrontStats::loopWait*), so that a
+// run says how long its step loop ever waited on the front.
 class LoopLock {
 public:
-    LoopLock(std::mutex& m, FrontStats& stats) : m_(m) {
+    LoopLock(std::mutex& m, front::LoopWaits& waits) : m_(m) {
         if (m.try_lock()) return;
         const auto t0 = Clock::now();
         m.lock();
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-        ++stats.loopWaits;
-        stats.loopWaitTotalMs += ms;
-        stats.loopWaitLongestMs = std::max(stats.loopWaitLongestMs, ms);
+        ++waits.count;
+        waits.totalMs += ms;
+        waits.longestMs = std::max(waits.longestMs, ms);
     }
     ~LoopLock() { m_.unlock(); }
     LoopLock(const LoopLock&) = delete;
@@ -37,13 +38,15 @@ private:
 }  // namespace
 
 std::vector<PendingCommand> ServerFront::takeCommands() {
-    LoopLock lock(impl_->m, impl_->stats);
-    return std::exchange(impl_->commands, {});
+    front::InboundSlots& in = impl_->inbound;
+    LoopLock lock(in.m, in.waits);
+    return std::exchange(in.commands, {});
 }
 
 std::optional<Probe> ServerFront::takeProbe() {
-    LoopLock lock(impl_->m, impl_->stats);
-    return std::exchange(impl_->probe, std::nullopt);
+    front::InboundSlots& in = impl_->inbound;
+    LoopLock lock(in.m, in.waits);
+    return std::exchange(in.probe, std::nullopt);
 }
 
 bool ServerFront::frameDue(Clock::time_point now) {
@@ -56,34 +59,46 @@ bool ServerFront::frameDue(Clock::time_point now) {
 }
 
 void ServerFront::offerFrame(StateFrame frame) {
-    LoopLock lock(impl_->m, impl_->stats);
-    if (impl_->frame) ++impl_->stats.framesDropped;
-    impl_->frame = std::move(frame);
-    impl_->frameOffered.notify_one();
+    front::FrameSlot& f = impl_->frames;
+    LoopLock lock(f.m, f.waits);
+    if (f.frame) ++f.dropped;
+    f.frame = std::move(frame);
+    f.offered.notify_one();
 }
 
 void ServerFront::offerEncodedFrame(std::vector<Buffer> chunks) {
-    LoopLock lock(impl_->m, impl_->stats);
-    if (impl_->encodedFrame) ++impl_->stats.framesDropped;
-    impl_->encodedFrame = std::move(chunks);
-    impl_->frameOffered.notify_one();
+    front::FrameSlot& f = impl_->frames;
+    LoopLock lock(f.m, f.waits);
+    if (f.encoded) ++f.dropped;
+    f.encoded = std::move(chunks);
+    f.offered.notify_one();
 }
 
 StateFrame ServerFront::takeSpareFrame() {
-    LoopLock lock(impl_->m, impl_->stats);
-    return std::exchange(impl_->spareFrame, {});
+    front::FrameSlot& f = impl_->frames;
+    LoopLock lock(f.m, f.waits);
+    return std::exchange(f.spare, {});
 }
 
 bool ServerFront::framePending() const {
-    LoopLock lock(impl_->m, impl_->stats);
-    return impl_->frame.has_value() || impl_->encodedFrame.has_value();
+    front::FrameSlot& f = impl_->frames;
+    LoopLock lock(f.m, f.waits);
+    return f.frame.has_value() || f.encoded.has_value();
+}
+
+// The step loop's rare errors go to the sessions' count: the only time it takes their lock.
+void ServerFront::loopError(const std::string& what) {
+    std::lock_guard lock(impl_->m);
+    impl_->internalError(what);
 }
 
 void ServerFront::offerFeedback(const Feedback& feedback) {
-    const Validation v = validate(feedback);
-    LoopLock lock(impl_->m, impl_->stats);
-    if (!v.ok()) return impl_->internalError("feedback not sent: " + v.message);
-    impl_->feedback = feedback;
+    if (const Validation v = validate(feedback); !v.ok()) return loopError("feedback not sent: " + v.message);
+    {
+        front::InboundSlots& in = impl_->inbound;
+        LoopLock lock(in.m, in.waits);
+        in.feedback = feedback;
+    }
     impl_->wake();
 }
 
@@ -95,12 +110,14 @@ void ServerFront::reply(const PendingCommand& command, const CommandReply& reply
         b = encodeCommandReply(r);
         in = encodeCommand(command.command);  // for the recording, if one runs
     } catch (const std::exception& e) {
-        LoopLock lock(impl_->m, impl_->stats);
-        return impl_->internalError(std::string("reply not sent: ") + e.what());
+        return loopError(std::string("reply not sent: ") + e.what());
     }
-    LoopLock lock(impl_->m, impl_->stats);
-    impl_->replies.emplace_back(command.client, b);
-    if (impl_->recorder) impl_->toRecord.emplace_back(std::move(in), b);
+    {
+        front::InboundSlots& slots = impl_->inbound;
+        LoopLock lock(slots.m, slots.waits);
+        slots.replies.emplace_back(command.client, b);
+        if (impl_->recording) slots.toRecord.emplace_back(std::move(in), b);
+    }
     impl_->wake();
 }
 
@@ -111,13 +128,16 @@ void ServerFront::inject(const std::string& id, const std::uint8_t* data, std::s
 }
 
 void ServerFront::probeApplied(const Probe& probe, std::uint64_t step) {
-    LoopLock lock(impl_->m, impl_->stats);
-    if (!impl_->recorder) return;
+    if (!impl_->recording) return;
+    std::pair<Buffer, Buffer> input;
     try {
-        impl_->toRecord.emplace_back(encodeProbe(probe), encodeFeedback({probe.seq, step, {}, nowNs()}));
+        input = {encodeProbe(probe), encodeFeedback({probe.seq, step, {}, nowNs()})};
     } catch (const std::exception& e) {
-        impl_->internalError(std::string("probe not recorded: ") + e.what());
+        return loopError(std::string("probe not recorded: ") + e.what());
     }
+    front::InboundSlots& in = impl_->inbound;
+    LoopLock lock(in.m, in.waits);
+    in.toRecord.push_back(std::move(input));
 }
 
 void ServerFront::startRecording(const std::string& path) {
@@ -131,6 +151,7 @@ void ServerFront::startRecording(const std::string& path) {
     std::lock_guard recording(impl_->recordMutex);  // writers hold both locks, readers either
     std::lock_guard lock(impl_->m);
     impl_->recorder = std::move(r);
+    impl_->recording = true;
 }
 
 std::string ServerFront::stopRecording() {
@@ -139,12 +160,13 @@ std::string ServerFront::stopRecording() {
         std::lock_guard recording(impl_->recordMutex);
         std::vector<std::pair<Buffer, Buffer>> answered;  // inputs applied before the stop: this recording's
         {
-            std::lock_guard lock(impl_->m);
-            answered.swap(impl_->toRecord);
+            std::lock_guard lock(impl_->inbound.m);
+            answered.swap(impl_->inbound.toRecord);
         }
         for (const auto& input : answered) impl_->recordInputLocked(input);
         std::lock_guard lock(impl_->m);
         r = std::move(impl_->recorder);
+        impl_->recording = false;
     }
     if (!r) return {};
     const std::string path = r->path();
@@ -153,7 +175,6 @@ std::string ServerFront::stopRecording() {
 }
 
 void ServerFront::setParticleCount(std::uint64_t n) {
-    LoopLock lock(impl_->m, impl_->stats);
     impl_->particleCount = n;
 }
 
@@ -163,8 +184,27 @@ bool ServerFront::waitForClient(std::chrono::milliseconds timeout) {
 }
 
 FrontStats ServerFront::stats() const {
-    std::lock_guard lock(impl_->m);
-    return impl_->stats;
+    FrontStats s;
+    {
+        std::lock_guard lock(impl_->m);
+        s = impl_->stats;
+    }
+    const auto addWaits = [&](const front::LoopWaits& w) {
+        s.loopWaits += w.count;
+        s.loopWaitTotalMs += w.totalMs;
+        s.loopWaitLongestMs = std::max(s.loopWaitLongestMs, w.longestMs);
+    };
+    {
+        std::lock_guard lock(impl_->inbound.m);
+        addWaits(impl_->inbound.waits);
+    }
+    std::lock_guard lock(impl_->frames.m);
+    addWaits(impl_->frames.waits);
+    s.framesSent = impl_->frames.sent;
+    s.framesDropped = impl_->frames.dropped;
+    s.bytesSent = impl_->frames.bytes;
+    s.publishError = impl_->frames.publishError;
+    return s;
 }
 
 }  // namespace bop::protocol

@@ -137,9 +137,14 @@ void ServerFront::Impl::command(const std::string& id, const Decoded<Command>& c
     if (!it->second.mayCommand) return refuse(id, c.value, ReplyStatus::ReadOnly, E::None, "this session is read-only");
     if (const auto why = refuseCommand(c.value, scene))
         return refuse(id, c.value, ReplyStatus::Rejected, E::OutOfRange, *why);
-    if (commands.size() >= front::kMaxQueuedCommands)
-        return refuse(id, c.value, ReplyStatus::Rejected, E::None, "server busy");
-    commands.push_back({id, c.value});
+    {
+        std::lock_guard slots(inbound.m);
+        if (inbound.commands.size() < front::kMaxQueuedCommands) {
+            inbound.commands.push_back({id, c.value});
+            return;
+        }
+    }
+    refuse(id, c.value, ReplyStatus::Rejected, E::None, "server busy");
 }
 
 void ServerFront::Impl::dispatch(const std::string& id, const std::uint8_t* data, std::size_t size,
@@ -171,7 +176,8 @@ void ServerFront::Impl::dispatch(const std::string& id, const std::uint8_t* data
                 return refuse(id, kind, p.value.seq, DecodeError::OutOfRange, *why);
             ++stats.probes;
             it->second.lastProbe = it->second.lastHeard;
-            if (!probe || p.value.seq > probe->seq) probe = p.value;
+            std::lock_guard slots(inbound.m);
+            if (!inbound.probe || p.value.seq > inbound.probe->seq) inbound.probe = p.value;
             return;
         }
         default:

@@ -61,58 +61,6 @@ SceneInfo ServerFront::Impl::sceneNow() {
     return s;
 }
 
-void ServerFront::Impl::publish(StateFrame f) {
-    f.serverTimeNs = nowNs();
-    f.frameSeq = frameNumber + 1;  // the number send() gives it
-    if (!opt.frameIds) f.ids.clear();
-    f.encoding = opt.frameEncoding;
-    f.quantLo = scene.boxLo;
-    f.quantHi = scene.boxHi;
-    std::vector<Buffer> chunks = encodeStateFrameChunks(f, opt.chunkBytes, chunkPool.get());
-    if (udp && udp->wantsFrame(frameNumber + 1))  // one message: the whole frame
-        udp->frame(chunks.size() == 1 ? chunks.front() : encodeStateFrame(f), frameNumber + 1);
-    send(std::move(chunks));
-    std::lock_guard lock(m);
-    spareFrame = std::move(f);
-}
-
-namespace {
-
-// A chunk handed to ZeroMQ without a copy; ZeroMQ frees it once every subscriber's copy is out
-// (from its I/O thread, possibly after the front is gone: the pool is held weakly).
-struct HeldChunk {
-    Buffer bytes;
-    std::weak_ptr<BufferPool> pool;
-};
-
-void releaseChunk(void*, void* hint) {
-    std::unique_ptr<HeldChunk> held(static_cast<HeldChunk*>(hint));
-    if (const auto pool = held->pool.lock()) pool->give(std::move(held->bytes));
-}
-
-}  // namespace
-
-void ServerFront::Impl::send(std::vector<Buffer> chunks) {
-    const std::uint64_t n = ++frameNumber;
-    const std::uint8_t tier = std::uint8_t(std::min(std::countr_zero(n), 7));
-    std::size_t bytes = 0;
-    {
-        std::lock_guard recording(recordMutex);  // a recording starts and stops between whole frames
-        for (const Buffer& chunk : chunks) recordLocked([&] { recorder->frameChunk(chunk); });
-    }
-    for (Buffer& chunk : chunks) {
-        bytes += chunk.size();
-        auto held = std::make_unique<HeldChunk>(HeldChunk{std::move(chunk), chunkPool});
-        zmq::message_t msg(held->bytes.data(), held->bytes.size(), releaseChunk, held.get());
-        held.release();  // the message owns it now
-        pub.send(zmq::buffer(&tier, 1), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
-        pub.send(msg, zmq::send_flags::dontwait);  // PUB drops for a full subscriber
-    }
-    std::lock_guard lock(m);
-    ++stats.framesSent;
-    stats.bytesSent += bytes;
-}
-
 void ServerFront::Impl::loop() {
     // Probes over TCP or UDP, the step loop's offers and handshakes to authenticate all wake the
     // thread at once.
@@ -189,10 +137,7 @@ void ServerFront::Impl::pass(std::vector<zmq::pollitem_t>& items) {
         const Clock::time_point now = Clock::now();
         if (now >= nextExpiry) expire(now), nextExpiry = now + std::chrono::milliseconds(100);
         out.swap(outbox);
-        for (auto& r : replies) out.push_back(std::move(r));
-        replies.clear();
-        fb.swap(feedback);
-        inputs.swap(toRecord);
+        std::optional<Probe> newest;
         if (udp) {
             const FrontUdp::Inbound in = udp->poll(now, scene);
             stats.probes += in.probes;
@@ -200,7 +145,15 @@ void ServerFront::Impl::pass(std::vector<zmq::pollitem_t>& items) {
             stats.oversized += in.oversized;
             stats.outOfRange += in.outOfRange;
             stats.refusalsSent += in.refusalsSent;
-            if (in.newest && (!probe || in.newest->seq > probe->seq)) probe = in.newest;
+            newest = in.newest;
+        }
+        {
+            std::lock_guard slots(inbound.m);
+            for (auto& r : inbound.replies) out.push_back(std::move(r));
+            inbound.replies.clear();
+            fb.swap(inbound.feedback);
+            inputs.swap(inbound.toRecord);
+            if (newest && (!inbound.probe || newest->seq > inbound.probe->seq)) inbound.probe = newest;
         }
         if (fb) {
             const Buffer b = encodeFeedback(*fb);  // finite: offerFeedback() let no other in
@@ -221,31 +174,6 @@ void ServerFront::Impl::recordInputLocked(const std::pair<Buffer, Buffer>& input
         messageKind(in.data(), in.size()) == MessageKind::Command ? recorder->command(in, input.second)
                                                                   : recorder->probe(in, input.second);
     });
-}
-
-void ServerFront::Impl::publisherLoop() {
-    for (;;) {
-        std::optional<StateFrame> f;
-        std::optional<std::vector<Buffer>> encoded;
-        {
-            std::unique_lock lock(m);
-            frameOffered.wait(lock, [&] { return stop || frame || encodedFrame; });
-            // A frame offered just before the stop is still sent (and recorded): a replay
-            // compares every frame, the last one too.
-            if (stop && !frame && !encodedFrame) return;
-            f.swap(frame);
-            encoded.swap(encodedFrame);
-        }
-        try {
-            if (f) publish(std::move(*f));
-            if (encoded) send(std::move(*encoded));
-        } catch (const std::exception& e) {  // a frame that cannot be encoded: not sent, the thread goes on
-            std::lock_guard lock(m);
-            ++stats.framesDropped;
-            stats.publishError = e.what();
-            internalError(std::string("publishing a frame: ") + e.what());
-        }
-    }
 }
 
 ServerFront::ServerFront(FrontOptions options, SceneInfo scene) : impl_(std::make_unique<Impl>()) {
@@ -269,8 +197,10 @@ ServerFront::ServerFront(FrontOptions options, SceneInfo scene) : impl_(std::mak
         d.udp = std::make_unique<FrontUdp>(d.opt.bindAddress, d.opt.basePort == 0 ? 0 : d.opt.basePort + 2);
     d.controlEndpoint = "tcp://" + (d.opt.bindAddress == "*" ? std::string("127.0.0.1") : d.opt.bindAddress) + ":" +
                         std::to_string(d.controlPort);
-    if (!d.opt.recordPath.empty())
+    if (!d.opt.recordPath.empty()) {
         d.recorder = std::make_unique<SessionRecorder>(d.opt.recordPath, d.sceneNow(), d.opt.recordMeta);
+        d.recording = true;
+    }
     d.wakeFd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     if (d.wakeFd < 0) throw Error("bop-server", std::string("eventfd: ") + std::strerror(errno));
     d.thread = std::thread([&d] { d.loop(); });
@@ -283,15 +213,17 @@ void ServerFront::Impl::wake() {
 }
 
 void ServerFront::finish() {
+    impl_->stop = true;
     {
-        std::lock_guard lock(impl_->m);  // so that the publisher cannot miss it
-        impl_->stop = true;
+        std::lock_guard lock(impl_->frames.m);  // so that the publisher cannot miss it
+        impl_->frames.stop = true;
     }
-    impl_->frameOffered.notify_all();
+    impl_->frames.offered.notify_all();
     if (impl_->thread.joinable()) impl_->thread.join();
     if (impl_->publisher.joinable()) impl_->publisher.join();
     if (impl_->recorder) {
         auto r = std::move(impl_->recorder);
+        impl_->recording = false;
         r->close();
     }
 }

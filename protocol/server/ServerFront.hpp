@@ -52,8 +52,9 @@ struct FrontStats {
     std::size_t clients = 0;            // sessions now: identities that said Hello and are not forgotten
     std::uint64_t sessionsOpened = 0;   // identities that said Hello, over the run
     std::uint64_t sessionsExpired = 0;  // sessions forgotten after FrontOptions::sessionTimeout of silence
-    // The step loop's waits for the front's lock, held by the front's threads (the only way the
-    // step loop can wait on the front): how many, the longest and all together, ms.
+    // The step loop's waits for the slots' locks (ServerFrontImpl.hpp), held by the front's
+    // threads (the only way the step loop can wait on the front): how many, the longest and all
+    // together, ms.
     std::uint64_t loopWaits = 0;
     double loopWaitLongestMs = 0, loopWaitTotalMs = 0;
     std::string recordError;   // why recording stopped early, if it did
@@ -113,6 +114,7 @@ public:
     float publishHz() const;
 
 private:
+    void loopError(const std::string& what);  // the step loop's rare errors, counted with the front's
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

@@ -1,6 +1,13 @@
 #pragma once
-// The front's state (ServerFront.hpp), shared by its thread's side (ServerFront.cpp: sockets,
-// handshakes, publishing) and the step loop's side (FrontLoopSide.cpp: the slots).
+// The front's state (ServerFront.hpp) in three parts, each guarding its own:
+//  - the sessions (`m`): the control thread's clients, refusals, answers and counts
+//    (ServerFront.cpp, FrontSessions.cpp, FrontMap.cpp);
+//  - the inbound slots (`inbound.m`): commands and the newest probe in, replies and feedback out,
+//    the inputs to record; the step loop's side of them is FrontLoopSide.cpp;
+//  - the frame slot and the publisher (`frames.m`): the frame offered, the spare one, the
+//    publisher's counts (FrontPublisher.cpp).
+// The step loop locks only the slots, so it never waits on the sessions; the control thread
+// takes the inbound slots' lock inside the sessions' (never the other way round).
 #include "codec/BufferPool.hpp"
 #include "codec/Codec.hpp"
 #include "codec/MessageKind.hpp"
@@ -43,6 +50,34 @@ struct Budget {
     }
 };
 
+// The step loop's waits for a slot's lock (FrontStats::loopWait*), kept under that lock.
+struct LoopWaits {
+    std::uint64_t count = 0;
+    double longestMs = 0, totalMs = 0;
+};
+
+struct InboundSlots {
+    mutable std::mutex m;  // guards the fields below
+    std::vector<PendingCommand> commands;
+    std::optional<Probe> probe;
+    std::optional<Feedback> feedback;
+    std::vector<std::pair<std::string, Buffer>> replies;
+    std::vector<std::pair<Buffer, Buffer>> toRecord;  // (command, reply) or (probe, applied)
+    LoopWaits waits;
+};
+
+struct FrameSlot {
+    mutable std::mutex m;             // guards the fields below
+    std::condition_variable offered;  // wakes the publisher
+    bool stop = false;                // the publisher ends once the slot is empty
+    std::optional<StateFrame> frame;  // offered, not yet taken by the publisher
+    std::optional<std::vector<Buffer>> encoded;
+    StateFrame spare;  // the last frame published, its memory for the next gather
+    std::uint64_t sent = 0, dropped = 0, bytes = 0;
+    std::string publishError;
+    LoopWaits waits;
+};
+
 struct Client {
     bool mayCommand = true;
     float wantedHz = 0;
@@ -73,25 +108,20 @@ struct ServerFront::Impl {
     // Chunk buffers ZeroMQ has sent, for the next frames; held weakly by messages in flight.
     std::shared_ptr<BufferPool> chunkPool = std::make_shared<BufferPool>(front::kKeptChunkBuffers);
 
-    mutable std::mutex m;  // guards everything below
+    front::InboundSlots inbound;  // between the step loop and the control thread, under its own lock
+    front::FrameSlot frames;      // between the step loop and the publisher, under its own lock
+
+    mutable std::mutex m;  // the sessions: guards everything below
     std::condition_variable helloSeen;
-    std::condition_variable frameOffered;  // wakes the publisher
-    std::vector<PendingCommand> commands;
-    std::optional<Probe> probe;
-    std::optional<StateFrame> frame;
-    StateFrame spareFrame;  // the last frame published, its memory for the next gather
-    std::optional<std::vector<Buffer>> encodedFrame;
-    std::optional<Feedback> feedback;
-    std::vector<std::pair<std::string, Buffer>> replies;
-    std::vector<std::pair<Buffer, Buffer>> toRecord;  // (command, reply) or (probe, applied)
-    std::unique_ptr<SessionRecorder> recorder;        // guarded by recordMutex once the threads run
-    std::unique_ptr<ZapHandler> zap;                  // the control thread's, once it runs
-    std::unique_ptr<FrontUdp> udp;                    // used by the threads only (FrontUdp.hpp says how)
+    std::unique_ptr<SessionRecorder> recorder;  // guarded by recordMutex once the threads run
+    std::atomic<bool> recording{false};         // recorder is set (read by the step loop without a lock)
+    std::unique_ptr<ZapHandler> zap;            // the control thread's, once it runs
+    std::unique_ptr<FrontUdp> udp;              // used by the threads only (FrontUdp.hpp says how)
     std::map<std::string, front::Client> clients;
     FrontStats stats;
     std::atomic<float> rateHz{60};
     std::atomic<bool> haptic{false};
-    std::uint64_t particleCount = 0;
+    std::atomic<std::uint64_t> particleCount{0};
     std::uint64_t frameNumber = 0;  // frames published (tier of the next one); the publisher's
     std::mutex recordMutex;         // the recorder is written by both threads
     Clock::time_point nextTick{};   // step loop's publish clock
@@ -100,7 +130,8 @@ struct ServerFront::Impl {
     void configure(zmq::socket_t& s);
     void sendTo(const std::string& id, const Buffer& b);
     SceneInfo sceneNow();
-    // ---- inbound messages and sessions (FrontSessions.cpp), all with m held ----
+    // ---- inbound messages and sessions (FrontSessions.cpp), all with m held; they put commands
+    // and probes into the inbound slots, taking inbound.m inside m ----
     // One inbound message from peer `id`; its answers go to `outbox`. `peerAddress` gives the
     // peer's IP address (asked only for a Hello naming a UDP frame port). Never throws: trouble
     // handling it is counted as an internal error.
@@ -118,12 +149,13 @@ struct ServerFront::Impl {
     void refuse(const std::string& id, MessageKind kind, std::uint64_t seq, DecodeError error, const std::string& why);
     void expire(Clock::time_point now);                  // forgets the sessions silent for opt.sessionTimeout
     void updateRate();                                   // the largest rate a session wants, within the bounds
-    void internalError(const std::string& what);         // counted, said on stderr sparingly
+    void internalError(const std::string& what);         // counted, said on stderr sparingly; m held
     std::vector<std::pair<std::string, Buffer>> outbox;  // answers of handle(), sent by the loop
     front::Budget anonymousRefusals;
     Clock::time_point nextExpiry{};
     Buffer mapPiece(const MapRequest& r, front::Client& c);  // FrontMap.cpp
     int mapPiecesThisPass = 0;                               // at most kMapPiecesPerPass per pass of the loop
+    // ---- the publisher (FrontPublisher.cpp) ----
     void publish(StateFrame f);
     void send(std::vector<Buffer> chunks);
     // Runs a recorder call; a failure (disk full, ...) ends the recording, never the server.
@@ -143,6 +175,7 @@ struct ServerFront::Impl {
             std::lock_guard lock(m);
             stats.recordError = e.what();
             recorder.reset();
+            recording = false;
         }
     }
     void loop();
