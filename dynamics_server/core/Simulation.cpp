@@ -92,21 +92,6 @@ void Simulation::submit(const Command& command) {
     queued_ = std::move(next);
 }
 
-void Simulation::apply(const Command& command) {
-    if (const auto* c = std::get_if<BirthCommand>(&command)) {
-        if (c->species < 1 || c->species > model_->speciesCount())
-            throw std::invalid_argument("birth command: no species " + std::to_string(c->species));
-        construction_.setBirth(c->species, c->on);
-        return;
-    }
-    params_.apply(command);
-    if (std::holds_alternative<WeightCommand>(command)) {
-        field_.setParams(*model_, params_);
-        forcesStale_ = true;
-    }
-    if (std::holds_alternative<DragCommand>(command)) drag_ = DragFactors(*model_, params_), fireDrag_.reset();
-}
-
 void Simulation::forces(bool energies) {
     field_.compute(*model_, maps_, params_.probe, p_, stats_.forces, &times_.forces, energies,
                    ex_->hasGhosts() ? &halo_ : nullptr);
@@ -134,18 +119,23 @@ void Simulation::step() {
     ex_->broadcast(commands_);
     std::vector<ConstructionEvent> events = construction_.eventsAt(stats_.step);
     for (const Command& command : commands_) {
-        const auto* c = std::get_if<SeedCommand>(&command);
-        if (!c) {
-            apply(command);
-            continue;
+        if (const auto* c = std::get_if<SeedCommand>(&command)) {
+            if (c->species < 1 || c->species > model_->speciesCount())
+                throw std::invalid_argument("seed command: no species " + std::to_string(c->species));
+            ConstructionEvent e;
+            e.step = stats_.step;
+            e.species = c->species;
+            e.positionVoxels = c->position / (maps_.map() ? voxelLength(maps_.map()->r0Voxels) : 1.0);
+            events.push_back(e);
+        } else if (const auto* b = std::get_if<BirthCommand>(&command)) {
+            if (b->species < 1 || b->species > model_->speciesCount())
+                throw std::invalid_argument("birth command: no species " + std::to_string(b->species));
+            construction_.setBirth(b->species, b->on);
+        } else {  // a probe, drag or weight command: what the params hold
+            params_.apply(command);
+            if (std::holds_alternative<WeightCommand>(command)) field_.setParams(*model_, params_), forcesStale_ = true;
+            if (std::holds_alternative<DragCommand>(command)) drag_ = DragFactors(*model_, params_), fireDrag_.reset();
         }
-        if (c->species < 1 || c->species > model_->speciesCount())
-            throw std::invalid_argument("seed command: no species " + std::to_string(c->species));
-        ConstructionEvent e;
-        e.step = stats_.step;
-        e.species = c->species;
-        e.positionVoxels = c->position / (maps_.map() ? voxelLength(maps_.map()->r0Voxels) : 1.0);
-        events.push_back(e);
     }
     commands_.clear();
     applyKeyframe(double(stats_.step + 1) * model_->integration.dt);  // the time of this step's forces

@@ -149,7 +149,6 @@ public:
 private:
     Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::shared_ptr<const Model> model,
                const Particles& all, SimulationOptions options);
-    void apply(const Command& c);                           // every process, at the start of a step
     void construct(std::vector<ConstructionEvent> events);  // SimulationConstruction.cpp
     Eigen::Vector3d defaultSeed(int species) const;         // collective
     void placeMaps();                                       // this region's windows of the map(s); SimulationMaps.cpp
