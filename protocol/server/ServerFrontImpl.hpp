@@ -111,7 +111,9 @@ struct ServerFront::Impl {
     front::InboundSlots inbound;  // between the step loop and the control thread, under its own lock
     front::FrameSlot frames;      // between the step loop and the publisher, under its own lock
 
-    mutable std::mutex m;  // the sessions: guards everything below
+    // The sessions' lock: guards what follows but the atomics, frameNumber (the publisher's own),
+    // nextTick (the step loop's own) and the recorder (which recordMutex guards as well).
+    mutable std::mutex m;
     std::condition_variable helloSeen;
     std::unique_ptr<SessionRecorder> recorder;  // guarded by recordMutex once the threads run
     std::atomic<bool> recording{false};         // recorder is set (read by the step loop without a lock)
