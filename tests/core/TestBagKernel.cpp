@@ -61,7 +61,7 @@ void checkBagAgainstReference(bool uniformLj = false) {
     float wLo = 1e9f, wHi = -1e9f;
     for (std::size_t i = 0; i < p.size(); ++i)
         if (m->isSurface(p.species[i])) {
-            const float w = MapForces::curvatureWeight(*m, p.pos[i], p.species[i]);
+            const float w = MapForces::curvatureWeight(*m, m->map.get(), p.pos[i], p.species[i]);
             wLo = std::min(wLo, w), wHi = std::max(wHi, w);
         }
     ForceField field(*m, w, m->map != nullptr);

@@ -43,7 +43,7 @@ TEST_CASE("the death scan marks the same victims at 1, 2 and 3 threads, as the r
     const int before = threadCount();
     for (int t = 1; t <= 3; ++t) {
         setThreadCount(t);
-        marks.push_back(markDeaths(params, {m, m.box, p, owned}, 42));
+        marks.push_back(markDeaths(params, {m, m.box, p, owned, m.map.get()}, 42));
     }
     setThreadCount(before);
     std::set<std::uint64_t> found;

@@ -20,7 +20,7 @@ TEST_CASE("keyframes at one process: the map switches every frame duration and t
     test::TempDir dir("keyframes");
     app::Scene scene = app::loadScene(test::writeKeyframeScene(dir.path.string(), 0.1, true));
     test::OneProcessRun sim(scene);
-    const auto frames = sim->model().frames;
+    const auto frames = sim->mapInForce().frames;  // this process's windows of every keyframe: the whole maps
     REQUIRE(frames.size() == 2);
     REQUIRE(sim->frameVolumes().size() == 2);
     CHECK(sim->frameVolumes()[1].bagVoxels > 3 * sim->frameVolumes()[0].bagVoxels);  // radius 6 to 9 voxels
