@@ -51,7 +51,13 @@ int main(int argc, char** argv) {
             ->check(CLI::Range(0.0, 1000.0));
         app.add_option("--max-force", o.limits.maxForceN, "the device's largest force, N")
             ->check(CLI::NonNegativeNumber);
-        app.add_option("--newtons-per-force", o.newtonsPerForce, "N on the device per simulation force unit")
+        app.add_option("--newtons-per-force", o.newtonsPerForce,
+                       "N on the device per simulation force unit, for a scene without materials (default 0.5); "
+                       "a scene with [[material]] tables gives its forces in N")
+            ->check(CLI::PositiveNumber);
+        app.add_option("--force-scale", o.forceScale,
+                       "the force on the device over the scene's (1: newtons as the tissue gives them; below 1 for "
+                       "a device too weak for the tissue)")
             ->check(CLI::PositiveNumber);
         std::string workspaceCentre;
         app.add_option("--workspace-scale", o.workspaceScale,

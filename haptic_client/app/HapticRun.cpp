@@ -103,8 +103,14 @@ int runHaptic(const RunOptions& o) {
     const std::optional<FieldForce> field = downloadField(link.session(), scene, o.fieldStiffness, o.mapMaxMb);
     DeviceOptions script = o.script;
     script.target = o.target ? *o.target : topOfBag(field, scene);
-    Workspace w =
-        Workspace::fit(o.limits.workspaceMm, Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), o.newtonsPerForce);
+    const UnitSystem& units = scene.unitSystem;
+    Workspace w;
+    try {
+        w = Workspace::forScene(o.limits.workspaceMm, Eigen::AlignedBox3d(scene.boxLo, scene.boxHi), units,
+                                o.newtonsPerForce, o.forceScale);
+    } catch (const std::invalid_argument& e) {
+        throw Error("--newtons-per-force", e.what());
+    }
     if (o.workspaceScale > 0) w.scale = o.workspaceScale;
     if (o.workspaceCentre) w.sceneCentre = *o.workspaceCentre;
     std::unique_ptr<Device> device = makeDevice(o.device, script, w, o.limits);
@@ -122,17 +128,24 @@ int runHaptic(const RunOptions& o) {
     const double k0 = o.k0 > 0 ? o.k0 : scene.tunables.k0, k1 = o.k1 > 0 ? o.k1 : scene.tunables.k1;
     std::filesystem::create_directories(o.outDir);
     TraceCsv trace(o.outDir + "/haptic-trace.csv");
-    StiffnessCurve curve(script.target, script.inward, 0.05);
+    // A scene with materials: the curve in the device's mm and N, else in the scene's units.
+    StiffnessCurve curve = units.physical
+                               ? StiffnessCurve(w.toDevice(script.target), w.rotation.conjugate() * script.inward,
+                                                0.05 * units.lengthMm, true)
+                               : StiffnessCurve(script.target, script.inward, 0.05);
     protocol::RoundTrip roundTrip(1u << 20);
     RateLoop loop(o.rateHz);
     const bool realtime = RateLoop::requestRealtime();
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
     std::printf(
-        "bop-haptic: %s at %.0f Hz; target %.3f,%.3f,%.3f; %.4g length per mm, %.3g N per force unit; "
+        "bop-haptic: %s at %.0f Hz; target %.3f,%.3f,%.3f; %.4g length per mm, %.3g N per force unit (%s); "
         "coupling %.3g force/length, field %.3g force/length\n",
         device->name().c_str(), o.rateHz, script.target.x(), script.target.y(), script.target.z(), w.scale,
-        w.newtonsPerForce, params.stiffness, field ? o.fieldStiffness : 0.0);
+        w.newtonsPerForce,
+        units.physical ? (o.forceScale == 1 ? "the tissue's newtons" : "the tissue's newtons, scaled by --force-scale")
+                       : "--newtons-per-force: the scene has no materials",
+        params.stiffness, field ? o.fieldStiffness : 0.0);
     std::fflush(stdout);
     std::uint64_t seq = 0, feedbacks = 0;
     double largestN = 0;
@@ -175,7 +188,8 @@ int runHaptic(const RunOptions& o) {
         link.session().sendProbe(p);
         roundTrip.sent(seq, wallS());
         trace.row(t, x, out, n);
-        if (scripted(o.device)) curve.add(x, w.forceToScene(n));  // as felt: after the device's clamp
+        if (scripted(o.device))  // as felt: after the device's clamp
+            units.physical ? curve.add(w.toDevice(x), n) : curve.add(x, w.forceToScene(n));
         return !gStop && (o.seconds > 0 ? t.tS + loop.periodS() < o.seconds : !state.finished);
     });
     printLoop(loop, realtime);

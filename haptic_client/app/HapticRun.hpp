@@ -22,7 +22,10 @@ struct RunOptions {
     ForceModelParams model;
     double fieldStiffness = 5;  // force / length; 0: no field
     DeviceLimits limits;
-    double newtonsPerForce = 0.5;                    // N per simulation force unit
+    // N per simulation force unit for a scene without materials (default 0.5); a scene with them
+    // gives its forces in N (SceneInfo's units) and refuses this.
+    std::optional<double> newtonsPerForce;
+    double forceScale = 1;                           // the scene's N times this on the device (a stated scale-down)
     double workspaceScale = 0;                       // length per mm; 0: the device's workspace spans the scene's box
     std::optional<Eigen::Vector3d> workspaceCentre;  // the scene point at the workspace's centre; default: the box's
     double k0 = 0, k1 = 0;                           // 0: the server's

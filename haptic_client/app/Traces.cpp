@@ -26,8 +26,9 @@ void TraceCsv::row(const LoopTick& t, const Eigen::Vector3d& d, const ForceOutpu
     if (t.index % 100 == 0) out_.flush();  // whoever follows the file sees it grow
 }
 
-StiffnessCurve::StiffnessCurve(const Eigen::Vector3d& surface, const Eigen::Vector3d& inward, double binWidth)
-    : surface_(surface), inward_(inward.normalized()), bin_(binWidth) {}
+StiffnessCurve::StiffnessCurve(const Eigen::Vector3d& surface, const Eigen::Vector3d& inward, double binWidth,
+                               bool physical)
+    : surface_(surface), inward_(inward.normalized()), physical_(physical), bin_(binWidth) {}
 
 void StiffnessCurve::add(const Eigen::Vector3d& device, const Eigen::Vector3d& force) {
     const double depth = (device - surface_).dot(inward_);
@@ -48,7 +49,7 @@ std::vector<StiffnessPoint> StiffnessCurve::points() const {
 void StiffnessCurve::writeCsv(const std::string& path) const {
     std::ofstream out(path);
     if (!out) throw Error(path, "cannot write the stiffness curve");
-    out << "depth,force,samples\n";
+    out << (physical_ ? "depth_mm,force_n,samples\n" : "depth,force,samples\n");
     for (const StiffnessPoint& p : points()) out << p.depth << ',' << p.force << ',' << p.samples << '\n';
 }
 

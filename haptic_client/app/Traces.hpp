@@ -33,13 +33,17 @@ struct StiffnessPoint {
 // -(force on the device) . inward; bins of `binWidth` from 0 to the deepest point, empty bins left out.
 class StiffnessCurve {
 public:
-    StiffnessCurve(const Eigen::Vector3d& surface, const Eigen::Vector3d& inward, double binWidth);
+    // physical: positions in mm and forces in N (a scene with materials), written as depth_mm and
+    // force_n; else scene lengths and forces, written as depth and force.
+    StiffnessCurve(const Eigen::Vector3d& surface, const Eigen::Vector3d& inward, double binWidth,
+                   bool physical = false);
     void add(const Eigen::Vector3d& device, const Eigen::Vector3d& force);
     std::vector<StiffnessPoint> points() const;
     void writeCsv(const std::string& path) const;
 
 private:
     Eigen::Vector3d surface_, inward_;
+    bool physical_ = false;
     double bin_;
     std::vector<double> sum_;
     std::vector<std::size_t> count_;

@@ -3,7 +3,10 @@
 // `scale` scene length units per millimetre and R a rotation (identity by default); forces go
 // the other way with `newtonsPerForce` (N per simulation force unit). Fitted by default so that
 // the device's workspace spans the scene's box.
+#include "bop/common/UnitSystem.hpp"
 #include "device/Device.hpp"
+
+#include <optional>
 
 namespace bop::haptic {
 
@@ -28,6 +31,13 @@ struct Workspace {
     // The device's workspace box onto the scene's box: centres matched, and the smallest scale
     // at which the workspace reaches the whole box along every axis.
     static Workspace fit(const Eigen::AlignedBox3d& deviceMm, const Eigen::AlignedBox3d& scene, double newtonsPerForce);
+
+    // The mapping a scene's units ask for (docs/haptics.md). With materials (units.physical) its
+    // forces are newtons and its lengths millimetres: the device renders forceScale times the
+    // tissue's N, and a device mm is a mm of tissue (centres matched); newtonsPerForce must then be
+    // empty (std::invalid_argument). Without: fit(), at newtonsPerForce (default 0.5) x forceScale.
+    static Workspace forScene(const Eigen::AlignedBox3d& deviceMm, const Eigen::AlignedBox3d& scene,
+                              const UnitSystem& units, std::optional<double> newtonsPerForce, double forceScale);
 };
 
 }  // namespace bop::haptic

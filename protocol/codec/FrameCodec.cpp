@@ -115,7 +115,7 @@ void encodeChunk(const StateFrame& m, std::size_t begin, std::size_t end, std::u
     const FrameStats& s = m.stats;
     const wire::LoopStats haptic = detail::toWire(s.haptic);
     const auto stats = wire::CreateFrameStats(fbb, s.kinetic, s.potential, s.pressure, s.stepRateHz, s.particleCount,
-                                              &haptic, s.cavityVolume, s.mapFrame);
+                                              &haptic, s.cavityVolume, s.mapFrame, s.realTimeFactor);
     const wire::Vec3 probePos = detail::toWire(m.probePosition), probeForce = detail::toWire(m.probeForce);
     const wire::Vec3 lo = detail::toWire(m.quantLo), hi = detail::toWire(m.quantHi);
 
@@ -285,10 +285,10 @@ Validation decodeStateFrameInto(const std::uint8_t* buf, std::size_t len, StateF
     m.probeActive = w.probe_active();
     m.stats = {};
     if (const wire::FrameStats* s = w.stats())
-        m.stats = {s->kinetic_energy(), s->potential_energy(),
-                   s->pressure(),       s->step_rate_hz(),
-                   s->particle_count(), s->haptic() ? detail::toLoopStats(*s->haptic()) : LoopStats{},
-                   s->cavity_volume(),  s->map_frame()};
+        m.stats = {
+            s->kinetic_energy(), s->potential_energy(), s->pressure(),
+            s->step_rate_hz(),   s->particle_count(),   s->haptic() ? detail::toLoopStats(*s->haptic()) : LoopStats{},
+            s->cavity_volume(),  s->map_frame(),        s->real_time_factor()};
     m.frameParticleCount = w.frame_particle_count();
     m.firstIndex = w.first_index();
     m.encoding = FrameEncoding(w.encoding());

@@ -91,6 +91,11 @@ Buffer encodeSceneInfo(const SceneInfo& m) {
     b.add_map_bytes(m.mapBytes);
     b.add_map_key(m.mapKey);
     b.add_session_timeout_s(m.sessionTimeoutS);
+    b.add_length_mm(m.unitSystem.lengthMm);
+    b.add_mass_kg(m.unitSystem.massKg);
+    b.add_time_s(m.unitSystem.timeS);
+    b.add_force_n(m.unitSystem.physical ? m.unitSystem.forceN() : 0.0);
+    b.add_physical_units(m.unitSystem.physical);
     wire::FinishSceneInfoBuffer(fbb, b.Finish());
     return detail::toBuffer(fbb);
 }
@@ -134,6 +139,10 @@ Decoded<SceneInfo> decodeSceneInfo(const std::uint8_t* buf, std::size_t len) {
     m.mapBytes = w.map_bytes();
     m.mapKey = w.map_key();
     m.sessionTimeoutS = w.session_timeout_s();
+    m.unitSystem.lengthMm = w.length_mm();
+    m.unitSystem.massKg = w.mass_kg();
+    m.unitSystem.timeS = w.time_s();
+    m.unitSystem.physical = w.physical_units();
     if (const wire::Tunables* t = w.tunables()) {
         // Copied byte-wise: the verifier checks a vector's length field, not that its doubles are
         // 8-byte aligned, and a hostile buffer may misalign them (little-endian, as on the wire).

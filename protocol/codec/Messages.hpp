@@ -4,6 +4,7 @@
 // in simulation time units, force in simulation force units, energy = force x length; "Mm" is
 // millimetres of the shape model, "Ns" nanoseconds of a steady wall clock, "Hz" per wall second.
 // Species are numbered from 1 as in the scene file; 0 is never a species.
+#include "bop/common/UnitSystem.hpp"
 #include "codec/ProtocolVersion.hpp"
 
 #include <Eigen/Core>
@@ -74,6 +75,8 @@ struct SceneInfo {
     std::uint64_t mapBytes = 0;  // the gradient-map file a client may download (MapRequest); 0 = none
     std::uint64_t mapKey = 0;    // the key that file was made for (GradientMapFile.hpp)
     float sessionTimeoutS = 0;   // a session silent this long is forgotten, s; 0 = never (older servers)
+    // What a simulation unit is in mm, kg and s (docs/physics.md §8); older servers: not known.
+    bop::UnitSystem unitSystem;
 };
 
 // ---- state frames ----
@@ -101,6 +104,7 @@ struct FrameStats {
     LoopStats haptic;                 // of the haptic client probing now (from its probes)
     double cavityVolume = 0;          // the bag(s) in the map(s) in force, length^3 (0: no map)
     double mapFrame = 0;              // keyframe in force plus its blend towards the next
+    double realTimeFactor = 0;        // simulated s per wall s (physical units); 0: time in simulation units
 };
 
 // One chunk of a state frame (a whole frame is one chunk with chunkCount 1). The particle arrays

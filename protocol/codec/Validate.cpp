@@ -158,6 +158,11 @@ Validation validate(const SceneInfo& m) {
         c.finite(m.probeReach, "probe_reach") && validTunables(c, m.tunables, m.species.size()) &&
         c.require(m.probeReach >= 0, DecodeError::OutOfRange, "probe_reach", "negative") &&
         c.within(m.sessionTimeoutS, 0, 1e6, "session_timeout_s") &&
+        c.within(m.unitSystem.lengthMm, 0, 1e9, "length_mm") &&
+        c.require(
+            !m.unitSystem.physical || (m.unitSystem.lengthMm > 0 && m.unitSystem.massKg > 0 &&
+                                       m.unitSystem.massKg < 1e9 && m.unitSystem.timeS > 0 && m.unitSystem.timeS < 1e9),
+            DecodeError::OutOfRange, "physical_units", "length_mm, mass_kg and time_s not all in (0, 1e9)") &&
         c.maxBytes(m.endpoints.frameEndpoint, kMaxEndpointBytes, "endpoints.frame_endpoint") &&
         c.maxBytes(m.units, kMaxTextBytes, "units");
     return c.result();

@@ -48,7 +48,7 @@ void FoxgloveChannels::frameChunk(const StateFrame& chunk, std::uint64_t logTime
     const auto frame = assembler_.add(chunk);
     if (!frame) return;
     write(transform_, fox::worldToBop(scene_, logTimeNs), logTimeNs);
-    write(stats_, fox::frameStats(*frame, logTimeNs), logTimeNs);
+    write(stats_, fox::frameStats(*frame, scene_, logTimeNs), logTimeNs);
     write(particles_, fox::pointCloud(*frame, scene_, logTimeNs), logTimeNs);
     write(surfels_, fox::surfels(*frame, scene_, logTimeNs), logTimeNs);
     write(probe_, fox::probe(*frame, scene_, logTimeNs), logTimeNs);

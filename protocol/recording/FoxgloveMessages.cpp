@@ -173,14 +173,16 @@ Buffer worldToBop(const SceneInfo& scene, std::uint64_t timeNs) {
     return finish(b);
 }
 
-Buffer frameStats(const StateFrame& frame, std::uint64_t timeNs) {
+Buffer frameStats(const StateFrame& frame, const SceneInfo& scene, std::uint64_t timeNs) {
     FlatBufferBuilder b(256);
     const fg::Time t = stamp(timeNs);
     const auto& s = frame.stats;
     const auto& f = frame.probeForce;
-    b.Finish(bop::plot::CreateFrameStats(b, &t, frame.step, frame.simTime, s.kinetic, s.potential,
-                                         s.kinetic + s.potential, s.pressure, s.stepRateHz, frame.probeActive, f.x(),
-                                         f.y(), f.z(), f.norm(), s.cavityVolume, s.particleCount));
+    const UnitSystem& u = scene.unitSystem;
+    b.Finish(bop::plot::CreateFrameStats(
+        b, &t, frame.step, frame.simTime, s.kinetic, s.potential, s.kinetic + s.potential, s.pressure, s.stepRateHz,
+        frame.probeActive, f.x(), f.y(), f.z(), f.norm(), s.cavityVolume, s.particleCount,
+        u.physical ? u.toS(frame.simTime) : 0.0, s.realTimeFactor, u.physical ? u.toN(f.norm()) : 0.0));
     return finish(b);
 }
 

@@ -33,6 +33,6 @@ Buffer probe(const StateFrame& frame, const SceneInfo& scene, std::uint64_t time
 Buffer worldToBop(const SceneInfo& scene, std::uint64_t timeNs);
 
 // bop.plot.FrameStats (schemas/foxglove/frame_stats.fbs): energies, pressure, probe force.
-Buffer frameStats(const StateFrame& frame, std::uint64_t timeNs);
+Buffer frameStats(const StateFrame& frame, const SceneInfo& scene, std::uint64_t timeNs);
 
 }  // namespace bop::protocol::fox

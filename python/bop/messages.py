@@ -40,7 +40,26 @@ class Scene:
     probe_reach: float       # probe's reach at k0 = 1, length
     session_timeout_s: float
     units: str = ""
+    # What a simulation unit is (docs/physics.md §8): mm, kg, s and N per unit; length_mm 0 when
+    # not known (bulk material), physical_units False when mass, time and force are simulation units.
+    length_mm: float = 0.0
+    mass_kg: float = 0.0
+    time_s: float = 0.0
+    force_n: float = 0.0
+    physical_units: bool = False
     raw: object = field(default=None, repr=False)
+
+    def newtons(self, force):
+        """A force (or an array of them) in simulation units, in N; ValueError without materials."""
+        if not self.physical_units:
+            raise ValueError("the scene has no [[material]]: its forces are in simulation units")
+        return np.asarray(force) * self.force_n
+
+    def seconds(self, time):
+        """A time in simulation units, in s; ValueError without materials."""
+        if not self.physical_units:
+            raise ValueError("the scene has no [[material]]: its times are in simulation units")
+        return np.asarray(time) * self.time_s
 
 
 def decode_scene(buf):
@@ -61,7 +80,9 @@ def decode_scene(buf):
                  particle_count=s.ParticleCount(),
                  frame_endpoint=(ep.FrameEndpoint() or b"").decode() if ep else "",
                  publish_rate_hz=s.PublishRateHz(), probe_reach=s.ProbeReach(),
-                 session_timeout_s=s.SessionTimeoutS(), units=(s.Units() or b"").decode(), raw=s)
+                 session_timeout_s=s.SessionTimeoutS(), units=(s.Units() or b"").decode(),
+                 length_mm=s.LengthMm(), mass_kg=s.MassKg(), time_s=s.TimeS(), force_n=s.ForceN(),
+                 physical_units=bool(s.PhysicalUnits()), raw=s)
 
 
 @dataclass

@@ -46,18 +46,26 @@ def _read(path, *columns):
 
 def stiffness(csv_path, png_path):
     """Force felt against depth past the surface (bop-haptic --device sim:poke), with the
-    stiffness fitted as a line through the origin over the first half of the depths."""
-    depth, force, samples = _read(csv_path, "depth", "force", "samples")
+    stiffness fitted as a line through the origin over the first half of the depths: in N against
+    mm for a scene with materials (columns depth_mm, force_n), else in simulation units."""
+    with open(csv_path, newline="") as f:
+        physical = "force_n" in (f.readline().strip().split(","))
+    if physical:
+        depth, force, samples = _read(csv_path, "depth_mm", "force_n", "samples")
+        length, force_unit, stiffness_unit = "mm", "N", "N/mm"
+    else:
+        depth, force, samples = _read(csv_path, "depth", "force", "samples")
+        length, force_unit, stiffness_unit = "simulation length", "simulation force", "force / length"
     fig, ax = plt.subplots(figsize=(7, 4.5))
     ax.plot(depth, force, "o-", ms=3, color="#c8401e", label=f"mean force felt in each depth bin ({int(samples.sum())} ticks)")
     half = depth <= 0.5 * depth.max() if len(depth) else depth
     if np.count_nonzero(half) >= 2 and np.dot(depth[half], depth[half]) > 0:
         k = float(np.dot(depth[half], force[half]) / np.dot(depth[half], depth[half]))
         ax.plot(depth[half], k * depth[half], "--", color="#555555",
-                label=f"stiffness fit: {k:.3g} force / length (first half of the depths)")
+                label=f"stiffness fit: {k:.3g} {stiffness_unit} (first half of the depths)")
     ax.axhline(0, color="#999999", lw=0.8)
-    ax.set_xlabel("depth past the surface (simulation length)")
-    ax.set_ylabel("force felt along the poke (simulation force)")
+    ax.set_xlabel(f"depth past the surface ({length})")
+    ax.set_ylabel(f"force felt along the poke ({force_unit})")
     ax.set_title("Haptic poke: force against depth")
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper left")

@@ -244,3 +244,25 @@ TEST_CASE("workspace: device and scene coordinates and forces map back and forth
     CHECK((w.forceToScene(w.forceToDevice(f)) - f).norm() < 1e-12);
     CHECK(w.forceToDevice(f).norm() == Approx(0.5 * f.norm()));
 }
+
+TEST_CASE("workspace for a tissue in physical units: the device renders its newtons, mm for mm, no scale",
+          "[haptic][units]") {
+    const Eigen::AlignedBox3d device(Eigen::Vector3d(-80, -60, -40), Eigen::Vector3d(80, 60, 40));
+    const Eigen::AlignedBox3d scene(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(40, 40, 16));
+    const bop::UnitSystem units = bop::UnitSystem::fromModulus(1.155, 5.66e-6, 5e3, 2.1);
+    const Workspace w = Workspace::forScene(device, scene, units, std::nullopt, 1.0);
+    // A force of 3 simulation units is 3 forceN() newtons on the device, as the tissue gives it.
+    const Eigen::Vector3d f(0, 0, 3);
+    CHECK(w.forceToDevice(f).norm() == Approx(3 * units.forceN()));
+    // 10 mm of device travel is 10 mm of tissue.
+    const Eigen::Vector3d moved = w.toScene(device.center() + Eigen::Vector3d(10, 0, 0)) - w.toScene(device.center());
+    CHECK(units.toMm(moved.norm()) == Approx(10.0));
+    // A stated scale-down for a weak device, and the scale of a scene without units refused.
+    CHECK(Workspace::forScene(device, scene, units, std::nullopt, 0.25).forceToDevice(f).norm() ==
+          Approx(0.75 * units.forceN()));
+    CHECK_THROWS_AS(Workspace::forScene(device, scene, units, 0.5, 1.0), std::invalid_argument);
+    // Without materials: the box fit and --newtons-per-force (0.5 unless given).
+    const Workspace plain = Workspace::forScene(device, scene, bop::UnitSystem{}, std::nullopt, 1.0);
+    CHECK(plain.scale == Approx(40.0 / 120));
+    CHECK(plain.forceToDevice(f).norm() == Approx(1.5));
+}

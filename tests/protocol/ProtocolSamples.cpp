@@ -76,6 +76,7 @@ SceneInfo sampleScene(int speciesCount) {
     s.mapBytes = 123456789;
     s.mapKey = 0xfeedface12345678ull;
     s.sessionTimeoutS = 30;
+    s.unitSystem = bop::UnitSystem::fromModulus(1.155, 5.66e-6, 5e3, 0.5);
     if (std::size_t(speciesCount) <= kMaxTunedSpecies) {
         const std::size_t n = std::size_t(speciesCount);
         for (std::size_t k = 0; k < n * n; ++k)
@@ -168,6 +169,8 @@ bool same(const SceneInfo& a, const SceneInfo& b) {
            a.endpoints.udpProbePort == b.endpoints.udpProbePort && a.particleCount == b.particleCount &&
            a.units == b.units && a.publishRateHz == b.publishRateHz && a.probeReach == b.probeReach &&
            a.mapBytes == b.mapBytes && a.mapKey == b.mapKey && a.sessionTimeoutS == b.sessionTimeoutS &&
+           a.unitSystem.lengthMm == b.unitSystem.lengthMm && a.unitSystem.massKg == b.unitSystem.massKg &&
+           a.unitSystem.timeS == b.unitSystem.timeS && a.unitSystem.physical == b.unitSystem.physical &&
            a.tunables.lj == b.tunables.lj && a.tunables.coNormal == b.tunables.coNormal &&
            a.tunables.coPlanar == b.tunables.coPlanar && a.tunables.dragV == b.tunables.dragV &&
            a.tunables.dragW == b.tunables.dragW && a.tunables.k0 == b.tunables.k0 && a.tunables.k1 == b.tunables.k1;

@@ -147,12 +147,26 @@ TEST_CASE("foxglove probe, transform and plotted numbers follow the frame", "[fo
     f.stats.kinetic = 1.5;
     f.stats.potential = -4;
     f.probeActive = true;
-    const Buffer rb = fox::frameStats(f, kTime);
+    const Buffer rb = fox::frameStats(f, s, kTime);
     const auto* row = verified<bop::plot::FrameStats>(rb);
     CHECK(row->total_energy() == -2.5);
     CHECK(row->probe_force() == 5);
     CHECK(row->probe_force_z() == 4);
     CHECK(row->step() == f.step);
+    CHECK(row->probe_force_n() == 0);  // a scene without materials: no newtons
+    CHECK(row->sim_time_s() == 0);
+
+    // In physical units: the force in N and the time in s beside the simulation's, and the
+    // real-time factor as the frame carries it.
+    SceneInfo physical = s;
+    physical.unitSystem = bop::UnitSystem::fromModulus(1.5, 2e-6, 5e3, 0.5);
+    f.stats.realTimeFactor = 0.75;
+    f.simTime = 40;
+    const Buffer physicalRow = fox::frameStats(f, physical, kTime);
+    const auto* prow = verified<bop::plot::FrameStats>(physicalRow);
+    CHECK(prow->probe_force_n() == Approx(5 * physical.unitSystem.forceN()));
+    CHECK(prow->sim_time_s() == Approx(40 * physical.unitSystem.timeS));
+    CHECK(prow->real_time_factor() == 0.75);
 }
 
 TEST_CASE("foxglove channels write one set of messages per whole frame, in chunks or not", "[foxglove]") {

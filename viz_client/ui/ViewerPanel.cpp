@@ -27,8 +27,14 @@ void status(const PanelFigures& f) {
     ImGui::SameLine();
     ImGui::TextWrapped("%s", l.message.c_str());
     if (l.state != LinkState::Connected && l.attempt > 0) ImGui::Text("attempt %d", l.attempt + 1);
-    if (f.frame) {
-        ImGui::Text("step %llu, t = %.2f", (unsigned long long)f.frame->step, f.frame->simTime);
+    if (f.frame && f.scene && f.scene->unitSystem.physical) {  // a scene with materials: s and N
+        const UnitSystem& u = f.scene->unitSystem;
+        ImGui::Text("step %llu, t = %.3f s", (unsigned long long)f.frame->step, u.toS(f.frame->simTime));
+        ImGui::Text("server %.1f steps/s, real-time factor %.3g", f.frame->stats.stepRateHz,
+                    f.frame->stats.realTimeFactor);
+        if (f.frame->probeActive) ImGui::Text("probe force %.4g N", u.toN(f.frame->probeForce.norm()));
+    } else if (f.frame) {
+        ImGui::Text("step %llu, t = %.2f (simulation time)", (unsigned long long)f.frame->step, f.frame->simTime);
         ImGui::Text("server %.1f steps/s", f.frame->stats.stepRateHz);
     }
     ImGui::Text("frames: %.1f/s received, %.1f/s drawn", f.receivedHz, f.drawnHz);

@@ -11,6 +11,7 @@ XyzFrameInfo snapshotInfo(const core::Model& model, long long step) {
     XyzFrameInfo info;
     info.step = step;
     info.time = double(step) * model.integration.dt;
+    info.units = model.units;
     info.boxLo = model.box.lo;
     info.boxHi = model.box.hi;
     info.periodic = model.box.periodic;

@@ -94,6 +94,20 @@ std::string commentLine(const XyzFrameInfo& info) {
         s += info.settle;
         s += '"';
     }
+    if (info.units.lengthKnown()) {
+        s += " LengthUnitMm=";
+        putNumber(s, info.units.lengthMm);
+    }
+    if (info.units.physical) {
+        s += " MassUnitKg=";
+        putNumber(s, info.units.massKg);
+        s += " TimeUnitS=";
+        putNumber(s, info.units.timeS);
+        s += " ForceUnitN=";
+        putNumber(s, info.units.forceN());
+        s += " TimeS=";
+        putNumber(s, info.units.toS(info.time));
+    }
     s += " pbc=\"";
     for (int k = 0; k < 3; ++k) {
         if (k > 0) s += ' ';

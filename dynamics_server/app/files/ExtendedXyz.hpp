@@ -6,6 +6,8 @@
 //   Lattice="Lx 0 0 0 Ly 0 0 0 Lz" Origin="x y z" BoxHi="x y z"
 //   Properties=type:S:1:pos:R:3:velo:R:3:normal:R:3:orientation:R:4:omega:R:3:id:I:1:Z:I:1
 //   Time=t Step=s pbc="F F F"
+// and, for a scene with a grid, LengthUnitMm (mm per simulation length unit); with materials also
+// MassUnitKg, TimeUnitS, ForceUnitN and TimeS, the time in seconds (docs/physics.md §8).
 // Numbers in %.17g, so reading a file back gives the state bit for bit (BoxHi keeps the upper box
 // corner exact; Lattice and Origin are what OVITO and ASE use for the cell). The columns follow
 // the extended XYZ specification (github.com/libAtoms/extxyz) and what its readers do with them:
@@ -21,6 +23,7 @@
 //     Orientation property, components X Y Z W), so aspherical particles render correctly.
 // Files of earlier versions (names in `species`, numbers in `species_number`, births with ids
 // above 2^63) read as before, such an id with bit 62 in place of bit 63.
+#include "bop/common/UnitSystem.hpp"
 #include "core/Particles.hpp"
 
 #include <Eigen/Core>
@@ -47,6 +50,7 @@ struct XyzFrameInfo {
     // Settle: where a placed bag's settling is (app/runs/Settling.hpp), words without quotes;
     // empty: not recorded.
     std::string settle;
+    UnitSystem units;  // written where known (lengthKnown(), physical)
 };
 
 struct XyzFrame {

@@ -1,6 +1,7 @@
 #include "app/runs/BatchReport.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <iomanip>
 
 namespace bop::app {
@@ -77,8 +78,18 @@ void BatchReport::summary(long long steps, double seconds) {
             << std::setprecision(0) << c.rebuilds << " rebuilds, " << c.rebalances << " balancings, " << c.migrations
             << " migrations; exchanges took " << std::setprecision(1)
             << 100.0 * c.exchangeSecondsMax / std::max(seconds, 1e-12) << "% of the run on the busiest rank\n";
+    const UnitSystem& u = run_.simulation().model().units;
+    char energyUnit[64];
+    std::snprintf(energyUnit, sizeof energyUnit, " (energy unit %.4g J)", u.energyJ());
     os_ << "births " << std::setprecision(0) << c.births << ", deaths " << c.deaths << "; E_kin "
-        << std::setprecision(5) << t.kinetic << ", E_pair " << t.pairEnergy << ", virial " << t.virial << "\n";
+        << std::setprecision(5) << t.kinetic << ", E_pair " << t.pairEnergy << ", virial " << t.virial
+        << (u.physical ? energyUnit : " (simulation units)") << "\n";
+    if (u.physical) {  // time in seconds: how far the run got, and against the wall clock
+        const double simulated = u.toS(double(steps) * run_.simulation().model().integration.dt);
+        os_ << "simulated " << std::setprecision(4) << simulated << " s in " << seconds
+            << " s of wall time: real-time factor " << simulated / std::max(seconds, 1e-12)
+            << " (a batch run is not paced)\n";
+    }
 }
 
 }  // namespace bop::app

@@ -18,7 +18,7 @@ std::int64_t nowNs() {
 
 protocol::StateFrame frameOf(core::FrameArrays a, const core::Totals& t, const ClientControls& controls,
                              const core::ProbeState& probe, long long step, double dt, double volume, double stepRate,
-                             bool paperEq15) {
+                             double realTimeFactor, bool paperEq15) {
     protocol::StateFrame f;
     const std::size_t n = a.species.size();
     f.step = std::uint64_t(step);
@@ -31,10 +31,8 @@ protocol::StateFrame frameOf(core::FrameArrays a, const core::Totals& t, const C
                             : paperEq15
                                 ? core::paperEq15Pressure(t.bloodMv2, t.virialVolume, t.bloodCount, t.bloodVolume)
                                 : core::virialPressure(t.bloodMv2, t.virialVolume, t.bloodVolume);
-    f.stats = {t.kinetic,        t.pairEnergy + t.probeEnergy,
-               pressure,         stepRate,
-               std::uint64_t(n), controls.loop,
-               t.cavityVolume,   t.keyframe.phase()};
+    f.stats = {t.kinetic,      t.pairEnergy + t.probeEnergy, pressure,      stepRate, std::uint64_t(n), controls.loop,
+               t.cavityVolume, t.keyframe.phase(),           realTimeFactor};
     f.frameParticleCount = std::uint32_t(n);
     f.positions = std::move(a.positions);
     f.normals = std::move(a.normals);
@@ -58,7 +56,10 @@ ServedLoop::ServedLoop(const Scene& scene, core::Run& run, protocol::ServerFront
       idle_(idle),
       info_(sceneInfoOf(scene, model_, nullptr)),
       volume_(model_.box.size().prod()),
-      rateClock_(Clock::now()) {
+      rateClock_(Clock::now()),
+      stepS_(model_.units.physical ? model_.units.toS(model_.integration.dt) : 0),
+      pacing_(stepS_ > 0 && scene.realTime && !o.replay),
+      paceRef_(Clock::now()) {
     if (o.replay)
         for (const auto& c : o.replay->chunks)
             if (c.frame.chunkIndex == 0) frameSteps_.insert(static_cast<long long>(c.frame.step));
@@ -117,15 +118,35 @@ ServedLoop::Decision ServedLoop::decide() {
         off.k1 = probe.params.k1;
         takeProbe(off);
     }
-    const bool step = !controls_.paused || controls_.singleSteps > 0;
-    if (controls_.paused && controls_.singleSteps > 0) --controls_.singleSteps;
+    bool step = !controls_.paused || controls_.singleSteps > 0;
+    if (step && pacing_ && !keepsPace()) step = false;  // ahead of the wall clock: wait
+    if (controls_.paused && controls_.singleSteps > 0 && step) --controls_.singleSteps;
     // No gather while the front still holds a frame: it would only replace it.
     const bool frame = !front_->framePending() && front_->frameDue(Clock::now());
     const bool stop = stopRequested_() || (o_.steps > 0 && done_ >= o_.steps);
     return {stop ? Stopped : Go, step, frame, front_->anyHaptic() || run_.paramsAhead().probe.active};
 }
 
+bool ServedLoop::keepsPace() {
+    // Simulated time against wall time since the reference: step while not ahead. A pause, or a
+    // machine too slow for real time, moves the reference so that no debt builds up: the run
+    // never races to catch up by more than kPaceSlack.
+    constexpr double kPaceSlack = 0.05;  // s
+    const auto now = Clock::now();
+    const double wall = std::chrono::duration<double>(now - paceRef_).count();
+    if (wall - pacedS_ > kPaceSlack)
+        paceRef_ =
+            now - std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(pacedS_ + kPaceSlack));
+    return pacedS_ <= wall;
+}
+
+double ServedLoop::realTimeFactor() const {
+    const double wall = std::chrono::duration<double>(Clock::now() - firstPass_).count();
+    return done_ > 0 && wall > 0 ? steppedS_ / wall : 0.0;
+}
+
 bool ServedLoop::pass() {
+    if (firstPass_ == Clock::time_point{}) firstPass_ = Clock::now();
     Decision d;
     if (front_) {
         try {
@@ -144,9 +165,14 @@ bool ServedLoop::pass() {
         if (ctl.publish) run_.energiesNextStep();  // the frame carries them; other steps skip them
         run_.step();                               // core::UnsoundState leaves here, on every rank
         ++done_, ++rateSteps_;
+        pacedS_ += stepS_;
+        steppedS_ += stepS_;
         if (afterStep_) afterStep_();  // collective: the lifecycle's checkpoints
     } else {
         std::this_thread::sleep_for(idle_);
+        if (pacing_ && controls_.paused)  // a pause is not owed: the clock restarts from here
+            paceRef_ =
+                Clock::now() - std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(pacedS_));
     }
     if (!ctl.feedback && !ctl.publish) return true;
     if (ctl.publish && !run_.energiesCurrent()) run_.refreshForces();  // paused: the same forces, with energies
@@ -171,7 +197,7 @@ void ServedLoop::publish(const core::Totals& t) {
         while (front_->framePending()) std::this_thread::sleep_for(std::chrono::microseconds(200));
     front_->setParticleCount(arrays.species.size());
     front_->offerFrame(frameOf(std::move(arrays), t, controls_, run_.paramsAhead().probe, run_.stepNumber(),
-                               model_.integration.dt, volume_, stepRate_,
+                               model_.integration.dt, volume_, stepRate_, stepRate_ * stepS_,
                                scene_.pressure && scene_.pressure->paperEq15));
 }
 

@@ -40,6 +40,7 @@ private:
     Decision replayInputs();  // rank 0, replaying
     void takeProbe(const protocol::Probe& p);
     void publish(const core::Totals& t);  // collective gather; rank 0 offers the frame
+    bool keepsPace();                     // rank 0: the next step is due by the wall clock
 
     const Scene& scene_;
     const core::Model& model_;
@@ -59,6 +60,19 @@ private:
     std::chrono::steady_clock::time_point rateClock_;
     long long rateSteps_ = 0;
     double stepRate_ = 0;
+    // Real time (a scene with materials and [units] real_time): one simulated second per wall
+    // second at most (docs/physics.md §8.5).
+    double stepS_ = 0;  // a step's simulated time, s; 0: time in simulation units
+    bool pacing_ = false;
+    std::chrono::steady_clock::time_point paceRef_;  // the wall time at simulated time 0 of the pacing
+    double pacedS_ = 0;                              // simulated time stepped since, s
+
+    std::chrono::steady_clock::time_point firstPass_{};  // the loop's first pass
+    double steppedS_ = 0;                                // simulated time stepped by the loop, s
+
+public:
+    // Simulated s per wall s since the loop's first pass (0: time in simulation units).
+    double realTimeFactor() const;
 };
 
 }  // namespace bop::app

@@ -8,6 +8,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -49,7 +50,24 @@ protocol::SceneInfo sceneInfoOf(const Scene& scene, const core::Model& m, const 
         s.tunables.dragV.push_back(p.drag[std::size_t(k)].v);
         s.tunables.dragW.push_back(p.drag[std::size_t(k)].w);
     }
-    s.units = "length: simulation units (r0 = sqrt 3); time: simulation units; force: simulation units; mass 1";
+    const UnitSystem& u = scene.model->units;
+    s.unitSystem = u;
+    char words[240];
+    if (u.physical)
+        std::snprintf(words, sizeof words,
+                      "length: %.6g mm per simulation unit (r0 = sqrt 3); time: %.6g s; force: %.6g N; mass %.6g kg "
+                      "per particle",
+                      u.lengthMm, u.timeS, u.forceN(), u.massKg);
+    else if (u.lengthKnown())
+        std::snprintf(words, sizeof words,
+                      "length: %.6g mm per simulation unit (r0 = sqrt 3); time: simulation units; force: simulation "
+                      "units; mass 1",
+                      u.lengthMm);
+    else
+        std::snprintf(
+            words, sizeof words,
+            "length: simulation units (r0 = sqrt 3); time: simulation units; force: simulation units; mass 1");
+    s.units = words;
     return s;
 }
 
@@ -98,6 +116,10 @@ int runServed(const Scene& scene, RunStart start, const ServeOptions& o, core::E
               << (s.internalErrors ? " (last: " + s.lastInternalError + ")" : std::string())
               << "; the step loop waited on the front " << s.loopWaits << " times, longest " << s.loopWaitLongestMs
               << " ms, " << s.loopWaitTotalMs << " ms in all\n";
+    if (const UnitSystem& u = scene.model->units; u.physical)
+        std::cout << "simulated " << u.toS(double(loop.stepsDone()) * scene.model->integration.dt)
+                  << " s at a real-time factor of " << loop.realTimeFactor() << " (simulated over wall seconds; "
+                  << (scene.realTime ? "paced to the wall clock" : "[units] real_time = false: not paced") << ")\n";
     if (end.code == kExitUnsound) {
         spdlog::error("nothing unsound was streamed or recorded");
         return end.code;

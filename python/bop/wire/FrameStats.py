@@ -88,7 +88,14 @@ class FrameStats(object):
             return self._tab.Get(flatbuffers.number_types.Float64Flags, o + self._tab.Pos)
         return 0.0
 
-def FrameStatsStart(builder): builder.StartObject(8)
+    # FrameStats
+    def RealTimeFactor(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(20))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Float64Flags, o + self._tab.Pos)
+        return 0.0
+
+def FrameStatsStart(builder): builder.StartObject(9)
 def Start(builder):
     return FrameStatsStart(builder)
 def FrameStatsAddKineticEnergy(builder, kineticEnergy): builder.PrependFloat64Slot(0, kineticEnergy, 0.0)
@@ -115,6 +122,9 @@ def AddCavityVolume(builder, cavityVolume):
 def FrameStatsAddMapFrame(builder, mapFrame): builder.PrependFloat64Slot(7, mapFrame, 0.0)
 def AddMapFrame(builder, mapFrame):
     return FrameStatsAddMapFrame(builder, mapFrame)
+def FrameStatsAddRealTimeFactor(builder, realTimeFactor): builder.PrependFloat64Slot(8, realTimeFactor, 0.0)
+def AddRealTimeFactor(builder, realTimeFactor):
+    return FrameStatsAddRealTimeFactor(builder, realTimeFactor)
 def FrameStatsEnd(builder): return builder.EndObject()
 def End(builder):
     return FrameStatsEnd(builder)

@@ -203,7 +203,42 @@ class SceneInfo(object):
             return self._tab.Get(flatbuffers.number_types.Float32Flags, o + self._tab.Pos)
         return 0.0
 
-def SceneInfoStart(builder): builder.StartObject(19)
+    # SceneInfo
+    def LengthMm(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(42))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Float64Flags, o + self._tab.Pos)
+        return 0.0
+
+    # SceneInfo
+    def MassKg(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(44))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Float64Flags, o + self._tab.Pos)
+        return 0.0
+
+    # SceneInfo
+    def TimeS(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(46))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Float64Flags, o + self._tab.Pos)
+        return 0.0
+
+    # SceneInfo
+    def ForceN(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(48))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Float64Flags, o + self._tab.Pos)
+        return 0.0
+
+    # SceneInfo
+    def PhysicalUnits(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(50))
+        if o != 0:
+            return bool(self._tab.Get(flatbuffers.number_types.BoolFlags, o + self._tab.Pos))
+        return False
+
+def SceneInfoStart(builder): builder.StartObject(24)
 def Start(builder):
     return SceneInfoStart(builder)
 def SceneInfoAddProtocolVersion(builder, protocolVersion): builder.PrependUint16Slot(0, protocolVersion, 0)
@@ -266,6 +301,21 @@ def AddMapKey(builder, mapKey):
 def SceneInfoAddSessionTimeoutS(builder, sessionTimeoutS): builder.PrependFloat32Slot(18, sessionTimeoutS, 0.0)
 def AddSessionTimeoutS(builder, sessionTimeoutS):
     return SceneInfoAddSessionTimeoutS(builder, sessionTimeoutS)
+def SceneInfoAddLengthMm(builder, lengthMm): builder.PrependFloat64Slot(19, lengthMm, 0.0)
+def AddLengthMm(builder, lengthMm):
+    return SceneInfoAddLengthMm(builder, lengthMm)
+def SceneInfoAddMassKg(builder, massKg): builder.PrependFloat64Slot(20, massKg, 0.0)
+def AddMassKg(builder, massKg):
+    return SceneInfoAddMassKg(builder, massKg)
+def SceneInfoAddTimeS(builder, timeS): builder.PrependFloat64Slot(21, timeS, 0.0)
+def AddTimeS(builder, timeS):
+    return SceneInfoAddTimeS(builder, timeS)
+def SceneInfoAddForceN(builder, forceN): builder.PrependFloat64Slot(22, forceN, 0.0)
+def AddForceN(builder, forceN):
+    return SceneInfoAddForceN(builder, forceN)
+def SceneInfoAddPhysicalUnits(builder, physicalUnits): builder.PrependBoolSlot(23, physicalUnits, 0)
+def AddPhysicalUnits(builder, physicalUnits):
+    return SceneInfoAddPhysicalUnits(builder, physicalUnits)
 def SceneInfoEnd(builder): return builder.EndObject()
 def End(builder):
     return SceneInfoEnd(builder)
