@@ -2,6 +2,8 @@
 
 #include "Stopwatch.hpp"
 
+#include <cmath>
+
 namespace bop::core {
 
 ForceField::ForceField(const Model& model, const Params& params, bool map) : pairs_(model, params, map) {}
@@ -21,6 +23,10 @@ void ForceField::compute(const Model& model, const MapInForce& maps, const Probe
 
 void ForceField::probeForces(const Model& model, const ProbeState& probe, Particles& p, ForceStats& stats) {
     if (!probe.active) return;
+    if (model.probeSphere) {
+        sphereProbeForces(*model.probeSphere, probe.position, p, stats);
+        return;
+    }
     const ProbeForm form(LjForm(model.ljParams), probe.params);
     const double cut2 = form.cutoff() * form.cutoff();
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -32,6 +38,21 @@ void ForceField::probeForces(const Model& model, const ProbeState& probe, Partic
         p.force[i] += fOverR * r;
         stats.probeReaction -= fOverR * r;
         stats.probeEnergy += e;
+    }
+}
+
+void sphereProbeForces(const ProbeSphere& sphere, const Eigen::Vector3d& centre, Particles& p, ForceStats& stats) {
+    const double r2max = sphere.radius * sphere.radius;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const Eigen::Vector3d r = p.pos[i] - centre;
+        const double r2 = r.squaredNorm();
+        if (r2 >= r2max || r2 == 0.0) continue;
+        const double d = std::sqrt(r2);
+        const double overlap = sphere.radius - d;
+        const Eigen::Vector3d f = (sphere.stiffness * overlap / d) * r;
+        p.force[i] += f;
+        stats.probeReaction -= f;
+        stats.probeEnergy += 0.5 * sphere.stiffness * overlap * overlap;
     }
 }
 

@@ -1,11 +1,16 @@
 #pragma once
 // All forces and torques of one step (paper eqs. 2-11 without the drag, which the integrator
 // applies exactly): the gradient map's (MapForces), the pairs' (PairForces: LJ, co-normal and
-// co-planar over the neighbour list) and the probe particle's, in that order.
+// co-planar over the neighbour list) and the probe's (eq. 9's particle or a sphere), in that order.
 #include "MapForces.hpp"
 #include "PairForces.hpp"
 
 namespace bop::core {
+
+// The probe as a rigid sphere at `centre` (docs/physics.md §2.5): adds to each particle's force,
+// and to stats' probe reaction (minus their sum) and probe energy.
+void sphereProbeForces(const ProbeSphere& sphere, const Eigen::Vector3d& centre, Particles& particles,
+                       ForceStats& stats);
 
 class ForceField {
 public:

@@ -6,6 +6,7 @@
 #include "Keyframes.hpp"
 #include "Potentials.hpp"
 #include "bop/common/GradientMap.hpp"
+#include "bop/common/UnitSystem.hpp"
 #include "core/MapField.hpp"
 
 #include <array>
@@ -59,13 +60,25 @@ struct Integration {
     double maxTurn = 0.5;  // the most a surface particle turns in one step, radians (0: no limit)
 };
 
+// The probe as a rigid sphere (docs/physics.md §2.5) instead of eq. 9's LJ particle: a particle
+// whose centre lies within `radius` of the probe's is pushed out along the line from the probe,
+// force stiffness (radius - d), energy stiffness (radius - d)^2 / 2.
+struct ProbeSphere {
+    double radius = 0;     // simulation length units
+    double stiffness = 0;  // energy / length^2
+};
+
 struct Model {
     std::vector<Species> species;  // index = species number; [0] is a placeholder
     LjParams ljParams;
     OrientedParams oriented;
     Integration integration;
     Box box;
-    bool curvatureWeighting = true;  // multiply co-planar weights by the map's curvature weight
+    bool curvatureWeighting = true;          // multiply co-planar weights by the map's curvature weight
+    std::optional<ProbeSphere> probeSphere;  // the probe's form: this sphere, or eq. 9's LJ particle
+    // What a simulation unit is in mm, kg and s (docs/physics.md §8): for reports and files only,
+    // the physics never reads it.
+    UnitSystem units;
     // The whole map of the bag(s), where the model holds it (tests, tools);
     // null for bulk material and for runs that read windows from the map's cache file
     // (SimulationOptions::map). The map in force at a step is Simulation::mapInForce().

@@ -220,6 +220,23 @@ void readKeyframes(const ConfigTable& root, const Scene& s, core::KeyframeSchedu
     t->finish();
 }
 
+// [units]: mass scaling and pacing, for scenes with materials.
+void readUnits(const ConfigTable& root, Scene& s, core::Model& m) {
+    double massScaling = 1;
+    if (const auto t = root.optionalTable("units")) {
+        if (s.materials.empty())
+            t->fail("mass_scaling", "units are physical only with [[material]] tables; the scene has none");
+        massScaling = t->number("mass_scaling", 1.0);
+        if (!(massScaling >= 1 && massScaling <= 1e12)) t->fail("mass_scaling", "expected a factor of 1 or more");
+        s.realTime = t->boolean("real_time", true);
+        t->finish();
+    }
+    if (s.materials.empty()) return;
+    s.calibration = calibrate(s.materials, m.units.lengthMm, s.shape->grid.r0Voxels, massScaling);
+    m.units = s.calibration->units;
+    applyCalibration(*s.calibration, s.materials, m, s.params);
+}
+
 }  // namespace
 
 void defaultSpecies(core::Model& m, core::Params& params, int bags) {
@@ -276,6 +293,16 @@ Scene loadScene(const std::string& path) {
         }
     }
     readSpecies(root, m, s.params, s.shape.has_value());
+    if (s.shape) {
+        std::vector<std::string> names;
+        for (const auto& bag : s.shape->bags) names.push_back(bag.name);
+        s.materials = readMaterials(root, names);
+        m.units.lengthMm = lengthMmOf(s.shape->grid.voxelMm, s.shape->grid.r0Voxels);
+    } else if (root.has("material")) {
+        root.fail("material", "a material is a bag's; a bulk [box] has none");
+    }
+    if (!s.materials.empty() && root.has("interactions"))
+        root.fail("interactions", "the [[material]] tables set the weights; give either, not both");
     if (const auto t = root.optionalTable("interactions")) {
         readMatrix(*t, "lj", s.params.lj);
         readMatrix(*t, "co_normal", s.params.coNormal);
@@ -283,6 +310,7 @@ Scene loadScene(const std::string& path) {
         t->finish();
     }
     readDynamics(root, m, s.seed);
+    readUnits(root, s, m);
     if (s.bulk && m.hasSurfaceSpecies()) root.fail("species", "a bulk [box] holds volume particles only");
     readConstruction(root, s);
     if (s.placement) s.run.steps = kPlacedStepsCap;
@@ -300,6 +328,16 @@ Scene loadScene(const std::string& path) {
         };
         s.probe.params.k0 = within("k0", protocol::ranges::kMinProbeK0, protocol::ranges::kMaxProbeK0);
         s.probe.params.k1 = within("k1", protocol::ranges::kMinProbeK1, protocol::ranges::kMaxProbeK1);
+        if (t->has("radius_mm")) {  // the tool as a sphere (docs/physics.md §2.5)
+            if (!s.shape) t->fail("radius_mm", "a sphere's radius is in mm of a [shape]'s grid; the scene has none");
+            core::ProbeSphere sphere;
+            sphere.radius = m.units.fromMm(positive(*t, "radius_mm", t->number("radius_mm")));
+            // In multiples of the stiffest pair's bond stiffness, phi''(r0) = 1/sqrt(3) at weight 1.
+            sphere.stiffness = positive(*t, "contact_stiffness", t->number("contact_stiffness", 10.0)) / kR0;
+            m.probeSphere = sphere;
+        } else if (t->has("contact_stiffness")) {
+            t->fail("contact_stiffness", "the contact of a sphere: give radius_mm too");
+        }
         t->finish();
     }
     readKeyframes(root, s, m.keyframes);

@@ -2,6 +2,7 @@
 // A whole scene for the server: the shape ([grid], [shape]) or a bulk box ([box]), the species
 // table, interspecies weights, dynamics parameters, probe, construction timeline and run
 // settings. See docs/scene-format.md for every key and its unit.
+#include "app/scene/Material.hpp"
 #include "app/scene/Placement.hpp"
 #include "core/Construction.hpp"
 #include "core/Fire.hpp"
@@ -69,6 +70,12 @@ struct Scene {
     RunSettings run;
     std::optional<PressureSettings> pressure;  // [pressure]: write the pressure curve and volumes
     std::uint64_t seed = 1;
+    // Materials (docs/physics.md §8), one per bag or none: with them the model's units are physical
+    // (mass, time and force as well as length) and the weights, map stiffnesses and drags are the
+    // calibration's.
+    std::vector<Material> materials;
+    std::optional<Calibration> calibration;
+    bool realTime = true;  // [units] real_time: a served run with materials keeps to the wall clock
 };
 
 // Reads and checks every table; bop::Error naming the file and key on any problem.

@@ -123,6 +123,13 @@ int run(int argc, char** argv) {
     app::Scene scene = app::loadScene(scenePath);
     if (scene.shape)
         for (const std::string& w : scene.shape->warnings) spdlog::warn("{}", w);
+    if (scene.calibration)
+        for (const std::string& line :
+             app::calibrationReport(*scene.calibration, scene.materials, scene.model->integration.dt))
+            spdlog::info("{}", line);
+    else if (scene.shape)
+        spdlog::info("units: length {:.4g} mm; mass, time and force in simulation units (no [[material]])",
+                     scene.model->units.lengthMm);
     if (outDir.empty()) outDir = "out/" + fs::path(scenePath).stem().string();
     if (cache.empty()) cache = outDir + "/gradient-map.bopgm";
     fs::create_directories(outDir);
