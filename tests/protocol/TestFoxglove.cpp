@@ -153,8 +153,12 @@ TEST_CASE("foxglove probe, transform and plotted numbers follow the frame", "[fo
     CHECK(row->probe_force() == 5);
     CHECK(row->probe_force_z() == 4);
     CHECK(row->step() == f.step);
-    CHECK(row->probe_force_n() == 0);  // a scene without materials: no newtons
-    CHECK(row->sim_time_s() == 0);
+    SceneInfo plain = s;  // a scene without materials: no newtons, no seconds
+    plain.unitSystem = bop::UnitSystem{};
+    const Buffer plainBuffer = fox::frameStats(f, plain, kTime);
+    const auto* plainRow = verified<bop::plot::FrameStats>(plainBuffer);
+    CHECK(plainRow->probe_force_n() == 0);
+    CHECK(plainRow->sim_time_s() == 0);
 
     // In physical units: the force in N and the time in s beside the simulation's, and the
     // real-time factor as the frame carries it.
