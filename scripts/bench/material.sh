@@ -52,7 +52,8 @@ for r0 in "${resolutions[@]}"; do
 done
 
 # Real time: the served torus at 5 kPa, then with the mass scaling its step rate asks for.
-torus() { (sed "s|\.\./models/|$PWD/config/models/|" config/scenes/torus.toml
+# The torus's own [interactions] give way to the material (the two are refused together).
+torus() { (sed -e "s|\.\./models/|$PWD/config/models/|" -e '/^\[interactions\]/,/^\[run\]/{/^\[run\]/!d}' config/scenes/torus.toml
   printf '[[material]]\nyoung_kpa = 5\ndensity_kg_m3 = 1000\n%b' "$1") >"$out/torus-$2.toml"; echo "$out/torus-$2.toml"; }
 run_torus() {
   "$bin/bop-server" "$1" --port 0 --steps 1500 -o "$out/served-$2" 2>&1 | grep -E "time step|real-time factor" \

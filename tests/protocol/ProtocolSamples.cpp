@@ -134,7 +134,7 @@ StateFrame sampleFrame(std::size_t n, FrameEncoding encoding, bool withNormals, 
     f.probePosition = {0.5, 1.0, -0.25};
     f.probeForce = {0.0, -2.0, 0.125};
     f.probeActive = true;
-    f.stats = {12.5, -340.25, 0.0625, 480.0, n, {1000.25f, 8.5f, 2}, 93.5, 2.25};
+    f.stats = {12.5, -340.25, 0.0625, 480.0, n, {1000.25f, 8.5f, 2}, 93.5, 2.25, 0.75};
     f.frameParticleCount = std::uint32_t(n);
     f.encoding = encoding;
     f.quantLo = {-10, 0, -3};
@@ -219,6 +219,7 @@ bool same(const StateFrame& a, const StateFrame& b) {
            a.stats.pressure == b.stats.pressure && a.stats.stepRateHz == b.stats.stepRateHz &&
            a.stats.particleCount == b.stats.particleCount && same(a.stats.haptic, b.stats.haptic) &&
            a.stats.cavityVolume == b.stats.cavityVolume && a.stats.mapFrame == b.stats.mapFrame &&
+           a.stats.realTimeFactor == b.stats.realTimeFactor &&
            a.frameParticleCount == b.frameParticleCount && a.firstIndex == b.firstIndex && a.encoding == b.encoding &&
            (!quantised || (a.quantLo == b.quantLo && a.quantHi == b.quantHi)) && a.positions == b.positions &&
            a.normals == b.normals && a.species == b.species && a.ids == b.ids;

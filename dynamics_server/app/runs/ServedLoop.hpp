@@ -32,6 +32,8 @@ public:
     long long stepsDone() const { return done_; }
     const std::string& error() const { return error_; }  // why rank 0 stopped the run; empty if nothing went wrong
     ClientControls& controls() { return controls_; }
+    // Simulated s per wall s since the loop's first pass (0: time in simulation units).
+    double realTimeFactor() const;
 
 private:
     enum Stop : int { Go = 0, Stopped = 1, Failed = 2 };  // Decision::stop
@@ -69,10 +71,6 @@ private:
 
     std::chrono::steady_clock::time_point firstPass_{};  // the loop's first pass
     double steppedS_ = 0;                                // simulated time stepped by the loop, s
-
-public:
-    // Simulated s per wall s since the loop's first pass (0: time in simulation units).
-    double realTimeFactor() const;
 };
 
 }  // namespace bop::app
