@@ -219,8 +219,8 @@ bool same(const StateFrame& a, const StateFrame& b) {
            a.stats.pressure == b.stats.pressure && a.stats.stepRateHz == b.stats.stepRateHz &&
            a.stats.particleCount == b.stats.particleCount && same(a.stats.haptic, b.stats.haptic) &&
            a.stats.cavityVolume == b.stats.cavityVolume && a.stats.mapFrame == b.stats.mapFrame &&
-           a.stats.realTimeFactor == b.stats.realTimeFactor &&
-           a.frameParticleCount == b.frameParticleCount && a.firstIndex == b.firstIndex && a.encoding == b.encoding &&
+           a.stats.realTimeFactor == b.stats.realTimeFactor && a.frameParticleCount == b.frameParticleCount &&
+           a.firstIndex == b.firstIndex && a.encoding == b.encoding &&
            (!quantised || (a.quantLo == b.quantLo && a.quantHi == b.quantHi)) && a.positions == b.positions &&
            a.normals == b.normals && a.species == b.species && a.ids == b.ids;
 }
