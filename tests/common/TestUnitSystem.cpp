@@ -48,6 +48,4 @@ TEST_CASE("a scene without materials knows its lengths only", "[common][units]")
     CHECK_FALSE(u.physical);
     u.lengthMm = 1.5;
     CHECK(u.lengthKnown());
-    CHECK(u.forceUnit() == "simulation force");
-    CHECK(u.timeUnit() == "simulation time");
 }

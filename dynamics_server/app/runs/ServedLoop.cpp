@@ -134,10 +134,12 @@ bool ServedLoop::keepsPace() {
     constexpr double kPaceSlack = 0.05;  // s
     const auto now = Clock::now();
     const double wall = std::chrono::duration<double>(now - paceRef_).count();
-    if (wall - pacedS_ > kPaceSlack)
-        paceRef_ =
-            now - std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(pacedS_ + kPaceSlack));
+    if (wall - pacedS_ > kPaceSlack) restartPace(now, kPaceSlack);
     return pacedS_ <= wall;
+}
+
+void ServedLoop::restartPace(Clock::time_point now, double behindS) {
+    paceRef_ = now - std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(pacedS_ + behindS));
 }
 
 double ServedLoop::realTimeFactor() const {
@@ -170,9 +172,7 @@ bool ServedLoop::pass() {
         if (afterStep_) afterStep_();  // collective: the lifecycle's checkpoints
     } else {
         std::this_thread::sleep_for(idle_);
-        if (pacing_ && controls_.paused)  // a pause is not owed: the clock restarts from here
-            paceRef_ =
-                Clock::now() - std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(pacedS_));
+        if (pacing_ && controls_.paused) restartPace(Clock::now(), 0);  // a pause is not owed
     }
     if (!ctl.feedback && !ctl.publish) return true;
     if (ctl.publish && !run_.energiesCurrent()) run_.refreshForces();  // paused: the same forces, with energies

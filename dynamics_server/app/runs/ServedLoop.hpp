@@ -43,6 +43,9 @@ private:
     void takeProbe(const protocol::Probe& p);
     void publish(const core::Totals& t);  // collective gather; rank 0 offers the frame
     bool keepsPace();                     // rank 0: the next step is due by the wall clock
+    // The pacing's wall-clock reference moved so that the simulated time stands behindS seconds
+    // behind the wall clock at `now`.
+    void restartPace(std::chrono::steady_clock::time_point now, double behindS);
 
     const Scene& scene_;
     const core::Model& model_;

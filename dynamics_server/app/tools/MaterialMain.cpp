@@ -6,7 +6,6 @@
 #include "app/runs/Settling.hpp"
 #include "app/scene/RunStart.hpp"
 #include "app/scene/SceneConfig.hpp"
-#include "bop/common/ParseVector.hpp"
 #include "bop/common/ToolMain.hpp"
 
 #include <CLI/CLI.hpp>
@@ -27,38 +26,26 @@ void say(const std::string& line) {
     std::cout << "[bop-material] " << line << std::endl;
 }
 
-std::vector<double> numbers(const std::string& list, const std::string& option) {
-    std::vector<double> out;
-    std::size_t at = 0;
-    while (at < list.size()) {
-        const std::size_t end = std::min(list.find(',', at), list.size());
-        try {
-            out.push_back(std::stod(list.substr(at, end - at)));
-        } catch (const std::exception&) {
-            throw Error(option, "expected numbers separated by commas, got '" + list + "'");
-        }
-        at = end + 1;
-    }
-    if (out.empty()) throw Error(option, "expected at least one number");
-    return out;
-}
-
 int run(int argc, char** argv) {
     CLI::App app{
         "bop-material: virtual material tests (indentation by the scene's probe sphere, compression "
         "between plates) on a scene's placed and settled bag; CSV in mm, N and kPa"};
-    std::string scenePath, test = "indent", out = "material.csv", depthsMm = "0.2,0.4,0.6,0.8,1.0",
-                           strains = "0.01,0.02,0.03,0.04,0.05";
+    std::string scenePath, test = "indent", out = "material.csv";
+    std::vector<double> depthsMm{0.2, 0.4, 0.6, 0.8, 1.0}, strains{0.01, 0.02, 0.03, 0.04, 0.05};
     double baseMm = 0, plateMm = 0;
     std::vector<double> xyMm;
     long long maxSteps = 20000;
     app.add_option("scene", scenePath, "scene file (TOML) with [[material]] tables")->required();
     app.add_option("--test", test, "indent or compress")->check(CLI::IsMember({"indent", "compress"}));
     app.add_option("--out", out, "CSV file to write");
-    app.add_option("--depths-mm", depthsMm, "indent: the sphere's depths beyond first contact, mm, comma separated");
+    app.add_option("--depths-mm", depthsMm, "indent: the sphere's depths beyond first contact, mm, comma separated")
+        ->delimiter(',')
+        ->check(CLI::PositiveNumber);
     app.add_option("--at-mm", xyMm, "indent: x y of the sphere's axis, mm (default: the bag's centre)")->expected(2);
     app.add_option("--base-mm", baseMm, "indent: depth of the held base, mm (default r0)");
-    app.add_option("--strains", strains, "compress: the plates' approach over the height, comma separated");
+    app.add_option("--strains", strains, "compress: the plates' approach over the height, comma separated")
+        ->delimiter(',')
+        ->check(CLI::Range(0.0, 0.5));
     app.add_option("--plate-mm", plateMm, "compress: depth of each plate's held layer, mm (default r0)");
     app.add_option("--max-steps", maxSteps, "the most minimiser steps per load step");
     CLI11_PARSE(app, argc, argv);
@@ -95,7 +82,7 @@ int run(int argc, char** argv) {
         xy /= double(p.size());
         if (xyMm.size() == 2) xy = Eigen::Vector2d(u.fromMm(xyMm[0]), u.fromMm(xyMm[1]));
         std::vector<double> depths;
-        for (double d : numbers(depthsMm, "--depths-mm")) depths.push_back(u.fromMm(d));
+        for (double d : depthsMm) depths.push_back(u.fromMm(d));
         const double R = s.model->probeSphere ? s.model->probeSphere->radius : 0;
         const auto points = app::indent(runner, xy, depths, baseMm > 0 ? u.fromMm(baseMm) : r0, relax, say);
         const double eStar = m.youngKpa * 1e3 / (1 - m.poisson * m.poisson);  // Pa
@@ -121,8 +108,7 @@ int run(int argc, char** argv) {
             csv << line;
         }
     } else {
-        const auto points =
-            app::compress(runner, numbers(strains, "--strains"), plateMm > 0 ? u.fromMm(plateMm) : r0, relax, say);
+        const auto points = app::compress(runner, strains, plateMm > 0 ? u.fromMm(plateMm) : r0, relax, say);
         csv << "strain,stress_kpa,lateral_strain,apparent_e_kpa,poisson,steps\n";
         for (const auto& pt : points) {
             char line[200];

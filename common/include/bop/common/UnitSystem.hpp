@@ -4,7 +4,6 @@
 // A scene without a material knows its lengths only (`physical` false): its mass, time and force
 // stay simulation units and are reported as such.
 #include <cmath>
-#include <string>
 
 namespace bop {
 
@@ -29,10 +28,6 @@ struct UnitSystem {
     double fromN(double n) const { return n / forceN(); }
     double toKpa(double pressure) const { return pressure * pressurePa() * 1e-3; }
     double fromKpa(double kpa) const { return kpa * 1e3 / pressurePa(); }
-
-    // The unit a person reads beside a force or a time: "N" and "s", or the simulation's.
-    std::string forceUnit() const { return physical ? "N" : "simulation force"; }
-    std::string timeUnit() const { return physical ? "s" : "simulation time"; }
 
     // From a length scale, a mass per particle and a stiffness: the energy unit is the one in which
     // a modulus of `modulusSim` (energy / length^3) is `modulusPa`, and time follows as
