@@ -108,6 +108,9 @@ public:
     virtual void buildHalo(const Particles&, double /*range*/, Halo& halo) { halo = Halo{}; }
     virtual void updateHalo(const Particles&, Halo&) {}
     virtual bool hasGhosts() const { return false; }
+    // One value per particle here to the ghosts that are its copies elsewhere, along the halo's
+    // plan: `ghosts` gets one per ghost, in halo order. Collective.
+    virtual void shareGhostValues(const std::vector<double>& /*mine*/, std::vector<double>& ghosts) { ghosts.clear(); }
 
     // ---- what the exchange did (this process's share; nothing for one process) ----
     struct Counts {

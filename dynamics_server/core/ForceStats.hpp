@@ -8,7 +8,7 @@
 namespace bop::core {
 
 struct ForceStats {
-    double pairEnergy = 0;    // LJ + co-normal + co-planar energy (weights symmetrised), energy units
+    double pairEnergy = 0;    // LJ + co-normal + co-planar energy (weights symmetrised) + bonds, energy units
     double probeEnergy = 0;   // energy of the probe's interaction with the particles
     double virial = 0;        // sum over pairs of r_ij . F_j (conservative pair forces), energy
     double virialVolume = 0;  // the same over pairs of two volume particles only

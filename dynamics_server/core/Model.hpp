@@ -26,6 +26,10 @@ struct Species {
     double alphaForceGm = 1.0;                      // alpha_f^GM: gradient-map spring stiffness, energy / length^2
     double alphaTorqueOp = 1.0;                     // alpha_tau^OP: weight of oriented-particle torques (eq. 3)
     double alphaTorqueGm = 1.0;                     // alpha_tau^GM: gradient-map torque, energy
+    // A bonded elastic volume (Bonds.hpp): the nearest neighbours' spring k, energy / length^2
+    // (0: the species is not bonded), and the volume term's modulus B, energy / length^3.
+    double bondStiffness = 0;
+    double bondBulk = 0;
 };
 
 struct Box {
@@ -68,6 +72,8 @@ struct ProbeSphere {
     double stiffness = 0;  // energy / length^2
 };
 
+struct BondNetwork;  // Bonds.hpp
+
 struct Model {
     std::vector<Species> species;  // index = species number; [0] is a placeholder
     LjParams ljParams;
@@ -87,6 +93,9 @@ struct Model {
     // one map: a static shape.
     std::vector<std::shared_ptr<const GradientMap>> frames;
     KeyframeSchedule keyframes;
+    // The bonds of the bags whose species have a bond stiffness (Bonds.hpp), built once from the
+    // placed particles; null: no bonds.
+    std::shared_ptr<const BondNetwork> bonds;
     core::Interpolation interpolation = core::Interpolation::Trilinear;
 
     int speciesCount() const { return int(species.size()) - 1; }

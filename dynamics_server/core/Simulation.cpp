@@ -93,8 +93,15 @@ void Simulation::submit(const Command& command) {
 }
 
 void Simulation::forces(bool energies) {
-    field_.compute(*model_, maps_, params_.probe, p_, stats_.forces, &times_.forces, energies,
-                   ex_->hasGhosts() ? &halo_ : nullptr);
+    const Halo* halo = ex_->hasGhosts() ? &halo_ : nullptr;
+    field_.compute(*model_, maps_, params_.probe, p_, stats_.forces, &times_.forces, energies, halo);
+    if (model_->bonds) {  // the ghosts' dilatations from their owners, then the bonds' forces
+        const auto t0 = PhaseClock::now();
+        bonds_.dilatation(*model_->bonds, p_, halo, theta_);
+        ex_->shareGhostValues(theta_, ghostTheta_);
+        stats_.forces.pairEnergy += bonds_.add(*model_->bonds, p_, halo, theta_, ghostTheta_, stats_.forces.virial);
+        times_.forces.pairs += secondsSince(t0);
+    }
     forcesStale_ = false;
     energiesCurrent_ = energies;
 }

@@ -6,6 +6,7 @@
 // brings the halo plan, migration, balancing and reductions. Keyframes, volumes, commands and
 // construction exist once, here. Free of MPI, sockets and files.
 #include "BloodPressure.hpp"
+#include "Bonds.hpp"
 #include "Command.hpp"
 #include "Construction.hpp"
 #include "Exchange.hpp"
@@ -168,6 +169,8 @@ private:
     std::optional<DragFactors> fireDrag_;  // of params_.drag over the minimiser's last step length
     Particles p_;
     Halo halo_;
+    BondForces bonds_;                        // the bonded volume's forces (model_->bonds)
+    std::vector<double> theta_, ghostTheta_;  // its particles' dilatations, here and the ghosts'
     Construction construction_;
     StepStats stats_;
     StepTimes times_;

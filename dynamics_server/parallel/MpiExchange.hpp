@@ -44,6 +44,7 @@ public:
     void buildHalo(const core::Particles& p, double range, core::Halo& halo) override;
     void updateHalo(const core::Particles& p, core::Halo& halo) override;
     bool hasGhosts() const override { return comm_.size() > 1; }
+    void shareGhostValues(const std::vector<double>& mine, std::vector<double>& ghosts) override;
 
     Counts counts() const override { return {haloBytes_, migrations_, rebalances_, initialImbalance_}; }
     std::array<int, 3> grid() const override { return comm_.dims(); }

@@ -2,6 +2,7 @@
 // a range of this subdomain, built in staged passes and refreshed along the same send lists.
 #include "MpiExchange.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 
@@ -100,6 +101,34 @@ void MpiExchange::updateHalo(const core::Particles& p, core::Halo& halo) {
         haloBytes_ += (out_[0].size() + out_[1].size()) * sizeof(GhostRefresh);
         store(in_[0], st.fromUpperAt, st.fromUpperCount);
         store(in_[1], st.fromLowerAt, st.fromLowerCount);
+    }
+}
+
+void MpiExchange::shareGhostValues(const std::vector<double>& mine, std::vector<double>& ghosts) {
+    std::size_t count = 0;
+    if (!stages_.empty() && mine.size() != particlesAtBuild_)
+        throw std::logic_error("ghost values: the particles changed since the plan was made");
+    for (const Stage& st : stages_) count = std::max(count, st.fromLowerAt + st.fromLowerCount);
+    ghosts.assign(count, 0.0);
+    std::vector<GhostValue> out[2], in[2];
+    for (const Stage& st : stages_) {
+        const auto pack = [&](const std::vector<std::uint32_t>& list, std::vector<GhostValue>& o) {
+            o.resize(list.size());
+            for (std::size_t k = 0; k < list.size(); ++k) {
+                const std::uint32_t s = list[k];
+                o[k].value = s < mine.size() ? mine[s] : ghosts[s - mine.size()];
+            }
+        };
+        const auto store = [&](const std::vector<GhostValue>& v, std::size_t at, std::size_t n) {
+            if (v.size() != n) throw std::runtime_error("ghost values: a neighbour sent another ghost count");
+            for (std::size_t k = 0; k < n; ++k) ghosts[at + k] = v[k].value;
+        };
+        pack(st.toLower, out[0]);
+        pack(st.toUpper, out[1]);
+        comm_.sendRecv(out[0], comm_.lower(st.axis), in[0], comm_.upper(st.axis), tag(GhostValueTag::ToLower, st.axis));
+        comm_.sendRecv(out[1], comm_.upper(st.axis), in[1], comm_.lower(st.axis), tag(GhostValueTag::ToUpper, st.axis));
+        store(in[0], st.fromUpperAt, st.fromUpperCount);
+        store(in[1], st.fromLowerAt, st.fromLowerCount);
     }
 }
 

@@ -15,6 +15,7 @@ namespace bop::parallel {
 enum class MigrationTag : int { ToLower = 100, ToUpper = 102 };
 enum class HaloBuildTag : int { ToLower = 200, ToUpper = 202 };
 enum class HaloRefreshTag : int { ToLower = 300, ToUpper = 302 };
+enum class GhostValueTag : int { ToLower = 400, ToUpper = 402 };
 template <class Tag>
 int tag(Tag t, int axis) {
     return int(t) + 4 * axis;
@@ -30,6 +31,11 @@ struct GhostRecord {
 // A ghost again along the same plan: position and normal.
 struct GhostRefresh {
     Eigen::Vector3d pos, normal;
+};
+
+// A value per ghost along the plan (a bonded particle's dilatation, core/Bonds.hpp).
+struct GhostValue {
+    double value = 0;
 };
 
 // A migrating particle: core::ParticleRecord.

@@ -1,12 +1,13 @@
 // Materials in a scene (app/scene/Material.hpp, docs/physics.md §8): each bag's Young's modulus,
-// density and relaxation time become the scene's units and the weights, map stiffnesses and drags
-// of its species; bad tables stop with the key.
+// Poisson ratio, density and relaxation time become the scene's units and the bonds, weights, map
+// stiffnesses and drags of its species; bad tables stop with the key.
 #include "TestUtil.hpp"
 #include "app/scene/SceneConfig.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <utility>
 
 using namespace bop;
 
@@ -64,23 +65,32 @@ TEST_CASE("two tissues: units from the stiffer, each bag's weights from its own 
     REQUIRE(s.calibration);
     // Lengths: 1 mm voxels, r0 = 2 voxels = sqrt 3 simulation units.
     CHECK(u.lengthMm == Approx(2 / std::sqrt(3.0)));
-    // The stiffer tissue has weight 1 and its modulus is the bag's at weight 1, in kPa.
+    // The stiffer tissue has weight 1: its P-wave modulus lambda + 2 mu is the unit's kPWaveModulus.
     CHECK(s.calibration->weight[0] == Approx(0.2));
     CHECK(s.calibration->weight[1] == Approx(1.0));
-    CHECK(u.toKpa(app::bagModulus(2.0)) == Approx(25.0));
+    const double nu = 0.3;
+    CHECK(u.toKpa(app::kPWaveModulus) == Approx(25.0 * (1 - nu) / ((1 + nu) * (1 - 2 * nu))));
+    // Each tissue's bonds: mu = k / (sqrt 2 r0) = E / (2 (1 + nu)); lambda = mu + B.
+    for (const auto& [species, e] : {std::pair{2, 5.0}, std::pair{3, 25.0}}) {
+        const double mu = m.species[std::size_t(species)].bondStiffness / (std::sqrt(2.0) * kR0);
+        CHECK(u.toKpa(mu) == Approx(e / (2 * (1 + nu))));
+        CHECK(u.toKpa(mu + m.species[std::size_t(species)].bondBulk) == Approx(e * nu / ((1 + nu) * (1 - 2 * nu))));
+    }
     // A particle carries its fcc cell of the first tissue's density: r0^3 / sqrt 2 at r0 = 2 mm.
     CHECK(u.massKg == Approx(1060 * std::pow(2e-3, 3) / std::sqrt(2.0)));
-    // LJ weights: each tissue's own, and across the border two springs in series.
-    CHECK(s.params.lj(1, 1) == Approx(0.2));
-    CHECK(s.params.lj(2, 2) == Approx(0.2));
-    CHECK(s.params.lj(3, 4) == Approx(1.0));
+    // LJ weights: none within a tissue (its bonds hold it), two springs in series across the border.
+    CHECK(s.params.lj(1, 1) == 0.0);
+    CHECK(s.params.lj(3, 4) == 0.0);
     CHECK(s.params.lj(2, 4) == Approx(2 * 0.2 / 1.2));
     CHECK(s.params.lj(4, 2) == Approx(s.params.lj(2, 4)));
-    // The sheet's own terms and the map scale with the tissue (shape_hold 1).
-    CHECK(s.params.coNormal(1, 1) == Approx(0.3 * 0.2));
-    CHECK(s.params.coPlanar(3, 3) == Approx(0.3));
-    CHECK(m.species[2].alphaForceGm == Approx(0.2));
-    CHECK(m.species[4].alphaForceGm == Approx(1.0));
+    // The sheet's own terms scale with the tissue, the map's spring with its bond (shape_hold).
+    CHECK(s.params.coNormal(1, 1) == Approx(app::kSheetWeight * 0.2));
+    CHECK(s.params.coPlanar(3, 3) == Approx(app::kSheetWeight));
+    CHECK(m.species[2].alphaForceGm == Approx(app::Material::kDefaultShapeHold * m.species[2].bondStiffness));
+    CHECK(m.species[4].alphaForceGm == Approx(app::Material::kDefaultShapeHold * m.species[4].bondStiffness));
+    // The sphere's contact: 10 times the stiffest bond.
+    REQUIRE(m.probeSphere);
+    CHECK(m.probeSphere->stiffness == Approx(10 * m.species[4].bondStiffness));
     // Drags: a particle's speed falls by e in the stated relaxation time (mass 1: beta = 1 / t).
     CHECK(u.toS(1 / s.params.drag[1].v) == Approx(0.05));
     CHECK(u.toS(1 / s.params.drag[4].v) == Approx(0.2));
@@ -96,7 +106,8 @@ TEST_CASE("mass scaling slows the clock and leaves the forces as they are", "[ph
     const app::Scene scaled = load(dir, kTwoTissues + "[units]\nmass_scaling = 100\n");
     CHECK(scaled.model->units.timeS / plain.model->units.timeS == Approx(10.0));
     CHECK(scaled.model->units.forceN() == Approx(plain.model->units.forceN()));
-    CHECK(scaled.params.lj(1, 1) == plain.params.lj(1, 1));
+    CHECK(scaled.params.lj(2, 4) == plain.params.lj(2, 4));
+    CHECK(scaled.model->species[2].bondStiffness == plain.model->species[2].bondStiffness);
 }
 
 TEST_CASE("a scene without materials keeps its hand-set weights and knows its lengths only", "[physics][material]") {
@@ -117,7 +128,10 @@ TEST_CASE("bad material tables name their key", "[physics][material]") {
         "radius_mm = 5\n";
     requireRefused(bag + "[[material]]\nbags = [\"b\"]\nyoung_kpa = 5\n", "material[0].bags", "no bag is named 'b'");
     requireRefused(bag + "[[material]]\nyoung_kpa = -5\n", "material[0].young_kpa", "above 0 kPa");
-    requireRefused(bag + "[[material]]\nyoung_kpa = 5\npoisson = 0.5\n", "material[0].poisson", "(-1, 0.5)");
+    requireRefused(bag + "[[material]]\nyoung_kpa = 5\npoisson = 0.5\n", "material[0].poisson", "below 0.5");
+    requireRefused(bag + "[[material]]\nyoung_kpa = 5\npoisson = 0.2\n", "material[0].poisson", "from 0.25");
+    requireRefused(bag + "[[material]]\nyoung_kpa = 5\n[construction]\nmethod = \"birth\"\n", "construction",
+                   "is placed");
     requireRefused(bag + "[[material]]\nyoung_kpa = 5\n[interactions]\nlj = [[1, 1], [1, 1]]\n", "interactions",
                    "give either");
     requireRefused(bag + "[units]\nmass_scaling = 10\n", "units.mass_scaling", "[[material]]");

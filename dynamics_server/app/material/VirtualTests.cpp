@@ -1,6 +1,7 @@
 #include "app/material/VirtualTests.hpp"
 
 #include "bop/common/Error.hpp"
+#include "bop/common/Units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -98,14 +99,24 @@ std::vector<IndentPoint> indent(core::Run& run, const Eigen::Vector2d& xy, const
     Held base;
     for (std::size_t i = 0; i < p.size(); ++i)
         if (p.pos[i].z() < zLow + baseDepth) base.add(p, i);
-    // First contact: the highest centre height at which the sphere touches a particle.
+    // First contact: the sphere resting on the surface's mean plane beneath it, the mean height of
+    // the top sheet's particles within R / 2 of the axis (the sheet is jittered about its voxels'
+    // centres; its highest particle lies above the surface Hertz's depth is measured from).
     const double R = sphere->radius;
-    double contact = -std::numeric_limits<double>::infinity();
-    for (const Eigen::Vector3d& x : p.pos) {
-        const double rho2 = (x.head<2>() - xy).squaredNorm();
-        if (rho2 < R * R) contact = std::max(contact, x.z() + std::sqrt(R * R - rho2));
-    }
-    if (!std::isfinite(contact)) throw std::invalid_argument("the sphere above that point touches no particle");
+    const auto& model = run.simulation().model();
+    double top = -std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < p.size(); ++i)
+        if (model.isSurface(p.species[i]) && (p.pos[i].head<2>() - xy).norm() < 0.5 * R)
+            top = std::max(top, p.pos[i].z());
+    if (!std::isfinite(top)) throw std::invalid_argument("no surface particle lies beneath the sphere's axis");
+    double sum = 0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+        if (model.isSurface(p.species[i]) && (p.pos[i].head<2>() - xy).norm() < 0.5 * R && p.pos[i].z() > top - kR0) {
+            sum += p.pos[i].z();
+            ++n;
+        }
+    const double contact = sum / double(n) + R;
     std::vector<IndentPoint> out;
     for (double d : depths) {
         core::ProbeState probe;
@@ -125,6 +136,19 @@ std::vector<IndentPoint> indent(core::Run& run, const Eigen::Vector2d& xy, const
     return out;
 }
 
+// The bag's cross-section in its map at height z: the voxels of any bag in that layer, length^2.
+static double sectionArea(core::Run& run, double z) {
+    const auto& map = run.simulation().mapInForce().map();
+    if (!map) throw std::invalid_argument("compression needs the bag's gradient map");
+    const double h = voxelLength(map->r0Voxels);
+    const Dims& d = map->dims();
+    const int layer = std::clamp(int(std::floor(z / h)) - map->origin.z(), 0, d.nz - 1);
+    std::size_t inside = 0;
+    for (int y = 0; y < d.ny; ++y)
+        for (int x = 0; x < d.nx; ++x) inside += map->occ[d.index(x, y, layer)] != 0;
+    return double(inside) * h * h;
+}
+
 std::vector<CompressPoint> compress(core::Run& run, const std::vector<double>& strains, double plateDepth,
                                     const Relaxation& relax, const std::function<void(const std::string&)>& progress) {
     requireOneProcess(run);
@@ -137,7 +161,6 @@ std::vector<CompressPoint> compress(core::Run& run, const std::vector<double>& s
         centre += x.head<2>();
     }
     centre /= double(p.size());
-    const double height = zHigh - zLow;
     Held bottom, top;
     bottom.heightOnly = top.heightOnly = true;
     Held middle;  // the mid-height band's surface particles (not held: located by id)
@@ -145,9 +168,17 @@ std::vector<CompressPoint> compress(core::Run& run, const std::vector<double>& s
         const double z = p.pos[i].z();
         if (z < zLow + plateDepth) bottom.add(p, i);
         if (z > zHigh - plateDepth) top.add(p, i);
-        if (std::abs(z - 0.5 * (zLow + zHigh)) < 0.15 * height && run.simulation().model().isSurface(p.species[i]))
+        if (std::abs(z - 0.5 * (zLow + zHigh)) < 0.15 * (zHigh - zLow) &&
+            run.simulation().model().isSurface(p.species[i]))
             middle.add(p, i);
     }
+    // The plates' layers move as one: the strain is over the distance between their mean heights.
+    const auto meanZ = [](const Held& h) {
+        double z = 0;
+        for (const Eigen::Vector3d& x : h.at) z += x.z();
+        return z / double(std::max<std::size_t>(1, h.at.size()));
+    };
+    const double height = meanZ(top) - meanZ(bottom);
     if (middle.id.empty()) throw std::invalid_argument("the bag's mid-height band holds no surface particle");
     const auto meanRadius = [&] {
         middle.locate(p);
@@ -156,7 +187,7 @@ std::vector<CompressPoint> compress(core::Run& run, const std::vector<double>& s
         return r / double(middle.index.size());
     };
     const double radius0 = meanRadius();
-    const double area = M_PI * radius0 * radius0;
+    const double area = sectionArea(run, 0.5 * (zLow + zHigh));
     const std::vector<Eigen::Vector3d> topStart = top.at;
     std::vector<CompressPoint> out;
     for (double e : strains) {

@@ -16,19 +16,32 @@ namespace bop::app {
 struct Material {
     std::string name;           // shown in reports: the [[material]]'s name, else its first bag's
     double youngKpa = 0;        // Young's modulus, kPa
-    double poisson = 0.3;       // Poisson ratio: Hertz's E / (1 - nu^2) (the bag's own: docs/physics.md §8.3)
+    double poisson = 0.3;       // Poisson ratio, from 0.25 (the bonds alone) to below 0.5
     double densityKgM3 = 1000;  // mass density, kg/m^3
     double relaxationS = 0.05;  // time in which the drag takes a particle's speed down by e, s
-    double shapeHold = 1.0;     // the gradient map's forces as a fraction of the material's weight
+    // The gradient map's spring on each particle as a fraction of a nearest-neighbour bond's: it
+    // holds the bag where its map is without stiffening it (docs/physics.md §8.2).
+    double shapeHold = kDefaultShapeHold;
+    static constexpr double kDefaultShapeHold = 0.005;
 };
 
 // What the calibration chose, for every bag and for the report.
 struct Calibration {
     UnitSystem units;
     double massScaling = 1;      // the particle mass times this (mass scaling: the dynamics, not the statics)
-    double modulusSim = 0;       // a bag's indentation modulus at weight 1 (kBagModulus), energy / length^3
-    std::vector<double> weight;  // per bag: its material's modulus over the stiffest one's
+    double pWaveSim = 0;         // the stiffest material's P-wave modulus, energy / length^3 (kPWaveModulus)
+    std::vector<double> weight;  // per bag: its P-wave modulus over the stiffest one's
+    // Per bag: the nearest neighbours' bond k (energy / length^2) and the volume term's B
+    // (energy / length^3), core/Bonds.hpp.
+    std::vector<double> bond, bulk;
 };
+
+// The P-wave modulus lambda + 2 mu of the stiffest material in simulation units: the fastest
+// sound, which sets the stable time step, the same in every scene (docs/physics.md §8.1).
+inline constexpr double kPWaveModulus = 6.0;
+// The sheet's co-normal and co-planar weights at weight 1: they keep its normals and its plane
+// smooth, a small part of its stiffness beside the bonds.
+inline constexpr double kSheetWeight = 0.05;
 
 // [[material]] tables (docs/scene-format.md): one Material per bag of `bagNames`, in their order;
 // none when the scene has no [[material]]. bop::Error naming the key for an unknown bag, a bag given
@@ -41,19 +54,15 @@ inline double lengthMmOf(double voxelMm, double r0Voxels) {
     return voxelMm * r0Voxels / bop::kR0;
 }
 
-// The Young's modulus a bag shows to the probe sphere at weight 1 (every weight 1, the map's at
-// shape_hold 1, the default LJ switch and oriented weights), energy / length^3, at r0 = r0Voxels
-// voxels: Hertz fitted to indentations of a block at r0_voxels 1.4 and 2, measured once by
-// scripts/bench/material.sh (docs/physics.md §8.3), linear in between and held beyond.
-double bagModulus(double r0Voxels);
+// Calibrates `materials` (one per bag, bag k's species 2k-1 and 2k) at `lengthMm`: the unit of
+// energy makes the stiffest material's P-wave modulus kPWaveModulus, so the paper's time step stays
+// stable whatever the moduli; each bag's bonds give its E and Poisson ratio on the fcc lattice
+// (lambda = mu = k / (sqrt 2 r0) from the springs, B = lambda - mu for the rest); time follows from
+// the mass of a particle (its fcc cell of the first material's density, times massScaling).
+Calibration calibrate(const std::vector<Material>& materials, double lengthMm, double massScaling);
 
-// Calibrates `materials` (one per bag, bag k's species 2k-1 and 2k) at `lengthMm` and r0Voxels:
-// the unit of energy makes the stiffest material's modulus the bag's at weight 1, so every weight is
-// at most 1 and the time step of the paper's range stays stable; time follows from the mass of a
-// particle (its fcc cell of the first material's density, times massScaling).
-Calibration calibrate(const std::vector<Material>& materials, double lengthMm, double r0Voxels, double massScaling);
-
-// Writes the calibration into the model's species and the params' weights and drags.
+// Writes the calibration into the model's species (bonds, map stiffness) and the params' weights
+// (no LJ within a bonded bag, the harmonic mean of the weights across a border) and drags.
 void applyCalibration(const Calibration& c, const std::vector<Material>& materials, core::Model& model,
                       core::Params& params);
 

@@ -154,8 +154,9 @@ Placement placeParticles(const Model& model, const GradientMap& m, const Placeme
                             area += (mid || membrane ? 0.5 : 1.0) * h * h *
                                     (flatFace(m, s, c, a, step, inner) ? 1.0 : 1.0 / std::max(1.0, n.lpNorm<1>()));
             const std::uint64_t key = mixHash(params.seed, 0x91aceULL, std::uint64_t(s), std::uint64_t(v));
-            const Eigen::Vector3d jitter(unit(mixHash(key, 1)) - 0.5, unit(mixHash(key, 2)) - 0.5,
-                                         unit(mixHash(key, 3)) - 0.5);
+            Eigen::Vector3d jitter(unit(mixHash(key, 1)) - 0.5, unit(mixHash(key, 2)) - 0.5,
+                                   unit(mixHash(key, 3)) - 0.5);
+            if (params.flatSheet && n.squaredNorm() > 0) jitter -= jitter.dot(n) * n / n.squaredNorm();
             cand.push_back({key, (c.cast<double>() + Eigen::Vector3d::Constant(0.5) + 0.6 * jitter) * h, v});
         }
         if (cand.empty()) continue;

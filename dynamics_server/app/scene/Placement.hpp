@@ -40,6 +40,10 @@ struct PlacementParams {
     // the outer faces on both sides hold one sheet between them, a membrane, and each counts half.
     // Null: every part counts its faces whole.
     const std::vector<char>* membrane = nullptr;
+    // The sheet's jitter along the surface only (its component along the map's normal dropped): a
+    // bonded bag (docs/physics.md §8.3) keeps its placed sheet as its rest shape, and a face stays
+    // as flat as its voxels' centres.
+    bool flatSheet = false;
 };
 
 struct PlacedSpecies {

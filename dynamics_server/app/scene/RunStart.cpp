@@ -4,6 +4,7 @@
 #include "app/scene/PieceSeeds.hpp"
 #include "bop/common/Error.hpp"
 #include "bop/common/GradientMapFile.hpp"
+#include "core/Bonds.hpp"
 #include "core/SoundState.hpp"
 #include "shape/GradientMapFileView.hpp"
 #include "shape/Thickness.hpp"
@@ -33,6 +34,31 @@ void placeInMap(const Scene& scene, const GradientMap& map, RunStart& s) {
     model->box.hi = Eigen::Vector3d(d.nx, d.ny, d.nz) * h;
     s.model = std::move(model);
     if (scene.probePositionVoxels) s.probe.position = *scene.probePositionVoxels * h;
+}
+
+// A restart file of a bonded bag holds the scene's placed particles (some may have died): each id
+// of the file names a placed particle of the same species.
+void checkPlacedIds(const core::Particles& placed, const core::Particles& file, const core::Model& model,
+                    const std::string& restart) {
+    std::vector<int> speciesOf;
+    for (std::size_t i = 0; i < placed.size(); ++i) {
+        if (placed.id[i] >= speciesOf.size()) speciesOf.resize(placed.id[i] + 1, 0);
+        speciesOf[placed.id[i]] = placed.species[i];
+    }
+    for (std::size_t i = 0; i < file.size(); ++i)
+        if (file.id[i] >= speciesOf.size() || speciesOf[file.id[i]] != file.species[i])
+            throw Error(restart, "particle id " + std::to_string(file.id[i]) + " (" +
+                                     model.species[file.species[i]].name +
+                                     ") is not one this scene places: a bonded bag restarts from its own "
+                                     "scene's run");
+}
+
+std::string bondReport(const core::BondNetwork& net, std::size_t particles) {
+    std::ostringstream out;
+    out << "bonded: " << net.bonds() << " bonds among " << particles << " placed particles (" << std::fixed
+        << std::setprecision(1) << 2.0 * double(net.bonds()) / double(std::max<std::size_t>(1, particles))
+        << " a particle), letting go beyond " << std::setprecision(2) << net.cut / kR0 << " r0";
+    return out.str();
 }
 
 }  // namespace
@@ -91,16 +117,20 @@ RunStart startRun(const Scene& scene, const std::string& cache, const std::strin
     // A bag to build (not one a restart brings): its thin parts said first, then placed if the
     // scene places it, or seeded in every piece if it grows from seeds.
     const bool place = scene.placement && restart.empty(), warn = root && progress && restart.empty();
-    if (scene.shape && (place || warn || hasDefaultSeed(scene.timeline))) {
+    // A bonded bag's bonds join its placed neighbours: placed again for a restart (deterministic).
+    const bool bonded = scene.placement && core::hasBonds(*s.model);
+    core::Particles placedForBonds;
+    std::vector<std::uint8_t> bagParent;
+    if (scene.shape && (place || bonded || warn || hasDefaultSeed(scene.timeline))) {
         const GradientMap header = s.options.map->header;
         const GradientMap whole = s.options.map->crop(
             0, bop::VoxelWindow{Eigen::Vector3i::Zero(),
                                 Eigen::Vector3i(header.wholeDims().nx, header.wholeDims().ny, header.wholeDims().nz)});
         // The thin parts: said, and held as membranes where the bag is placed (one search for both).
         std::vector<char> membrane;
-        if (warn || place) {
+        if (warn || place || bonded) {
             const std::vector<std::string> thin =
-                shape::thinPartsWarnings(whole, scene.shape->bagNames(), place ? &membrane : nullptr);
+                shape::thinPartsWarnings(whole, scene.shape->bagNames(), place || bonded ? &membrane : nullptr);
             if (warn)
                 for (const std::string& w : thin) progress("warning: " + w);
         }
@@ -108,12 +138,16 @@ RunStart startRun(const Scene& scene, const std::string& cache, const std::strin
         s.timeline = std::move(seeding.timeline);  // every process alike, from the same map
         if (warn && !place)
             for (const std::string& n : seeding.notes) progress(n);
-        if (place) {  // every process places on the whole map alike and keeps what it owns (core::Run)
+        if (place || bonded) {  // every process places on the whole map alike and keeps what it owns (core::Run)
             app::PlacementParams params = *scene.placement;
             params.membrane = &membrane;
             app::Placement placed = app::placeParticles(*s.model, whole, params);
-            if (root && progress) progress(placementReport(*s.model, placed.species));
-            s.particles = std::move(placed.particles);
+            if (root && progress && place) progress(placementReport(*s.model, placed.species));
+            if (bonded) {
+                placedForBonds = placed.particles;
+                bagParent = whole.bagParent;
+            }
+            if (place) s.particles = std::move(placed.particles);
         }
     }
     core::Construction construction({}, {}, s.model->speciesCount());
@@ -121,9 +155,21 @@ RunStart startRun(const Scene& scene, const std::string& cache, const std::strin
         initialParticles(scene, *s.model, s.timeline, restart, s.firstStep, construction, s.settle);
     s.settleFile = restart;
     if (!place) s.particles = std::move(fromFile);
+    if (bonded) {
+        if (!restart.empty()) checkPlacedIds(placedForBonds, s.particles, *s.model, restart);
+        auto model = std::make_shared<core::Model>(*s.model);
+        model->bonds = std::make_shared<const core::BondNetwork>(
+            core::buildBonds(*model, placedForBonds, core::bondCut(*model, scene.params), bagParent));
+        if (root && progress) progress(bondReport(*model->bonds, placedForBonds.size()));
+        s.model = std::move(model);
+    }
     s.options.firstStep = s.firstStep;
     s.options.params = scene.params;
     s.options.params->probe = s.probe;
+    if (bonded)  // bonds hold joined bags together: no LJ between them (app/scene/Material.hpp)
+        for (int a = 1; a <= s.model->speciesCount(); ++a)
+            for (int b = 1; b <= s.model->speciesCount(); ++b)
+                if (core::bondedBags(bagParent, a, b)) s.options.params->lj(a, b) = 0;
     s.options.construction = std::move(construction);
     return s;
 }

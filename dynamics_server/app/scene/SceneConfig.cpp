@@ -232,7 +232,7 @@ void readUnits(const ConfigTable& root, Scene& s, core::Model& m) {
         t->finish();
     }
     if (s.materials.empty()) return;
-    s.calibration = calibrate(s.materials, m.units.lengthMm, s.shape->grid.r0Voxels, massScaling);
+    s.calibration = calibrate(s.materials, m.units.lengthMm, massScaling);
     m.units = s.calibration->units;
     applyCalibration(*s.calibration, s.materials, m, s.params);
 }
@@ -313,6 +313,11 @@ Scene loadScene(const std::string& path) {
     readUnits(root, s, m);
     if (s.bulk && m.hasSurfaceSpecies()) root.fail("species", "a bulk [box] holds volume particles only");
     readConstruction(root, s);
+    if (!s.materials.empty() && !s.placement)
+        root.fail("construction",
+                  "a bag with a [[material]] is placed (method = \"place\"): its bonds join the "
+                  "placed neighbours");
+    if (s.placement) s.placement->flatSheet = !s.materials.empty();
     if (s.placement) s.run.steps = kPlacedStepsCap;
     if (const auto t = root.optionalTable("probe")) {
         s.probe.active = t->boolean("active", false);
@@ -332,8 +337,11 @@ Scene loadScene(const std::string& path) {
             if (!s.shape) t->fail("radius_mm", "a sphere's radius is in mm of a [shape]'s grid; the scene has none");
             core::ProbeSphere sphere;
             sphere.radius = m.units.fromMm(positive(*t, "radius_mm", t->number("radius_mm")));
-            // In multiples of the stiffest pair's bond stiffness, phi''(r0) = 1/sqrt(3) at weight 1.
-            sphere.stiffness = positive(*t, "contact_stiffness", t->number("contact_stiffness", 10.0)) / kR0;
+            // In multiples of the stiffest bond: a bonded bag's nearest-neighbour spring, else an LJ
+            // pair's at its minimum, phi''(r0) = 1/sqrt(3) at weight 1.
+            double bond = 1 / kR0;
+            if (s.calibration) bond = *std::max_element(s.calibration->bond.begin(), s.calibration->bond.end());
+            sphere.stiffness = positive(*t, "contact_stiffness", t->number("contact_stiffness", 10.0)) * bond;
             m.probeSphere = sphere;
         } else if (t->has("contact_stiffness")) {
             t->fail("contact_stiffness", "the contact of a sphere: give radius_mm too");

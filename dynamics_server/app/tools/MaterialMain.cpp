@@ -41,7 +41,8 @@ int run(int argc, char** argv) {
     app.add_option("--depths-mm", depthsMm, "indent: the sphere's depths beyond first contact, mm, comma separated")
         ->delimiter(',')
         ->check(CLI::PositiveNumber);
-    app.add_option("--at-mm", xyMm, "indent: x y of the sphere's axis, mm (default: the bag's centre)")->expected(2);
+    app.add_option("--at-mm", xyMm, "indent: x y of the sphere's axis from the bag's centre, mm (default 0 0)")
+        ->expected(2);
     app.add_option("--base-mm", baseMm, "indent: depth of the held base, mm (default r0)");
     app.add_option("--strains", strains, "compress: the plates' approach over the height, comma separated")
         ->delimiter(',')
@@ -80,7 +81,7 @@ int run(int argc, char** argv) {
         Eigen::Vector2d xy = Eigen::Vector2d::Zero();
         for (const auto& x : p.pos) xy += x.head<2>();
         xy /= double(p.size());
-        if (xyMm.size() == 2) xy = Eigen::Vector2d(u.fromMm(xyMm[0]), u.fromMm(xyMm[1]));
+        if (xyMm.size() == 2) xy += Eigen::Vector2d(u.fromMm(xyMm[0]), u.fromMm(xyMm[1]));
         std::vector<double> depths;
         for (double d : depthsMm) depths.push_back(u.fromMm(d));
         const double R = s.model->probeSphere ? s.model->probeSphere->radius : 0;
@@ -96,9 +97,8 @@ int run(int argc, char** argv) {
             gg += g * g;
         }
         if (gg > 0)
-            say("Hertz fit over depths up to 0.2 R: E " + std::to_string(u.toKpa(fg / gg)) + " kPa (" +
-                std::to_string(fg / gg / scene.calibration->weight.front()) +
-                " energy / length^3 at weight 1), stated " + std::to_string(m.youngKpa) + " kPa");
+            say("Hertz fit over depths up to 0.2 R: E " + std::to_string(u.toKpa(fg / gg)) + " kPa, stated " +
+                std::to_string(m.youngKpa) + " kPa");
         for (const auto& pt : points) {
             const double dM = u.toMm(pt.depth) * 1e-3, rM = u.toMm(R) * 1e-3;
             const double hertz = 4.0 / 3.0 * eStar * std::sqrt(rM) * std::pow(dM, 1.5);

@@ -1,0 +1,213 @@
+#include "Bonds.hpp"
+
+#include "PairForces.hpp"
+#include "Threads.hpp"
+#include "bop/common/GradientMap.hpp"
+#include "bop/common/Units.hpp"
+
+#include <Eigen/Cholesky>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace bop::core {
+namespace {
+
+struct Cells {
+    double width;
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> members;
+    static std::uint64_t key(const Eigen::Vector3i& c) {
+        const auto u = [](int v) { return std::uint64_t(std::uint32_t(v + (1 << 20))) & 0x1fffff; };
+        return u(c.x()) | (u(c.y()) << 21) | (u(c.z()) << 42);
+    }
+    Eigen::Vector3i cell(const Eigen::Vector3d& x) const { return (x / width).array().floor().cast<int>().matrix(); }
+};
+
+// a_ij: the trace of the least-squares strain eps over i's bonds, from l - L = L n.eps.n.
+void traceCoefficients(const Particles& placed, BondNetwork& net) {
+    std::vector<Eigen::Vector3d> at(net.idLimit(), Eigen::Vector3d::Zero());
+    for (std::size_t i = 0; i < placed.size(); ++i) at[placed.id[i]] = placed.pos[i];
+    using Row = Eigen::Matrix<double, 6, 1>;
+    const auto row = [&](std::uint64_t i, std::uint64_t j) {
+        const Eigen::Vector3d r = at[j] - at[i];
+        const Eigen::Vector3d n = r.normalized();
+        Row a;
+        a << n.x() * n.x(), n.y() * n.y(), n.z() * n.z(), 2 * n.x() * n.y(), 2 * n.x() * n.z(), 2 * n.y() * n.z();
+        return Row(r.norm() * a);
+    };
+    Row trace;
+    trace << 1, 1, 1, 0, 0, 0;
+    net.trace.assign(net.partner.size(), 0.0);
+    for (std::uint64_t id = 0; id < net.idLimit(); ++id) {
+        if (net.start[id] == net.start[id + 1]) continue;
+        Eigen::Matrix<double, 6, 6> m = Eigen::Matrix<double, 6, 6>::Zero();
+        for (std::uint32_t b = net.start[id]; b < net.start[id + 1]; ++b) {
+            const Row a = row(id, net.partner[b]);
+            m += a * a.transpose();
+        }
+        // A light ridge: a neighbourhood that misses a strain component reads none of it rather
+        // than a large one.
+        m += 1e-3 * m.trace() / 6 * Eigen::Matrix<double, 6, 6>::Identity();
+        const Row x = m.ldlt().solve(trace);
+        for (std::uint32_t b = net.start[id]; b < net.start[id + 1]; ++b) net.trace[b] = row(id, net.partner[b]).dot(x);
+    }
+    net.traceAtPartner.assign(net.trace.size(), 0.0);
+    for (std::uint64_t id = 0; id < net.idLimit(); ++id)
+        for (std::uint32_t b = net.start[id]; b < net.start[id + 1]; ++b) {
+            const std::uint64_t j = net.partner[b];
+            const auto first = net.partner.begin() + net.start[j], last = net.partner.begin() + net.start[j + 1];
+            net.traceAtPartner[b] = net.trace[std::size_t(std::lower_bound(first, last, id) - net.partner.begin())];
+        }
+}
+
+}  // namespace
+
+bool hasBonds(const Model& model) {
+    for (const Species& s : model.species)
+        if (s.bondStiffness > 0) return true;
+    return false;
+}
+
+double bondCut(const Model& model, const Params& params) {
+    return PairForces::listRange(model, params) - model.integration.skinR0 * bop::kR0;
+}
+
+bool bondedBags(const std::vector<std::uint8_t>& bagParent, int a, int b) {
+    const int ba = bop::bagOfSpecies(a), bb = bop::bagOfSpecies(b);
+    return ba == bb || bop::parentOfBag(bagParent, ba) == bb || bop::parentOfBag(bagParent, bb) == ba;
+}
+
+BondNetwork buildBonds(const Model& model, const Particles& placed, double cut,
+                       const std::vector<std::uint8_t>& bagParent) {
+    const double reach = kBondReachR0 * bop::kR0, r0 = bop::kR0;
+    const double volume = r0 * r0 * r0 / std::sqrt(2.0);  // an fcc site's, length^3
+    const auto bonded = [&](std::size_t i) { return model.species[placed.species[i]].bondStiffness > 0; };
+    Cells cells{reach, {}};
+    std::uint64_t idLimit = 0;
+    for (std::uint32_t i = 0; i < placed.size(); ++i) {
+        idLimit = std::max(idLimit, placed.id[i] + 1);
+        if (bonded(i)) cells.members[Cells::key(cells.cell(placed.pos[i]))].push_back(i);
+    }
+    struct Entry {
+        std::uint64_t partner;
+        double rest, stiffness;
+    };
+    std::vector<std::vector<Entry>> byId(idLimit);
+    for (std::uint32_t i = 0; i < placed.size(); ++i) {
+        if (!bonded(i)) continue;
+        const Eigen::Vector3i c = cells.cell(placed.pos[i]);
+        const double ki = model.species[placed.species[i]].bondStiffness;
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const auto it = cells.members.find(Cells::key(c + Eigen::Vector3i(dx, dy, dz)));
+                    if (it == cells.members.end()) continue;
+                    for (std::uint32_t j : it->second) {
+                        if (j == i || !bondedBags(bagParent, placed.species[i], placed.species[j])) continue;
+                        const double L = (placed.pos[j] - placed.pos[i]).norm();
+                        if (L >= reach || L == 0.0) continue;
+                        const double kj = model.species[placed.species[j]].bondStiffness;
+                        const double s = std::min(1.0, std::pow(r0 / L, 4));
+                        byId[placed.id[i]].push_back({placed.id[j], L, 2 * ki * kj / (ki + kj) * s});
+                    }
+                }
+    }
+    BondNetwork net;
+    net.cut = cut;
+    net.start.assign(idLimit + 1, 0);
+    net.bulkVolume.assign(idLimit, 0.0);
+    for (std::uint64_t id = 0; id < idLimit; ++id) {
+        auto& list = byId[id];
+        std::sort(list.begin(), list.end(), [](const Entry& a, const Entry& b) { return a.partner < b.partner; });
+        for (const Entry& e : list) {
+            net.partner.push_back(e.partner);
+            net.rest.push_back(e.rest);
+            net.stiffness.push_back(e.stiffness);
+        }
+        if (net.partner.size() >= std::numeric_limits<std::uint32_t>::max())
+            throw std::runtime_error("bonds: more than 2^32 bond ends");
+        net.start[id + 1] = std::uint32_t(net.partner.size());
+    }
+    traceCoefficients(placed, net);
+    for (std::uint32_t i = 0; i < placed.size(); ++i)
+        if (bonded(i)) net.bulkVolume[placed.id[i]] = model.species[placed.species[i]].bondBulk * volume;
+    return net;
+}
+
+void BondForces::index(const BondNetwork& net, const Particles& p, const Halo* halo) {
+    for (std::uint64_t id : filled_) where_[id] = -1;
+    filled_.clear();
+    where_.resize(net.idLimit(), -1);
+    const auto put = [&](std::uint64_t id, std::int64_t at) {
+        if (id >= net.idLimit()) return;
+        where_[id] = at;
+        filled_.push_back(id);
+    };
+    for (std::size_t i = 0; i < p.size(); ++i) put(p.id[i], std::int64_t(i));
+    if (halo)
+        for (std::size_t g = 0; g < halo->size(); ++g) put(halo->id[g], std::int64_t(p.size() + g));
+}
+
+void BondForces::dilatation(const BondNetwork& net, const Particles& p, const Halo* halo, std::vector<double>& theta) {
+    index(net, p, halo);
+    theta.assign(p.size(), 0.0);
+    const auto posOf = [&](std::int64_t at) {
+        return std::size_t(at) < p.size() ? p.pos[std::size_t(at)] : halo->pos[std::size_t(at) - p.size()];
+    };
+    const double cut2 = net.cut * net.cut;
+    forEachIndex(p.size(), [&](std::size_t i) {
+        const std::uint64_t id = p.id[i];
+        if (id >= net.idLimit()) return;
+        double s = 0;
+        for (std::uint32_t b = net.start[id]; b < net.start[id + 1]; ++b) {
+            const std::int64_t at = where_[net.partner[b]];
+            if (at < 0) continue;
+            const double l2 = (posOf(at) - p.pos[i]).squaredNorm();
+            if (l2 > cut2) continue;
+            s += net.trace[b] * (std::sqrt(l2) - net.rest[b]);
+        }
+        theta[i] = s;
+    });
+}
+
+double BondForces::add(const BondNetwork& net, Particles& p, const Halo* halo, const std::vector<double>& theta,
+                       const std::vector<double>& ghostTheta, double& virial) {
+    const auto posOf = [&](std::int64_t at) {
+        return std::size_t(at) < p.size() ? p.pos[std::size_t(at)] : halo->pos[std::size_t(at) - p.size()];
+    };
+    const auto thetaOf = [&](std::int64_t at) {
+        return std::size_t(at) < p.size() ? theta[std::size_t(at)] : ghostTheta[std::size_t(at) - p.size()];
+    };
+    const double cut2 = net.cut * net.cut;
+    const std::array<double, 2> sums = sumsIndex<2>(p.size(), [&](std::size_t i) {
+        const std::uint64_t id = p.id[i];
+        if (id >= net.idLimit() || net.start[id] == net.start[id + 1]) return std::array<double, 2>{};
+        const double pressMine = net.bulkVolume[id] * theta[i];
+        Eigen::Vector3d f = Eigen::Vector3d::Zero();
+        double energy = 0.5 * net.bulkVolume[id] * theta[i] * theta[i], w = 0;
+        for (std::uint32_t b = net.start[id]; b < net.start[id + 1]; ++b) {
+            const std::uint64_t j = net.partner[b];
+            const std::int64_t at = where_[j];
+            if (at < 0) continue;
+            const Eigen::Vector3d r = posOf(at) - p.pos[i];
+            const double l2 = r.squaredNorm();
+            if (l2 > cut2) continue;
+            const double l = std::sqrt(l2), stretch = l - net.rest[b];
+            const double tension = net.stiffness[b] * stretch + pressMine * net.trace[b] +
+                                   net.bulkVolume[j] * thetaOf(at) * net.traceAtPartner[b];
+            f += (tension / l) * r;
+            energy += 0.25 * net.stiffness[b] * stretch * stretch;  // half of the bond's, at each end
+            w -= 0.5 * tension * l;
+        }
+        p.force[i] += f;
+        return std::array<double, 2>{energy, w};
+    });
+    virial += sums[1];
+    return sums[0];
+}
+
+}  // namespace bop::core
