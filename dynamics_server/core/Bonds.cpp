@@ -82,7 +82,7 @@ bool bondedBags(const std::vector<std::uint8_t>& bagParent, int a, int b) {
 }
 
 BondNetwork buildBonds(const Model& model, const Particles& placed, double cut,
-                       const std::vector<std::uint8_t>& bagParent) {
+                       const std::vector<std::uint8_t>& bagParent, double supportBelow) {
     const double reach = kBondReachR0 * bop::kR0, r0 = bop::kR0;
     const double volume = r0 * r0 * r0 / std::sqrt(2.0);  // an fcc site's, length^3
     const auto bonded = [&](std::size_t i) { return model.species[placed.species[i]].bondStiffness > 0; };
@@ -133,8 +133,20 @@ BondNetwork buildBonds(const Model& model, const Particles& placed, double cut,
         net.start[id + 1] = std::uint32_t(net.partner.size());
     }
     traceCoefficients(placed, net);
+    net.anchor.assign(idLimit, Eigen::Vector3d::Zero());
+    net.anchorStiffness.assign(idLimit, 0.0);
+    double lowest = std::numeric_limits<double>::infinity();
     for (std::uint32_t i = 0; i < placed.size(); ++i)
-        if (bonded(i)) net.bulkVolume[placed.id[i]] = model.species[placed.species[i]].bondBulk * volume;
+        if (bonded(i)) lowest = std::min(lowest, placed.pos[i].z());
+    for (std::uint32_t i = 0; i < placed.size(); ++i) {
+        if (!bonded(i)) continue;
+        const Species& sp = model.species[placed.species[i]];
+        net.bulkVolume[placed.id[i]] = sp.bondBulk * volume;
+        if (supportBelow > 0 && placed.pos[i].z() < lowest + supportBelow) {
+            net.anchor[placed.id[i]] = placed.pos[i];
+            net.anchorStiffness[placed.id[i]] = kAnchorBonds * sp.bondStiffness;
+        }
+    }
     return net;
 }
 
@@ -185,10 +197,12 @@ double BondForces::add(const BondNetwork& net, Particles& p, const Halo* halo, c
     const double cut2 = net.cut * net.cut;
     const std::array<double, 2> sums = sumsIndex<2>(p.size(), [&](std::size_t i) {
         const std::uint64_t id = p.id[i];
-        if (id >= net.idLimit() || net.start[id] == net.start[id + 1]) return std::array<double, 2>{};
+        if (id >= net.idLimit()) return std::array<double, 2>{};
         const double pressMine = net.bulkVolume[id] * theta[i];
-        Eigen::Vector3d f = Eigen::Vector3d::Zero();
-        double energy = 0.5 * net.bulkVolume[id] * theta[i] * theta[i], w = 0;
+        const Eigen::Vector3d held = net.anchor[id] - p.pos[i];  // a support's spring (0 without one)
+        Eigen::Vector3d f = net.anchorStiffness[id] * held;
+        double energy = 0.5 * (net.bulkVolume[id] * theta[i] * theta[i] + net.anchorStiffness[id] * held.squaredNorm());
+        double w = 0;
         for (std::uint32_t b = net.start[id]; b < net.start[id + 1]; ++b) {
             const std::uint64_t j = net.partner[b];
             const std::int64_t at = where_[j];

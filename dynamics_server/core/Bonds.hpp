@@ -36,7 +36,11 @@ struct BondNetwork {
     // a_ij of the entry's own particle and a_ji of its partner, 1 / length.
     std::vector<double> trace, traceAtPartner;
     std::vector<double> bulkVolume;  // per id: B_i v, energy
-    double cut = 0;                  // a bond pulls while its length is at most this, length units
+    // Per id: a support's anchor, where the particle was placed, and its spring, energy / length^2
+    // (0: not anchored).
+    std::vector<Eigen::Vector3d> anchor;
+    std::vector<double> anchorStiffness;
+    double cut = 0;  // a bond pulls while its length is at most this, length units
 
     std::size_t bonds() const { return partner.size() / 2; }  // each bond is listed at both ends
     std::uint64_t idLimit() const { return start.empty() ? 0 : start.size() - 1; }
@@ -57,9 +61,14 @@ bool bondedBags(const std::vector<std::uint8_t>& bagParent, int a, int b);
 
 // Bonds between the particles of `placed` closer than kBondReachR0 r0 whose bags are joined
 // (bondedBags) and whose species have Species::bondStiffness above 0; across two bags the two
-// springs in series. cut: length units. The same network on every process given the same particles.
+// springs in series. cut: length units. supportBelow (length units; 0: none): the bonded particles
+// placed within this height of the lowest are anchored there by kAnchorBonds of their bonds. The
+// same network on every process given the same particles.
 BondNetwork buildBonds(const Model& model, const Particles& placed, double cut,
-                       const std::vector<std::uint8_t>& bagParent);
+                       const std::vector<std::uint8_t>& bagParent, double supportBelow = 0);
+
+// A support's anchor in nearest-neighbour bonds: stiff against the bag, far from the step's limit.
+inline constexpr double kAnchorBonds = 10.0;
 
 // The network's forces on this process's particles; ghosts' dilatations come from their owners.
 class BondForces {

@@ -89,6 +89,8 @@ int main(int argc, char** argv) {
                        "this client's CURVE key pair PREFIX (.pub and .key), for a "
                        "server that lets in listed clients only");
         CLI11_PARSE(app, argc, argv);
+        o.couplingGiven = app.count("--stiffness") > 0;
+        o.fieldGiven = app.count("--field-stiffness") > 0;
         if (!target.empty()) o.target = parseVector3(target, "--target");
         if (!workspaceCentre.empty()) o.workspaceCentre = parseVector3(workspaceCentre, "--workspace-centre");
         if (!inward.empty()) o.script.inward = parseVector3(inward, "--inward");

@@ -117,12 +117,20 @@ int runHaptic(const RunOptions& o) {
     // The coupling as the device renders it, N/mm, within what the device renders stably.
     ForceModelParams params = o.model;
     const double newtonsPerMm = w.newtonsPerForce * w.scale;  // per (force / length)
-    if (params.stiffness * newtonsPerMm > device->limits().maxStiffnessNPerMm) {
+    // A tissue in newtons: felt through the stiffest coupling the device renders (in series with
+    // the tissue, the softer of the two is what the hand feels), its force from the server alone.
+    const double fieldStiffness = units.physical && !o.fieldGiven ? 0.0 : o.fieldStiffness;
+    if (units.physical && !o.couplingGiven) {
+        params.stiffness = device->limits().maxStiffnessNPerMm / newtonsPerMm;
+        std::printf("bop-haptic: coupling %.3g force/length, the device's stiffest (%.3g N/mm); no map field\n",
+                    params.stiffness, device->limits().maxStiffnessNPerMm);
+    }
+    if (params.stiffness * newtonsPerMm > device->limits().maxStiffnessNPerMm * (1 + 1e-12)) {
         params.stiffness = device->limits().maxStiffnessNPerMm / newtonsPerMm;
         std::printf("bop-haptic: coupling stiffness lowered to %.3g force/length (%.3g N/mm, the device's most)\n",
                     params.stiffness, device->limits().maxStiffnessNPerMm);
     }
-    ForceModel model(params, field && o.fieldStiffness > 0
+    ForceModel model(params, field && fieldStiffness > 0
                                  ? std::function<Eigen::Vector3d(const Eigen::Vector3d&)>(std::cref(*field))
                                  : std::function<Eigen::Vector3d(const Eigen::Vector3d&)>());
     const double k0 = o.k0 > 0 ? o.k0 : scene.tunables.k0, k1 = o.k1 > 0 ? o.k1 : scene.tunables.k1;
@@ -145,7 +153,7 @@ int runHaptic(const RunOptions& o) {
         w.newtonsPerForce,
         units.physical ? (o.forceScale == 1 ? "the tissue's newtons" : "the tissue's newtons, scaled by --force-scale")
                        : "--newtons-per-force: the scene has no materials",
-        params.stiffness, field ? o.fieldStiffness : 0.0);
+        params.stiffness, field ? fieldStiffness : 0.0);
     std::fflush(stdout);
     std::uint64_t seq = 0, feedbacks = 0;
     double largestN = 0;

@@ -21,6 +21,9 @@ struct RunOptions {
     DeviceOptions script;
     ForceModelParams model;
     double fieldStiffness = 5;  // force / length; 0: no field
+    // Whether --stiffness and --field-stiffness were given: for a scene with materials the coupling
+    // defaults to the device's stiffest and the field to none, so the hand feels the tissue's N/mm.
+    bool couplingGiven = false, fieldGiven = false;
     DeviceLimits limits;
     // N per simulation force unit for a scene without materials (default 0.5); a scene with them
     // gives its forces in N (SceneInfo's units) and refuses this.

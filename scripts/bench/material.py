@@ -101,14 +101,47 @@ for ax in (ax1, ax2):
 fig.tight_layout()
 fig.savefig(os.path.join(out, "compress.png"), dpi=100)
 
+
+
+def boussinesq_uz(z_mm, a_mm, nu=0.3):
+    """Vertical displacement on the axis at depth z under Hertz's pressure p0 sqrt(1 - s^2/a^2) over
+    a circle of radius a on a half-space (Boussinesq's point load summed over rings), in units of
+    p0 / E mm."""
+    s = (np.arange(4000) + 0.5) / 4000 * a_mm
+    p = np.sqrt(1 - (s / a_mm) ** 2)
+    r = np.sqrt(s * s + z_mm * z_mm)
+    return float(np.sum(p * s * (a_mm / 4000) * (1 + nu) / r * (2 * (1 - nu) + z_mm * z_mm / r ** 2)))
+
+
+def palpation_estimate(depth_mm, radius_mm=8.0, top_mm=4.0, bottom_mm=12.0, factor=5.0):
+    """Force above a stiffer ball over the force beside it at one depth: the contact's compliance on
+    the axis, the vertical strain between the ball's top and bottom divided by `factor` (springs in
+    series along the axis; the lateral spread of the ball's stiffness is left out)."""
+    a = np.sqrt(radius_mm * depth_mm)
+    u0 = boussinesq_uz(1e-6, a)
+    return u0 / (u0 - (1 - 1 / factor) * (boussinesq_uz(top_mm, a) - boussinesq_uz(bottom_mm, a)))
+
+
 # Palpation: above the inclusion against beside it, at equal depth.
 for path in sorted(glob.glob(os.path.join(out, "palpate-r*-at0_0.csv"))):
     r0 = re.search(r"palpate-r([0-9.]+)-", path).group(1)
     above, aside = rows(path), rows(path.replace("at0_0", "at12_0"))
     for a, b in zip(above, aside):
         ratio = float(a["force_n"]) / float(b["force_n"])
+        est = palpation_estimate(float(a["depth_mm"]))
         summary.append(f"palpation r0 {float(r0):g} voxels at {a['depth_mm']} mm: force above the 5x inclusion over "
-                       f"beside it {ratio:.3f} (bounds: 1, a ball too deep to feel; 5, a block all of it)")
+                       f"beside it {ratio:.3f} (Boussinesq series estimate {est:.3f}; bounds 1 and 5)")
+
+# Felt: bop-haptic's stiffness curve on the served block against Hertz at the same depths.
+felt = os.path.join(out, "felt", "stiffness.csv")
+if os.path.exists(felt):
+    rs = rows(felt)
+    d, f = col(rs, "depth_mm"), col(rs, "force_n")
+    hertz = 4 / 3 * 5e3 / (1 - 0.3 ** 2) * np.sqrt(8e-3) * (d * 1e-3) ** 1.5
+    k, kh = float(np.dot(d, f) / np.dot(d, d)), float(np.dot(d, hertz) / np.dot(d, d))
+    summary.append(f"felt: bop-haptic on the served 5 kPa block, stiffness fitted over 0-{d.max():.2f} mm "
+                   f"{k:.4g} N/mm against Hertz's {kh:.4g} N/mm, ratio {k / kh:.3f} "
+                   f"(target within 20%: {verdict(abs(k / kh - 1) <= 0.2)})")
 
 rt = os.path.join(out, "real-time.txt")
 if os.path.exists(rt):

@@ -9,8 +9,11 @@
 #   at both resolutions, stated nu 0.3 and 0.45: apparent E (stress over strain at 2-5%) within
 #   10% of the stated E, Poisson ratio (lateral over axial strain) within 0.05 of the stated one.
 # - Palpation: the block with a ball of 5 times its modulus (radius 4 mm) one radius below its top,
-#   the sphere pressed 1.2 mm above the ball and 12 mm aside: the force's ratio, against the
-#   bounds 1 (a ball too deep to feel) and 5 (a block all of the stiffer tissue).
+#   the sphere pressed 0.4-1.2 mm above the ball and 12 mm aside: the force's ratio, against an
+#   estimate from Boussinesq's solution (material.py) and the bounds 1 and 5.
+# - Felt: bop-haptic's sim:poke on the served 5 kPa block (config/scenes/tissue-block.toml, on its
+#   support), the sphere from touching its top to 0.2 R: the stiffness fitted to the curve it
+#   writes (N against mm, no force scale given) against Hertz's at the same depths, within 20%.
 # - Real time: the torus of config/scenes/torus.toml at 5 kPa served for 1,500 steps, without mass
 #   scaling and with the scaling that its step rate asks for (the factor stated): the real-time
 #   factor each reports.
@@ -18,7 +21,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j "${BOP_JOBS:-2}" --target bop-server bop-material >/dev/null
+cmake --build build -j "${BOP_JOBS:-2}" --target bop-server bop-material bop-haptic >/dev/null
 out=out/bench/material; rm -rf "$out"; mkdir -p "$out"
 echo "material: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores" | tee "$out/cpu.txt"
 resolutions=(2.0 1.4); [[ ${BOP_MATERIAL_QUICK:-0} == 1 ]] && resolutions=(2.0)
@@ -51,9 +54,30 @@ for r0 in "${resolutions[@]}"; do
   done
 done
 
+# Felt: the served block (mass scaling 100, so the machine keeps up or nearly) poked by bop-haptic
+# from the sphere resting on the top's mean plane (from a batch run's final.xyz) to 1.6 mm.
+"$bin/bop-server" config/scenes/tissue-block.toml --no-listen -o "$out/block" --cache "$out/block.bopgm" >/dev/null 2>&1
+target=$(scripts/poke-target.py "$out/block/final.xyz" --radius-mm 8 --depth-mm 1.6 --standoff-mm 0.5)
+read -r at depth standoff <<<"$target"
+(cat config/scenes/tissue-block.toml; printf '[units]\nmass_scaling = 100\n') >"$out/felt.toml"
+"$bin/bop-server" "$out/felt.toml" --port 0 --steps 100000000 -o "$out/felt-server" --cache "$out/block.bopgm" \
+  >"$out/felt-server.log" 2>&1 &
+server=$!
+endpoint=
+for _ in $(seq 300); do
+  endpoint=$(grep -o 'listening on tcp://[0-9.:]*' "$out/felt-server.log" | sed 's/listening on //') && [[ -n $endpoint ]] && break
+  sleep 0.1
+done
+build/haptic_client/bop-haptic "$endpoint" --device sim:poke --target "$at" \
+  --depth "$depth" --standoff "$standoff" --speed 0.3 --hold 1 --out "$out/felt" | tee "$out/felt.log" \
+  | grep -E "coupling|largest"
+kill -INT $server; wait $server || true
+grep 'real-time factor' "$out/felt-server.log" | sed 's/^/felt block served: /'
+
 # Real time: the served torus at 5 kPa, then with the mass scaling its step rate asks for.
-# The torus's own [interactions] give way to the material (the two are refused together).
-torus() { (sed -e "s|\.\./models/|$PWD/config/models/|" -e '/^\[interactions\]/,/^\[run\]/{/^\[run\]/!d}' config/scenes/torus.toml
+# The torus's own construction timeline and [interactions] give way: a material's bag is placed and
+# sets its own weights.
+torus() { (sed -e "s|\.\./models/|$PWD/config/models/|" -e '/^\[construction\]/,/^\[run\]/{/^\[run\]/!d}' config/scenes/torus.toml
   printf '[[material]]\nyoung_kpa = 5\ndensity_kg_m3 = 1000\n%b' "$1") >"$out/torus-$2.toml"; echo "$out/torus-$2.toml"; }
 run_torus() {
   "$bin/bop-server" "$1" --port 0 --steps 1500 -o "$out/served-$2" 2>&1 | grep -E "time step|real-time factor" \

@@ -11,10 +11,12 @@
 #   least the simulated time and says a real-time factor within 0.8 and 1.05;
 # - the bonded block at 3 ranks moves as at 1 rank (bonds across subdomains, the ghosts'
 #   dilatations from their owners), and a run stopped at a checkpoint and restarted from it ends bit
-#   for bit as the uninterrupted one (the bonds placed again).
-# Usage: bop_material_cli.sh PATH/TO/bop-material PATH/TO/bop-server PATH/TO/mpiexec SOURCE_DIR
+#   for bit as the uninterrupted one (the bonds placed again);
+# - bop-haptic pokes the served block with no force scale given: the stiffness it fits to its
+#   curve (N against mm) is within 20% of Hertz's at the same depths (the target's bound).
+# Usage: bop_material_cli.sh PATH/TO/bop-material PATH/TO/bop-server PATH/TO/mpiexec PATH/TO/bop-haptic SOURCE_DIR
 set -u
-material=$1 server=$2 mpi=$3 src=$4
+material=$1 server=$2 mpi=$3 haptic=$4 src=$5
 source "$(dirname "$0")/cli-checks.sh"
 py=/usr/bin/python3
 scene=$src/config/scenes/tissue-block.toml
@@ -120,4 +122,38 @@ check "the bonded block moves as at 1 rank at 3 ranks (positions within 1e-8)" "
 cat "$work/ranks.txt"
 check "stopped at step 100 and restarted, the bonded run ends bit for bit as the uninterrupted one" \
   "[ -s '$work/a1/final.xyz' ] && cmp -s '$work/a1/final.xyz' '$work/c1/final.xyz'"
+
+# Felt: the served block (mass scaling 100) poked from the sphere resting on its top's mean plane
+# (from the batch run's final.xyz) to 1.6 mm, no force scale and no coupling given.
+target=$("$py" "$src/scripts/poke-target.py" "$work/b/final.xyz" --radius-mm 8 --depth-mm 1.6 --standoff-mm 0.5)
+read -r at depth standoff <<<"$target"
+(cat "$scene"; printf '[units]\nmass_scaling = 100\n') >"$work/felt.toml"
+"$server" "$work/felt.toml" --port 0 --steps 100000000 --cache "$work/map.bopgm" -o "$work/felt-server" \
+  >"$work/felt-server.log" 2>&1 &
+served=$!
+endpoint=
+for _ in $(seq 300); do
+  endpoint=$(grep -o 'listening on tcp://[0-9.:]*' "$work/felt-server.log" | sed 's/listening on //') && [[ -n $endpoint ]] && break
+  sleep 0.1
+done
+bounded 60 "$work/felt.log" "$haptic" "$endpoint" --device sim:poke --target "$at" --depth "$depth" \
+  --standoff "$standoff" --speed 0.3 --hold 1 --out "$work/felt"
+rc=$?
+kill -INT $served; wait $served
+grep -E 'coupling|largest' "$work/felt.log"
+check "bop-haptic pokes the served block (exit $rc) with the device's stiffest coupling" \
+  "[ $rc -eq 0 ] && grep -q \"the device's stiffest\" '$work/felt.log'"
+bounded 60 "$work/felt.txt" "$py" - "$work/felt/stiffness.csv" <<'PY'
+import csv, sys
+import numpy as np
+rows = list(csv.DictReader(open(sys.argv[1])))
+d = np.array([float(r["depth_mm"]) for r in rows])
+f = np.array([float(r["force_n"]) for r in rows])
+hertz = 4 / 3 * 5e3 / (1 - 0.3 ** 2) * np.sqrt(8e-3) * (d * 1e-3) ** 1.5
+k, kh = np.dot(d, f) / np.dot(d, d), np.dot(d, hertz) / np.dot(d, d)
+print(f"felt {k:.4g} N/mm over 0-{d.max():.2f} mm against Hertz's {kh:.4g} N/mm: ratio {k / kh:.3f}")
+assert d.max() > 1.4 and abs(k / kh - 1) <= 0.2
+PY
+check "the felt stiffness is within 20% of Hertz's at the same depths" "[ $? -eq 0 ]"
+cat "$work/felt.txt"
 exit $fail

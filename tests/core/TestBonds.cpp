@@ -182,3 +182,21 @@ TEST_CASE("a bond lets go beyond the cut, and bags side by side are not bonded",
     p.pos[1].x() = 1.5 * bop::kR0;
     CHECK(energyOf(beside, p) == Approx(0.5 * 0.25 * bop::kR0 * bop::kR0));
 }
+
+TEST_CASE("a support anchors the particles placed near the bottom where they were placed", "[core][bonds]") {
+    const Model model = bondedModel(2.0, 0.0);
+    Particles p;
+    p.add(Eigen::Vector3d(0, 0, 1), 2, 1);
+    p.add(Eigen::Vector3d(bop::kR0, 0, 1), 2, 2);
+    p.add(Eigen::Vector3d(0, 0, 1 + bop::kR0), 2, 3);
+    const BondNetwork net = buildBonds(model, p, 3 * bop::kR0, {}, 0.5);
+    CHECK(net.anchorStiffness[1] == Approx(kAnchorBonds * 2.0));
+    CHECK(net.anchorStiffness[2] == Approx(kAnchorBonds * 2.0));
+    CHECK(net.anchorStiffness[3] == 0.0);
+    // Particles 1 and 2 moved together along y: their bond unstretched, each anchor pulls back.
+    p.pos[0].y() += 0.1;
+    p.pos[1].y() += 0.1;
+    const double e = energyOf(net, p);
+    CHECK(p.force[0].y() == Approx(-kAnchorBonds * 2.0 * 0.1).margin(1e-3));  // the bonds to 3 barely stretch
+    CHECK(e == Approx(2 * 0.5 * kAnchorBonds * 2.0 * 0.01).epsilon(0.01));
+}

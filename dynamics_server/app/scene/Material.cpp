@@ -141,7 +141,8 @@ std::vector<std::string> calibrationReport(const Calibration& c, const std::vect
         out.push_back("material '" + m.name +
                       "': " + format("E %.4g kPa -> weight %.4g; Poisson %.3g", m.youngKpa, c.weight[k], m.poisson) +
                       format("; density %.4g kg/m^3", m.densityKgM3) +
-                      format("; bonds k %.4g, volume term B %.4g", c.bond[k], c.bulk[k]) +
+                      format("; bonds k %.4g (energy / length^2), volume term B %.4g (energy / length^3)",
+                             c.bond[k], c.bulk[k]) +
                       format("; relaxation %.4g s -> drag %.4g; map hold %.3g of a bond", m.relaxationS,
                              1.0 / u.fromS(m.relaxationS), m.shapeHold));
     }

@@ -1,7 +1,7 @@
 #pragma once
 // Tissue in physical units (docs/physics.md §8): each bag's material (Young's modulus, Poisson
-// ratio, density, relaxation time) becomes the scene's unit system and the weights, map stiffnesses
-// and drags that give it. A scene without [[material]] keeps its weights as set by hand (the
+// ratio, density, relaxation time) becomes the scene's unit system and the bonds (core/Bonds.hpp),
+// weights, map stiffnesses and drags that give it. A scene without [[material]] keeps its weights as set by hand (the
 // paper's), its lengths in mm and its time and force in simulation units.
 #include "bop/common/ConfigTable.hpp"
 #include "bop/common/UnitSystem.hpp"

@@ -58,6 +58,9 @@ std::string bondReport(const core::BondNetwork& net, std::size_t particles) {
     out << "bonded: " << net.bonds() << " bonds among " << particles << " placed particles (" << std::fixed
         << std::setprecision(1) << 2.0 * double(net.bonds()) / double(std::max<std::size_t>(1, particles))
         << " a particle), letting go beyond " << std::setprecision(2) << net.cut / kR0 << " r0";
+    std::size_t anchored = 0;
+    for (double k : net.anchorStiffness) anchored += k > 0;
+    if (anchored > 0) out << "; " << anchored << " anchored by the support";
     return out.str();
 }
 
@@ -159,7 +162,8 @@ RunStart startRun(const Scene& scene, const std::string& cache, const std::strin
         if (!restart.empty()) checkPlacedIds(placedForBonds, s.particles, *s.model, restart);
         auto model = std::make_shared<core::Model>(*s.model);
         model->bonds = std::make_shared<const core::BondNetwork>(
-            core::buildBonds(*model, placedForBonds, core::bondCut(*model, scene.params), bagParent));
+            core::buildBonds(*model, placedForBonds, core::bondCut(*model, scene.params), bagParent,
+                             scene.supportBelowMm ? model->units.fromMm(*scene.supportBelowMm) : 0.0));
         if (root && progress) progress(bondReport(*model->bonds, placedForBonds.size()));
         s.model = std::move(model);
     }

@@ -318,6 +318,11 @@ Scene loadScene(const std::string& path) {
                   "a bag with a [[material]] is placed (method = \"place\"): its bonds join the "
                   "placed neighbours");
     if (s.placement) s.placement->flatSheet = !s.materials.empty();
+    if (const auto t = root.optionalTable("support")) {
+        if (s.materials.empty()) t->fail("below_mm", "a support anchors a bonded bag: the scene has no [[material]]");
+        s.supportBelowMm = positive(*t, "below_mm", t->number("below_mm"));
+        t->finish();
+    }
     if (s.placement) s.run.steps = kPlacedStepsCap;
     if (const auto t = root.optionalTable("probe")) {
         s.probe.active = t->boolean("active", false);

@@ -76,6 +76,9 @@ struct Scene {
     std::vector<Material> materials;
     std::optional<Calibration> calibration;
     bool realTime = true;  // [units] real_time: a served run with materials keeps to the wall clock
+    // [support] below_mm: the particles placed within this height of the bags' lowest particle
+    // are anchored where they were placed (core/Bonds.hpp), mm; none: the map alone holds the bags.
+    std::optional<double> supportBelowMm;
 };
 
 // Reads and checks every table; bop::Error naming the file and key on any problem.
