@@ -138,13 +138,13 @@ std::vector<std::string> calibrationReport(const Calibration& c, const std::vect
                          u.toKpa(c.pWaveSim), c.pWaveSim));
     for (std::size_t k = 0; k < materials.size(); ++k) {
         const Material& m = materials[k];
-        out.push_back("material '" + m.name +
-                      "': " + format("E %.4g kPa -> weight %.4g; Poisson %.3g", m.youngKpa, c.weight[k], m.poisson) +
-                      format("; density %.4g kg/m^3", m.densityKgM3) +
-                      format("; bonds k %.4g (energy / length^2), volume term B %.4g (energy / length^3)",
-                             c.bond[k], c.bulk[k]) +
-                      format("; relaxation %.4g s -> drag %.4g; map hold %.3g of a bond", m.relaxationS,
-                             1.0 / u.fromS(m.relaxationS), m.shapeHold));
+        out.push_back(
+            "material '" + m.name +
+            "': " + format("E %.4g kPa -> weight %.4g; Poisson %.3g", m.youngKpa, c.weight[k], m.poisson) +
+            format("; density %.4g kg/m^3", m.densityKgM3) +
+            format("; bonds k %.4g (energy / length^2), volume term B %.4g (energy / length^3)", c.bond[k], c.bulk[k]) +
+            format("; relaxation %.4g s -> drag %.4g; map hold %.3g of a bond", m.relaxationS,
+                   1.0 / u.fromS(m.relaxationS), m.shapeHold));
     }
     return out;
 }
