@@ -1,5 +1,6 @@
 #include "Bonds.hpp"
 
+#include "CellList.hpp"
 #include "PairForces.hpp"
 #include "Threads.hpp"
 #include "bop/common/GradientMap.hpp"
@@ -12,20 +13,9 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-#include <unordered_map>
 
 namespace bop::core {
 namespace {
-
-struct Cells {
-    double width;
-    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> members;
-    static std::uint64_t key(const Eigen::Vector3i& c) {
-        const auto u = [](int v) { return std::uint64_t(std::uint32_t(v + (1 << 20))) & 0x1fffff; };
-        return u(c.x()) | (u(c.y()) << 21) | (u(c.z()) << 42);
-    }
-    Eigen::Vector3i cell(const Eigen::Vector3d& x) const { return (x / width).array().floor().cast<int>().matrix(); }
-};
 
 // a_ij: the trace of the least-squares strain eps over i's bonds, from l - L = L n.eps.n.
 void traceCoefficients(const Particles& placed, BondNetwork& net) {
@@ -86,35 +76,37 @@ BondNetwork buildBonds(const Model& model, const Particles& placed, double cut,
     const double reach = kBondReachR0 * bop::kR0, r0 = bop::kR0;
     const double volume = r0 * r0 * r0 / std::sqrt(2.0);  // an fcc site's, length^3
     const auto bonded = [&](std::size_t i) { return model.species[placed.species[i]].bondStiffness > 0; };
-    Cells cells{reach, {}};
     std::uint64_t idLimit = 0;
+    Box around;  // the placed particles' bounding box: cells of `reach` over it
+    around.lo = around.hi = placed.size() ? placed.pos[0] : Eigen::Vector3d::Zero();
     for (std::uint32_t i = 0; i < placed.size(); ++i) {
         idLimit = std::max(idLimit, placed.id[i] + 1);
-        if (bonded(i)) cells.members[Cells::key(cells.cell(placed.pos[i]))].push_back(i);
+        around.lo = around.lo.cwiseMin(placed.pos[i]);
+        around.hi = around.hi.cwiseMax(placed.pos[i]);
     }
+    around.hi += Eigen::Vector3d::Constant(reach);
+    CellList cells;
+    cells.build(around, reach, placed.pos);
     struct Entry {
         std::uint64_t partner;
         double rest, stiffness;
     };
     std::vector<std::vector<Entry>> byId(idLimit);
+    std::vector<CellList::Neighbour> near;
     for (std::uint32_t i = 0; i < placed.size(); ++i) {
         if (!bonded(i)) continue;
-        const Eigen::Vector3i c = cells.cell(placed.pos[i]);
         const double ki = model.species[placed.species[i]].bondStiffness;
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const auto it = cells.members.find(Cells::key(c + Eigen::Vector3i(dx, dy, dz)));
-                    if (it == cells.members.end()) continue;
-                    for (std::uint32_t j : it->second) {
-                        if (j == i || !bondedBags(bagParent, placed.species[i], placed.species[j])) continue;
-                        const double L = (placed.pos[j] - placed.pos[i]).norm();
-                        if (L >= reach || L == 0.0) continue;
-                        const double kj = model.species[placed.species[j]].bondStiffness;
-                        const double s = std::min(1.0, std::pow(r0 / L, 4));
-                        byId[placed.id[i]].push_back({placed.id[j], L, 2 * ki * kj / (ki + kj) * s});
-                    }
-                }
+        cells.around(cells.cellOf(placed.pos[i]), 1, near);
+        for (const auto& nb : near)
+            for (std::uint32_t k = cells.start(nb.cell); k < cells.start(nb.cell + 1); ++k) {
+                const std::uint32_t j = cells.order()[k];
+                if (j == i || !bonded(j) || !bondedBags(bagParent, placed.species[i], placed.species[j])) continue;
+                const double L = (placed.pos[j] - placed.pos[i]).norm();
+                if (L >= reach || L == 0.0) continue;
+                const double kj = model.species[placed.species[j]].bondStiffness;
+                const double s = std::min(1.0, std::pow(r0 / L, 4));
+                byId[placed.id[i]].push_back({placed.id[j], L, 2 * ki * kj / (ki + kj) * s});
+            }
     }
     BondNetwork net;
     net.cut = cut;

@@ -69,7 +69,6 @@ std::vector<Material> readMaterials(const ConfigTable& root, const std::vector<s
 Calibration calibrate(const std::vector<Material>& materials, double lengthMm, double massScaling) {
     Calibration c;
     c.massScaling = massScaling;
-    c.pWaveSim = kPWaveModulus;
     const auto pWave = [](const Material& m) {  // lambda + 2 mu over E
         return (1 - m.poisson) / ((1 + m.poisson) * (1 - 2 * m.poisson));
     };
@@ -135,7 +134,7 @@ std::vector<std::string> calibrationReport(const Calibration& c, const std::vect
     out.push_back(
         format("time step %.4g s (%.4g simulation units); mass scaling %g", u.toS(timeStep), timeStep, c.massScaling));
     out.push_back(format("the stiffest material's P-wave modulus: %.4g kPa (%.4g energy / length^3)",
-                         u.toKpa(c.pWaveSim), c.pWaveSim));
+                         u.toKpa(kPWaveModulus), kPWaveModulus));
     for (std::size_t k = 0; k < materials.size(); ++k) {
         const Material& m = materials[k];
         out.push_back(

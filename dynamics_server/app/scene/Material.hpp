@@ -29,7 +29,6 @@ struct Material {
 struct Calibration {
     UnitSystem units;
     double massScaling = 1;      // the particle mass times this (mass scaling: the dynamics, not the statics)
-    double pWaveSim = 0;         // the stiffest material's P-wave modulus, energy / length^3 (kPWaveModulus)
     std::vector<double> weight;  // per bag: its P-wave modulus over the stiffest one's
     // Per bag: the nearest neighbours' bond k (energy / length^2) and the volume term's B
     // (energy / length^3), core/Bonds.hpp.
