@@ -20,21 +20,22 @@ VoxelWindow windowAround(const Dims& whole, double h, const Eigen::Vector3d& reg
     return w;
 }
 
-GradientMap cropGradientMap(const GradientMap& whole, const VoxelWindow& window) {
-    if (whole.whole.count()) throw std::invalid_argument("cropGradientMap: the map is already a crop");
-    const Dims& d = whole.dims();
+GradientMap cropGradientMap(const GradientMap& map, const VoxelWindow& window) {
+    // map may itself be a window of the whole map (map.origin): the crop then holds part of it.
+    const Dims& d = map.dims();
     const Dims cd = window.dims();
-    if ((window.lo.array() < 0).any() || window.hi.x() > d.nx || window.hi.y() > d.ny || window.hi.z() > d.nz ||
-        cd.nx < 1 || cd.ny < 1 || cd.nz < 1)
+    const Eigen::Vector3i lo = window.lo - map.origin, hi = window.hi - map.origin;
+    if ((lo.array() < 0).any() || hi.x() > d.nx || hi.y() > d.ny || hi.z() > d.nz || cd.nx < 1 || cd.ny < 1 ||
+        cd.nz < 1)
         throw std::invalid_argument("cropGradientMap: window outside the map or empty");
     GradientMap out;
-    out.grid = whole.grid;
+    out.grid = map.grid;
     out.grid.dims = cd;
-    out.r0Voxels = whole.r0Voxels;
-    out.bagCount = whole.bagCount;
-    out.bagParent = whole.bagParent;
+    out.r0Voxels = map.r0Voxels;
+    out.bagCount = map.bagCount;
+    out.bagParent = map.bagParent;
     out.origin = window.lo;
-    out.whole = d;
+    out.whole = map.wholeDims();
     out.occ.resize(cd.count());
     out.nearest.resize(cd.count());
     // Surface records the window names, kept in whole-map order so the crop reads like a whole map.
@@ -42,16 +43,16 @@ GradientMap cropGradientMap(const GradientMap& whole, const VoxelWindow& window)
     for (int k = 0; k < cd.nz; ++k)
         for (int j = 0; j < cd.ny; ++j)
             for (int i = 0; i < cd.nx; ++i) {
-                const std::size_t src = d.index(i + window.lo.x(), j + window.lo.y(), k + window.lo.z());
+                const std::size_t src = d.index(i + lo.x(), j + lo.y(), k + lo.z());
                 const std::size_t dst = cd.index(i, j, k);
-                out.occ[dst] = whole.occ[src];
-                out.nearest[dst] = whole.nearest[src];
-                named.push_back(whole.nearest[src]);
+                out.occ[dst] = map.occ[src];
+                out.nearest[dst] = map.nearest[src];
+                named.push_back(map.nearest[src]);
             }
     std::sort(named.begin(), named.end());
     named.erase(std::unique(named.begin(), named.end()), named.end());
     out.surface.reserve(named.size());
-    for (std::uint32_t s : named) out.surface.push_back(whole.surface[s]);
+    for (std::uint32_t s : named) out.surface.push_back(map.surface[s]);
     for (auto& n : out.nearest) n = std::uint32_t(std::lower_bound(named.begin(), named.end(), n) - named.begin());
     return out;
 }

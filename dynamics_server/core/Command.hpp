@@ -43,6 +43,15 @@ struct WeightCommand {
     double value = 0;
 };
 
-using Command = std::variant<ProbeCommand, DragCommand, SeedCommand, BirthCommand, WeightCommand>;
+// A blade swept from `from` to `to` (simulation length units; equal for a point) with `radius`
+// (length units): every voxel of the gradient map whose centre lies in the volume swept leaves
+// its bag, the particles in it leave the run, and the cut faces become surface (SimulationCuts.cpp,
+// docs/physics.md §9).
+struct CutCommand {
+    Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
+    double radius = 0;
+};
+
+using Command = std::variant<ProbeCommand, DragCommand, SeedCommand, BirthCommand, WeightCommand, CutCommand>;
 
 }  // namespace bop::core

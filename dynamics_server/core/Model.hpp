@@ -6,6 +6,7 @@
 #include "Keyframes.hpp"
 #include "Potentials.hpp"
 #include "bop/common/GradientMap.hpp"
+#include "bop/common/SurfaceFilters.hpp"
 #include "bop/common/UnitSystem.hpp"
 #include "core/MapField.hpp"
 
@@ -97,6 +98,9 @@ struct Model {
     // placed particles; null: no bonds.
     std::shared_ptr<const BondNetwork> bonds;
     core::Interpolation interpolation = core::Interpolation::Trilinear;
+    // How the map's normals, curvatures and co-planar weights were made (the shape's [grid]): the
+    // map edits of a cut (CutCommand) make the cut faces' alike.
+    SurfaceGeometryParams mapGeometry;
 
     int speciesCount() const { return int(species.size()) - 1; }
     bool isSurface(int s) const { return species[std::size_t(s)].kind == ParticleKind::Surface; }

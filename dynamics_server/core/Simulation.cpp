@@ -46,7 +46,8 @@ Simulation::Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::s
       field_(*model_, params_, model_->map != nullptr || options.map.has_value()),
       drag_(*model_, params_),
       construction_(options.construction ? *options.construction : Construction({}, {}, model_->speciesCount())),
-      mapSource_(std::move(options.map)) {
+      mapSource_(std::move(options.map)),
+      bondNet_(model_->bonds) {
     stats_.step = options.firstStep;
     stats_.time = double(options.firstStep) * model_->integration.dt;
     range_ = field_.pairs().listRange();
@@ -88,6 +89,7 @@ void Simulation::submit(const Command& command) {
         throw std::invalid_argument(
             "weight command: it would change the interaction range (oriented terms on or "
             "off); give the scene a nonzero weight of that kind to start with");
+    if (const auto* c = std::get_if<CutCommand>(&command)) checkCut(*c);
     commands_.push_back(command);
     queued_ = std::move(next);
 }
@@ -95,11 +97,11 @@ void Simulation::submit(const Command& command) {
 void Simulation::forces(bool energies) {
     const Halo* halo = ex_->hasGhosts() ? &halo_ : nullptr;
     field_.compute(*model_, maps_, params_.probe, p_, stats_.forces, &times_.forces, energies, halo);
-    if (model_->bonds) {  // the ghosts' dilatations from their owners, then the bonds' forces
+    if (bondNet_) {  // the ghosts' dilatations from their owners, then the bonds' forces
         const auto t0 = PhaseClock::now();
-        bonds_.dilatation(*model_->bonds, p_, halo, theta_);
+        bonds_.dilatation(*bondNet_, p_, halo, theta_);
         ex_->shareGhostValues(theta_, ghostTheta_);
-        stats_.forces.pairEnergy += bonds_.add(*model_->bonds, p_, halo, theta_, ghostTheta_, stats_.forces.virial);
+        stats_.forces.pairEnergy += bonds_.add(*bondNet_, p_, halo, theta_, ghostTheta_, stats_.forces.virial);
         times_.forces.pairs += secondsSince(t0);
     }
     forcesStale_ = false;
@@ -138,6 +140,8 @@ void Simulation::step() {
             if (b->species < 1 || b->species > model_->speciesCount())
                 throw std::invalid_argument("birth command: no species " + std::to_string(b->species));
             construction_.setBirth(b->species, b->on);
+        } else if (const auto* c = std::get_if<CutCommand>(&command)) {
+            cut(*c);
         } else {  // a probe, drag or weight command: what the params hold
             params_.apply(command);
             if (std::holds_alternative<WeightCommand>(command)) field_.setParams(*model_, params_), forcesStale_ = true;

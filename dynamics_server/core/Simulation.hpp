@@ -15,6 +15,7 @@
 #include "Params.hpp"
 #include "SoundState.hpp"
 #include "bop/common/GradientMapCrop.hpp"
+#include "bop/common/GradientMapEdit.hpp"
 
 #include <functional>
 #include <memory>
@@ -52,6 +53,15 @@ struct Totals {
     double bloodVolume = 0, cavityVolume = 0;             // volume voxels and bag voxels in force, length^3
     Eigen::Vector3d probeReaction = Eigen::Vector3d::Zero();
     double total() const { return kinetic + pairEnergy + probeEnergy; }
+};
+
+// What the last cut did (CutCommand; over every process).
+struct CutReport {
+    double mapSeconds = 0;     // this process's map edits (every keyframe's window), s
+    std::size_t removed = 0;   // particles in the swept volume, taken out
+    std::size_t converted = 0; // volume particles on a new face, made surface particles
+    std::size_t bondsBroken = 0;
+    std::size_t bags = 0;      // bags that lost voxels
 };
 
 // Where a process gets its window of the gradient map: the whole map's grid and r0 (arrays empty)
@@ -136,6 +146,13 @@ public:
     std::size_t rebuilds() const { return rebuilds_; }           // neighbour lists and halos built again
     double exchangeSeconds() const { return exchangeSeconds_; }  // in halo, migration and the rebuild vote
     std::size_t mapBytes() const;  // this process's window of the gradient map (of every keyframe)
+    // The cuts applied so far, in order (a checkpoint carries them), and what the last one did.
+    const std::vector<CutCommand>& cuts() const { return cuts_; }
+    const CutReport& lastCut() const { return lastCut_; }
+    // A restart after cuts: the maps edited as they were (the particles are the file's). Collective.
+    void restoreCuts(const std::vector<CutCommand>& cuts);
+    // The bonds in force: the model's less those a cut broke (null: no bonds).
+    const std::shared_ptr<const BondNetwork>& bonds() const { return bondNet_; }
     // Voxel counts of each keyframe's whole map (one entry for a static shape, none without a map).
     const std::vector<MapVolume>& frameVolumes() const { return frameVolumes_; }
 
@@ -156,6 +173,12 @@ private:
     void applyKeyframe(double time);
     void placeRegion(RegionChange r);  // after the exchange's refresh: a new region's windows, a new list
     void forces(bool energies);
+    // Cuts (SimulationCuts.cpp): refused unless the run has a map and the numbers are sound; the
+    // maps' edits (returning the bags cut); a window with every patch so far; the whole cut.
+    void checkCut(const CutCommand& c) const;
+    std::vector<int> editMaps(const CutCommand& c);
+    bop::GradientMap patched(std::size_t frame, bop::GradientMap window) const;
+    void cut(const CutCommand& c);  // collective
     [[noreturn]] void throwUnsound() const;  // collective: UnsoundState naming what a process found
 
     std::unique_ptr<Exchange> ownExchange_;  // one process's
@@ -183,6 +206,10 @@ private:
     std::size_t rebuilds_ = 0;
     double exchangeSeconds_ = 0;
     std::optional<MapSource> mapSource_;
+    std::vector<CutCommand> cuts_;                     // applied, in order
+    std::vector<std::vector<bop::MapPatch>> patches_;  // per keyframe, the cuts' patches in order
+    CutReport lastCut_;
+    std::shared_ptr<const BondNetwork> bondNet_;  // model_->bonds less the bonds cuts broke
     std::vector<MapVolume> frameVolumes_;  // whole-map counts per keyframe
 };
 

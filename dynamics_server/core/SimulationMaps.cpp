@@ -40,7 +40,7 @@ void Simulation::placeMaps() {
         // window never takes an old one's address.
         std::vector<std::shared_ptr<const GradientMap>> next;
         for (int f = 0; f < mapSource_->frames; ++f)
-            next.push_back(std::make_shared<const GradientMap>(mapSource_->crop(f, w)));
+            next.push_back(std::make_shared<const GradientMap>(patched(std::size_t(f), mapSource_->crop(f, w))));
         maps_.frames = std::move(next);
     }
     if (!first) return;

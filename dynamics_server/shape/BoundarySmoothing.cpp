@@ -1,6 +1,6 @@
 #include "BoundarySmoothing.hpp"
 
-#include "DistanceTransform.hpp"
+#include "bop/common/DistanceTransform.hpp"
 #include "SimplePoint.hpp"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 #include "ShapeBuilder.hpp"
 
 #include "BoundarySmoothing.hpp"
-#include "DistanceTransform.hpp"
+#include "bop/common/DistanceTransform.hpp"
 #include "Labels.hpp"
 #include "bop/common/GradientMapFile.hpp"
 

@@ -1,6 +1,6 @@
 #include "Thickness.hpp"
 
-#include "DistanceTransform.hpp"
+#include "bop/common/DistanceTransform.hpp"
 
 #include <algorithm>
 #include <cmath>

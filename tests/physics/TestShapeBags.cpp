@@ -9,6 +9,7 @@
 // birth and death from the torus scene's timeline (app/scene/PieceSeeds.hpp): each ball grows
 // its sheet and its volume from seeds of its own.
 #include "OneProcessRun.hpp"
+#include "RawShapeScene.hpp"
 #include "TestUtil.hpp"
 #include "app/runs/SettleWatch.hpp"
 #include "app/runs/Settling.hpp"
@@ -18,46 +19,15 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <fstream>
 #include <functional>
-#include <regex>
 
 using namespace bop;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-struct Shape {
-    const char* name;
-    Eigen::Vector3i size;                                // voxels of 1 mm
-    std::function<bool(const Eigen::Vector3d&)> inside;  // at a voxel centre, voxel units
-    double area;                                         // analytic, voxel^2
-    std::function<int(const Eigen::Vector3d&)> piece;    // which piece a point belongs to (0, 1, ...)
-};
-
-// The torus scene's settings with the shape swapped for a raw image of `s`; its construction
-// timeline kept (birth) or removed (placement).
-std::string writeScene(const test::TempDir& dir, const Shape& s, bool birth = false) {
-    std::vector<std::uint8_t> voxels;
-    for (int z = 0; z < s.size.z(); ++z)
-        for (int y = 0; y < s.size.y(); ++y)
-            for (int x = 0; x < s.size.x(); ++x) voxels.push_back(s.inside(Eigen::Vector3d(x + 0.5, y + 0.5, z + 0.5)));
-    std::ofstream(dir.file(std::string(s.name) + ".raw"), std::ios::binary)
-        .write(reinterpret_cast<const char*>(voxels.data()), std::streamsize(voxels.size()));
-    std::ifstream in(test::sourceDir() + "/config/scenes/torus.toml");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::string source = "source = \"raw\"\nfile = \"" + std::string(s.name) + ".raw\"\nsize_voxels = [" +
-                               std::to_string(s.size.x()) + ", " + std::to_string(s.size.y()) + ", " +
-                               std::to_string(s.size.z()) + "]\ndtype = \"uint8\"\nspacing_mm = [1, 1, 1]\nlabel = 1\n";
-    text = std::regex_replace(text, std::regex("source = \"mesh\"\nfile = [^\n]*\nscale_mm = [^\n]*\n"), source);
-    text = std::regex_replace(text, std::regex("voxel_size_mm = 2.25"), "voxel_size_mm = 1.0");
-    const std::size_t from = text.find("# Build the bag"), to = text.find("# Oriented-particle");
-    REQUIRE((from != std::string::npos && to != std::string::npos));
-    if (!birth) text.erase(from, to - from);
-    text.erase(text.find("[run]"));
-    return test::writeText(dir.file(std::string(s.name) + ".toml"), text);
-}
+using test::Shape;
+using test::writeScene;
 
 const Eigen::Vector3d ca(18, 17, 17), cb(48, 17, 17);  // the two balls' centres, voxel units
 

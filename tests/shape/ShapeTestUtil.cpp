@@ -18,7 +18,7 @@ Volume<std::uint8_t> depthFrom(const Dims& d, const std::vector<std::function<bo
 GradientMap mapFrom(const Volume<std::uint8_t>& depth, double r0Voxels, double sigma) {
     VoxelGrid g;
     g.dims = depth.dims;
-    shape::SurfaceGeometryParams p;
+    SurfaceGeometryParams p;
     p.sigmaVoxels = sigma;
     return shape::buildGradientMap(g, depth, r0Voxels, p);
 }

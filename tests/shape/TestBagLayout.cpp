@@ -48,7 +48,7 @@ Built build(const std::vector<Inside>& bags) {
     Built out{shape::arrangeBags(spec, masks, 0), {}};
     VoxelGrid g;
     g.dims = kDims;
-    shape::SurfaceGeometryParams p;
+    SurfaceGeometryParams p;
     p.sigmaVoxels = 1.5;
     out.map = shape::buildGradientMap(g, out.layout, 2.0, p);
     return out;

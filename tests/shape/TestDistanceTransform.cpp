@@ -1,6 +1,6 @@
 // The exact distance transform against brute force on random shapes (issue: at least 20 shapes
 // up to 32^3; distances exactly equal; ties may pick either site).
-#include "shape/DistanceTransform.hpp"
+#include "bop/common/DistanceTransform.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -8,7 +8,6 @@
 #include <random>
 
 using namespace bop;
-using namespace bop::shape;
 
 namespace {
 

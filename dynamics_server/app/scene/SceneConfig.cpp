@@ -282,6 +282,7 @@ Scene loadScene(const std::string& path) {
     } else {
         s.shape = shape::readShapeSpec(root);
         m.interpolation = s.shape->interpolation;
+        m.mapGeometry = s.shape->geometry;
         defaultSpecies(m, s.params, int(s.shape->bags.size()));
         for (std::size_t b = 0; b < s.shape->bags.size(); ++b) {
             m.species[2 * b + 1].name = s.shape->bags[b].name + "-surface";

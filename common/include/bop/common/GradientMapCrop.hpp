@@ -20,8 +20,9 @@ struct VoxelWindow {
 VoxelWindow windowAround(const Dims& whole, double h, const Eigen::Vector3d& regionLo, const Eigen::Vector3d& regionHi,
                          double margin);
 
-// The part of `whole` (a whole map) inside `window`; surface voxels keep their whole-map index.
-GradientMap cropGradientMap(const GradientMap& whole, const VoxelWindow& window);
+// The part of `map` (a whole map, or a window of one holding `window`) inside `window`; surface
+// voxels keep their whole-map index.
+GradientMap cropGradientMap(const GradientMap& map, const VoxelWindow& window);
 
 // Bytes the map's arrays hold (per-voxel occupancy and nearest index, surface records).
 std::size_t gradientMapBytes(const GradientMap& map);

