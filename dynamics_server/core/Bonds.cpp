@@ -134,10 +134,9 @@ BondNetwork buildBonds(const Model& model, const Particles& placed, double cut,
         if (!bonded(i)) continue;
         const Species& sp = model.species[placed.species[i]];
         net.bulkVolume[placed.id[i]] = sp.bondBulk * volume;
-        if (supportBelow > 0 && placed.pos[i].z() < lowest + supportBelow) {
-            net.anchor[placed.id[i]] = placed.pos[i];
+        net.anchor[placed.id[i]] = placed.pos[i];
+        if (supportBelow > 0 && placed.pos[i].z() < lowest + supportBelow)
             net.anchorStiffness[placed.id[i]] = kAnchorBonds * sp.bondStiffness;
-        }
     }
     return net;
 }
@@ -214,6 +213,45 @@ double BondForces::add(const BondNetwork& net, Particles& p, const Halo* halo, c
     });
     virial += sums[1];
     return sums[0];
+}
+
+double segmentDistance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
+                       const Eigen::Vector3d& q1) {
+    const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+    const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+    constexpr double kTiny = 1e-300;
+    double s = 0, t = 0;
+    if (a <= kTiny && e <= kTiny) return r.norm();
+    if (a <= kTiny) {
+        t = std::clamp(f / e, 0.0, 1.0);
+    } else {
+        const double c = d1.dot(r);
+        if (e <= kTiny) {
+            s = std::clamp(-c / a, 0.0, 1.0);
+        } else {  // the closest points of the two lines, clamped to the segments
+            const double b = d1.dot(d2), denom = a * e - b * b;
+            s = denom > kTiny ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+            t = (b * s + f) / e;
+            if (t < 0) t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+            if (t > 1) t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+        }
+    }
+    return (p0 + d1 * s - (q0 + d2 * t)).norm();
+}
+
+BondNetwork breakBonds(const BondNetwork& net, const Eigen::Vector3d& from, const Eigen::Vector3d& to, double radius,
+                       std::size_t* broken) {
+    BondNetwork out = net;
+    std::size_t ends = 0;
+    for (std::uint64_t id = 0; id < net.idLimit(); ++id)
+        for (std::uint32_t b = net.start[id]; b < net.start[id + 1]; ++b) {
+            if (net.stiffness[b] == 0 && net.trace[b] == 0) continue;  // broken before
+            if (segmentDistance(net.anchor[id], net.anchor[net.partner[b]], from, to) > radius) continue;
+            out.stiffness[b] = out.trace[b] = out.traceAtPartner[b] = 0;
+            ++ends;
+        }
+    if (broken) *broken = ends / 2;
+    return out;
 }
 
 }  // namespace bop::core

@@ -36,8 +36,8 @@ struct BondNetwork {
     // a_ij of the entry's own particle and a_ji of its partner, 1 / length.
     std::vector<double> trace, traceAtPartner;
     std::vector<double> bulkVolume;  // per id: B_i v, energy
-    // Per id: a support's anchor, where the particle was placed, and its spring, energy / length^2
-    // (0: not anchored).
+    // Per id: where the particle was placed (a support's anchor, the bond's rest ends a cut is
+    // checked against) and its support's spring, energy / length^2 (0: not anchored).
     std::vector<Eigen::Vector3d> anchor;
     std::vector<double> anchorStiffness;
     double cut = 0;  // a bond pulls while its length is at most this, length units
@@ -66,6 +66,17 @@ bool bondedBags(const std::vector<std::uint8_t>& bagParent, int a, int b);
 // same network on every process given the same particles.
 BondNetwork buildBonds(const Model& model, const Particles& placed, double cut,
                        const std::vector<std::uint8_t>& bagParent, double supportBelow = 0);
+
+// The network less the bonds a blade of `radius` swept from `from` to `to` (length units) cuts:
+// those whose placed ends' segment passes within the radius of the blade's. A function of the
+// network and the cut alone, so that every process and a restart after the cut break the same.
+// The count broken, if asked.
+BondNetwork breakBonds(const BondNetwork& net, const Eigen::Vector3d& from, const Eigen::Vector3d& to, double radius,
+                       std::size_t* broken = nullptr);
+
+// The shortest distance between the segments p0-p1 and q0-q1.
+double segmentDistance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
+                       const Eigen::Vector3d& q1);
 
 // A support's anchor in nearest-neighbour bonds: stiff against the bag, far from the step's limit.
 inline constexpr double kAnchorBonds = 10.0;

@@ -53,6 +53,7 @@ Simulation::Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::s
     range_ = field_.pairs().listRange();
     maps_.region = ex_->region(model_->box);
     placeMaps();
+    restoreCuts(options.cuts);
     applyKeyframe(stats_.time);
     // Every process holds `all`: new ids count on from its largest alike.
     if (all.size()) construction_.reserveIds(*std::max_element(all.id.begin(), all.id.end()));

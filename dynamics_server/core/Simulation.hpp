@@ -78,6 +78,9 @@ struct SimulationOptions {
     long long firstStep = 0;                     // step number of the initial state
     std::optional<MapSource> map{};              // none: windows of model->map
     std::optional<Params> params{};              // none: Params(species count), the neutral weights
+    // Cuts already made (a restart after them, a checkpoint-and-go-on): the maps edited and the
+    // bonds broken as they were; the particles are the start's.
+    std::vector<CutCommand> cuts{};
     // Particles re-sorted in the neighbour list's cell order at the first list rebuild this
     // many steps after the last sort (Exchange::sortParticles; 0: kept in their order).
     long long sortEverySteps = kSortEverySteps;
@@ -149,8 +152,6 @@ public:
     // The cuts applied so far, in order (a checkpoint carries them), and what the last one did.
     const std::vector<CutCommand>& cuts() const { return cuts_; }
     const CutReport& lastCut() const { return lastCut_; }
-    // A restart after cuts: the maps edited as they were (the particles are the file's). Collective.
-    void restoreCuts(const std::vector<CutCommand>& cuts);
     // The bonds in force: the model's less those a cut broke (null: no bonds).
     const std::shared_ptr<const BondNetwork>& bonds() const { return bondNet_; }
     // Voxel counts of each keyframe's whole map (one entry for a static shape, none without a map).
@@ -179,6 +180,7 @@ private:
     std::vector<int> editMaps(const CutCommand& c);
     bop::GradientMap patched(std::size_t frame, bop::GradientMap window) const;
     void cut(const CutCommand& c);  // collective
+    void restoreCuts(const std::vector<CutCommand>& cuts);  // SimulationOptions::cuts
     [[noreturn]] void throwUnsound() const;  // collective: UnsoundState naming what a process found
 
     std::unique_ptr<Exchange> ownExchange_;  // one process's

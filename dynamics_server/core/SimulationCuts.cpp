@@ -2,14 +2,13 @@
 // patched by bop::cutPatch, the same patch on every process, kept to patch the windows a moved
 // region reads later), then the particles: those in the swept volume leave, a volume particle
 // left on a new face becomes a surface particle with the map's normal, a bonded bag's bonds across
-// the blade break, and the births of the cut bags' surfaces go on so that their faces close.
+// the blade break (Bonds.hpp breakBonds), and the births of the cut bags' surfaces go on so that their faces close.
 #include "Integrator.hpp"
 #include "Simulation.hpp"
 #include "Stopwatch.hpp"
 
 #include <algorithm>
 #include <stdexcept>
-#include <unordered_map>
 
 namespace bop::core {
 namespace {
@@ -21,35 +20,6 @@ bop::BladeSweep sweepOf(const CutCommand& c, double h) {
     b.radius = c.radius / h;
     return b;
 }
-
-// The shortest distance between the segments p0-p1 and q0-q1.
-double segmentDistance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
-                       const Eigen::Vector3d& q1) {
-    const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-    const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-    double s = 0, t = 0;
-    if (a <= 1e-300 && e <= 1e-300) return r.norm();
-    if (a <= 1e-300) {
-        t = std::clamp(f / e, 0.0, 1.0);
-    } else {
-        const double c = d1.dot(r);
-        if (e <= 1e-300) {
-            s = std::clamp(-c / a, 0.0, 1.0);
-        } else {
-            const double b = d1.dot(d2), denom = a * e - b * b;
-            s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-            t = (b * s + f) / e;
-            if (t < 0) t = 0, s = std::clamp(-c / a, 0.0, 1.0);
-            if (t > 1) t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
-        }
-    }
-    return (p0 + d1 * s - (q0 + d2 * t)).norm();
-}
-
-struct BrokenBond {  // the ids of its two particles, lower first
-    std::uint64_t a = 0, b = 0;
-    auto operator<=>(const BrokenBond&) const = default;
-};
 
 struct CutSums {
     double removed = 0, converted = 0;
@@ -99,8 +69,8 @@ void Simulation::restoreCuts(const std::vector<CutCommand>& cuts) {
     for (const CutCommand& c : cuts) {
         checkCut(c);
         editMaps(c);
+        if (bondNet_) bondNet_ = std::make_shared<const BondNetwork>(breakBonds(*bondNet_, c.from, c.to, c.radius));
     }
-    forcesStale_ = true;
 }
 
 void Simulation::cut(const CutCommand& c) {
@@ -134,39 +104,10 @@ void Simulation::cut(const CutCommand& c) {
         p_.omega[i].setZero();
         mine.converted += 1;
     }
-    if (bondNet_) {  // a bond whose segment passes through the swept volume breaks, at both ends
-        std::unordered_map<std::uint64_t, Eigen::Vector3d> at;
-        for (std::size_t i = 0; i < p_.size(); ++i) at.emplace(p_.id[i], p_.pos[i]);
-        for (std::size_t g = 0; g < halo_.size(); ++g) at.emplace(halo_.id[g], halo_.pos[g]);
-        const BondNetwork& net = *bondNet_;
-        std::vector<BrokenBond> broken;
-        for (std::size_t i = 0; i < p_.size(); ++i) {
-            const std::uint64_t id = p_.id[i];
-            if (id >= net.idLimit() || gone[i]) continue;
-            for (std::uint32_t b = net.start[id]; b < net.start[id + 1]; ++b) {
-                const auto j = at.find(net.partner[b]);
-                if (j == at.end() || net.stiffness[b] == 0) continue;
-                if (segmentDistance(p_.pos[i], j->second, c.from, c.to) <= c.radius)
-                    broken.push_back({std::min(id, j->first), std::max(id, j->first)});
-            }
-        }
-        broken = ex_->allGatherV(broken);
-        std::sort(broken.begin(), broken.end());
-        broken.erase(std::unique(broken.begin(), broken.end()), broken.end());
-        if (!broken.empty()) {
-            auto next = std::make_shared<BondNetwork>(net);
-            const auto cutEntry = [&](std::uint64_t id, std::uint64_t partner) {
-                const auto first = next->partner.begin() + next->start[id],
-                           last = next->partner.begin() + next->start[id + 1];
-                const auto e = std::lower_bound(first, last, partner);
-                if (e == last || *e != partner) return;
-                const std::size_t k = std::size_t(e - next->partner.begin());
-                next->stiffness[k] = next->trace[k] = next->traceAtPartner[k] = 0;
-            };
-            for (const BrokenBond& b : broken) cutEntry(b.a, b.b), cutEntry(b.b, b.a);
-            bondNet_ = std::move(next);
-        }
-        lastCut_.bondsBroken = broken.size();
+    if (bondNet_) {  // a bond whose placed ends the blade passes between breaks, at both ends
+        std::size_t broken = 0;
+        bondNet_ = std::make_shared<const BondNetwork>(breakBonds(*bondNet_, c.from, c.to, c.radius, &broken));
+        lastCut_.bondsBroken = broken;
     }
     p_.removeIf(gone);
     for (int b : bags) {

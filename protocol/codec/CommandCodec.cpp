@@ -44,6 +44,10 @@ Body writeBody(flatbuffers::FlatBufferBuilder& fbb, const Checkpoint& b) {
 Body writeBody(flatbuffers::FlatBufferBuilder& fbb, const Record& b) {
     return {wire::CommandBody::Record, wire::CreateRecord(fbb, b.start, fbb.CreateString(b.path)).Union()};
 }
+Body writeBody(flatbuffers::FlatBufferBuilder& fbb, const Cut& b) {
+    const wire::Vec3 from = detail::toWire(b.from), to = detail::toWire(b.to);
+    return {wire::CommandBody::Cut, wire::CreateCut(fbb, &from, &to, b.radius).Union()};
+}
 
 // The plain body of a verified command, or a failure naming why there is none.
 Decoded<CommandBody> readBody(const wire::Command& w) {
@@ -95,6 +99,13 @@ Decoded<CommandBody> readBody(const wire::Command& w) {
                 return out;
             }
             break;
+        case wire::CommandBody::Cut: {
+            const auto* b = w.body_as_Cut();
+            if (b == nullptr || b->from() == nullptr || b->to() == nullptr)
+                return failed<CommandBody>(DecodeError::MissingField, "Command.Cut.from, .to: absent");
+            out.value = Cut{detail::toEigen(*b->from()), detail::toEigen(*b->to()), b->radius()};
+            return out;
+        }
         default:
             return failed<CommandBody>(DecodeError::Unsupported,
                                        "Command.body: unknown command type " + std::to_string(int(w.body_type())));

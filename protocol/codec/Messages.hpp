@@ -209,7 +209,14 @@ struct Record {
     std::string path;   // on the server; empty = default name
 };
 
-using CommandBody = std::variant<SeedParticle, SetBirth, SetParameter, RunControl, SwitchMapFrame, Checkpoint, Record>;
+// A blade of `radius` swept from `from` to `to` (schemas/command.fbs).
+struct Cut {
+    Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();  // length
+    double radius = 0;                                                              // length, > 0
+};
+
+using CommandBody =
+    std::variant<SeedParticle, SetBirth, SetParameter, RunControl, SwitchMapFrame, Checkpoint, Record, Cut>;
 
 struct Command {
     std::uint64_t requestId = 0;  // echoed in the reply

@@ -37,6 +37,11 @@ void checkBody(Checker& c, const SeedParticle& b) {
     c.species(b.species, 1, kMaxSpecies, "SeedParticle.species") &&
         c.within(b.position, ranges::kMaxCoordinate, "SeedParticle.position");
 }
+void checkBody(Checker& c, const Cut& b) {
+    c.within(b.from, ranges::kMaxCoordinate, "Cut.from") && c.within(b.to, ranges::kMaxCoordinate, "Cut.to") &&
+        c.within(b.radius, 0, ranges::kMaxCoordinate, "Cut.radius") &&
+        c.require(b.radius > 0, DecodeError::OutOfRange, "Cut.radius", "not above 0");
+}
 void checkBody(Checker& c, const SetBirth& b) {
     c.species(b.species, 1, kMaxSpecies, "SetBirth.species");
 }

@@ -40,6 +40,18 @@ std::optional<std::string> check(const SetParameter& b, const SceneInfo& scene) 
     return std::nullopt;  // k0, k1: no species; unknown names: Unsupported
 }
 
+// A blade within the probe's reach, no wider than the box.
+std::optional<std::string> check(const Cut& b, const SceneInfo& scene) {
+    const Eigen::AlignedBox3d reach = probeReachBox(scene);
+    for (const Eigen::Vector3d* x : {&b.from, &b.to})
+        if (!reach.contains(*x))
+            return std::string("Command.Cut.") + (x == &b.from ? "from" : "to") + ": " + vec(*x) + " outside " +
+                   vec(reach.min()) + ".." + vec(reach.max()) + " (the box grown by twice its largest side)";
+    const double widest = (scene.boxHi - scene.boxLo).maxCoeff();
+    if (b.radius <= widest) return std::nullopt;
+    return "Command.Cut.radius: " + std::to_string(b.radius) + " wider than the box (" + std::to_string(widest) + ")";
+}
+
 template <class Body>
 std::optional<std::string> check(const Body&, const SceneInfo&) {
     return std::nullopt;  // RunControl: the decoder's ranges; the others: the server decides

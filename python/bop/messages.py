@@ -6,7 +6,7 @@ import time
 import flatbuffers
 import numpy as np
 
-from .wire import (Checkpoint, Command, CommandBody, CommandReply, Feedback as FeedbackT, Hello, Probe, Record,
+from .wire import (Checkpoint, Command, CommandBody, CommandReply, Cut, Feedback as FeedbackT, Hello, Probe, Record,
                    Refusal, RunAction, RunControl, SceneInfo, SeedParticle, SetBirth, SetParameter, SwitchMapFrame,
                    Vec3)
 
@@ -163,7 +163,7 @@ def encode_command(request_id, kind, **args):
     """A command (docs/protocol.md "Session"): kind is one of
     pause, resume, step (steps=N), set (name=..., value=..., species_a=0, species_b=0),
     seed (species=S, position=(x, y, z)), birth (species=S, enabled=True), map_frame (frame=F),
-    checkpoint (path=""), record (start=True, path="")."""
+    checkpoint (path=""), record (start=True, path=""), cut (start=(x, y, z), end=(x, y, z), radius=r)."""
     b = flatbuffers.Builder(256)
     if kind in RUN_ACTIONS:
         RunControl.Start(b)
@@ -204,9 +204,17 @@ def encode_command(request_id, kind, **args):
         Record.AddStart(b, bool(args.get("start", True)))
         Record.AddPath(b, path)
         body, body_type = Record.End(b), CommandBody.CommandBody.Record
+    elif kind == "cut":  # a blade of `radius` swept from `start` to `end` (lengths; end defaults to start)
+        a = [float(v) for v in args["start"]]
+        e = [float(v) for v in args.get("end", a)]
+        Cut.Start(b)
+        Cut.AddFrom(b, Vec3.CreateVec3(b, *a))
+        Cut.AddTo(b, Vec3.CreateVec3(b, *e))
+        Cut.AddRadius(b, float(args["radius"]))
+        body, body_type = Cut.End(b), CommandBody.CommandBody.Cut
     else:
         raise ValueError(f"command '{kind}': expected pause, resume, step, set, seed, birth, map_frame, "
-                         "checkpoint or record")
+                         "checkpoint, record or cut")
     Command.Start(b)
     Command.AddRequestId(b, int(request_id))
     Command.AddBodyType(b, body_type)

@@ -214,3 +214,49 @@ TEST_CASE("a run that reads its map windows from the cache file builds the same 
         if (want.count(got.id[i])) worst = std::max(worst, (want[got.id[i]] - got.pos[i]).norm());
     CHECK(worst < 1e-8);
 }
+
+TEST_CASE("a cut across the subdomain faces: every rank's map and the particles as one process's",
+          "[mpi][construction][cut]") {
+    const long long built = 600, after = 200;
+    TorusBuild b = torus(built);
+    const core::Box& box = b.serialRun->model()->box;
+    const Eigen::Vector3d c = 0.5 * (box.lo + box.hi);
+    // A blade through the middle of the box along x, across the faces of every rank grid.
+    const core::CutCommand cut{{box.lo.x(), c.y(), c.z()}, {box.hi.x(), c.y(), c.z()}, 1.5 * kR0};
+    const CartComm comm(MPI_COMM_WORLD, box);
+    RankRun run(b.serialRun->model(), core::Particles{}, optionsFor(b));
+    run.run(built);
+    b.serial->submit(cut);
+    if (comm.rank() == 0) run.submit(cut);
+    b.serial->run(after);
+    run.run(after);
+    REQUIRE(b.serial->lastCut().removed > 0);
+    CHECK(run.simulation().lastCut().removed == b.serial->lastCut().removed);
+    CHECK(run.simulation().lastCut().converted == b.serial->lastCut().converted);
+    // Each rank's window of the edited map is the single process's edited map there.
+    const GradientMap& mine = *run.simulation().mapInForce().map();
+    const bop::VoxelWindow w{mine.origin, mine.origin + Eigen::Vector3i(mine.dims().nx, mine.dims().ny, mine.dims().nz)};
+    const GradientMap theirs = bop::cropGradientMap(*b.serial->mapInForce().map(), w);
+    CHECK(mine.occ == theirs.occ);
+    CHECK(mine.nearest == theirs.nearest);
+    REQUIRE(mine.surface.size() == theirs.surface.size());
+    std::size_t same = 0;
+    for (std::size_t s = 0; s < mine.surface.size(); ++s)
+        same += mine.surface[s].voxel == theirs.surface[s].voxel && mine.surface[s].normal == theirs.surface[s].normal &&
+                mine.surface[s].cpWeight == theirs.surface[s].cpWeight;
+    CHECK(same == mine.surface.size());
+    // The particles: the same ids, positions to round-off.
+    const core::Particles got = run.gather();
+    const core::Particles& expected = b.serial->particles();
+    REQUIRE(got.size() == expected.size());
+    double worst = 0;
+    std::size_t sameSpecies = 0;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        REQUIRE(got.id[i] == expected.id[i]);
+        sameSpecies += got.species[i] == expected.species[i];
+        worst = std::max(worst, (got.pos[i] - expected.pos[i]).norm());
+    }
+    INFO("largest position difference " << worst << " (simulation length units)");
+    CHECK(sameSpecies == got.size());
+    CHECK(worst < 1e-8);
+}

@@ -30,6 +30,9 @@ bool eq(const Checkpoint& a, const Checkpoint& b) {
 bool eq(const Record& a, const Record& b) {
     return a.start == b.start && a.path == b.path;
 }
+bool eq(const Cut& a, const Cut& b) {
+    return a.from == b.from && a.to == b.to && a.radius == b.radius;
+}
 
 template <class T, class Decode>
 DecodeCheck roundAgain(Decoded<T> d, Buffer (*encode)(const T&), Decode decode) {
@@ -116,7 +119,7 @@ Feedback sampleFeedback() {
 std::vector<Command> sampleCommands() {
     return {{1, SeedParticle{3, {1, 2, 3}}},           {2, SetBirth{2, false}}, {3, SetParameter{"lj", 1, 2, 0.75}},
             {4, RunControl{RunAction::SingleStep, 5}}, {5, SwitchMapFrame{7}},  {6, Checkpoint{"out/checkpoint.xyz"}},
-            {7, Record{true, "out/session.bop"}}};
+            {7, Record{true, "out/session.bop"}},    {8, Cut{{1, 2, 3}, {4, 5, 6}, 1.5}}};
 }
 
 CommandReply sampleReply() {

@@ -89,6 +89,18 @@ std::string commentLine(const XyzFrameInfo& info) {
         s += " NextId=";
         putInteger(s, info.nextId);
     }
+    if (!info.cuts.empty()) {
+        s += " Cuts=\"";
+        for (const core::CutCommand& c : info.cuts) {
+            if (&c != info.cuts.data()) s += ' ';
+            putTriple(s, c.from);
+            s += ' ';
+            putTriple(s, c.to);
+            s += ' ';
+            putNumber(s, c.radius);
+        }
+        s += '"';
+    }
     if (!info.settle.empty()) {
         s += " Settle=\"";
         s += info.settle;

@@ -24,6 +24,7 @@
 // Files of earlier versions (names in `species`, numbers in `species_number`, births with ids
 // above 2^63) read as before, such an id with bit 62 in place of bit 63.
 #include "bop/common/UnitSystem.hpp"
+#include "core/Command.hpp"
 #include "core/Particles.hpp"
 
 #include <Eigen/Core>
@@ -50,6 +51,9 @@ struct XyzFrameInfo {
     // Settle: where a placed bag's settling is (app/runs/Settling.hpp), words without quotes;
     // empty: not recorded.
     std::string settle;
+    // Cuts: the cuts made so far (core::CutCommand), seven numbers each (from, to, radius;
+    // simulation length units), so that a restart edits the map as the run did. Empty: none.
+    std::vector<core::CutCommand> cuts;
     UnitSystem units;  // written where known (lengthKnown(), physical)
 };
 

@@ -1,6 +1,7 @@
 // Extended XYZ reader, text level: words, the comment line and the Properties key.
 #include "app/files/ExtendedXyzParse.hpp"
 
+#include <cmath>
 #include <algorithm>
 #include <cctype>
 
@@ -123,6 +124,19 @@ XyzFrameInfo parseInfo(const Reader& r, long long line, const KeyValues& kv) {
         n != kv.end() && (!parseWhole(std::string_view(n->second), info.nextId) || info.nextId < 1))
         r.fail(line, "NextId=" + n->second + ", expected an id of 1 or more");
     if (auto st = kv.find("settle"); st != kv.end()) info.settle = st->second;
+    if (auto c = kv.find("cuts"); c != kv.end()) {
+        const auto words = splitWords(c->second);
+        std::vector<double> x(words.size());
+        bool ok = words.size() % 7 == 0;
+        for (std::size_t k = 0; ok && k < words.size(); ++k) ok = parseWhole(words[k], x[k]) && std::isfinite(x[k]);
+        for (std::size_t k = 0; ok && k < words.size(); k += 7) {
+            ok = x[k + 6] > 0;
+            info.cuts.push_back({{x[k], x[k + 1], x[k + 2]}, {x[k + 3], x[k + 4], x[k + 5]}, x[k + 6]});
+        }
+        if (!ok)
+            r.fail(line, "Cuts=\"" + c->second.substr(0, 80) +
+                             "\", expected seven finite numbers per cut (from, to, a radius above 0)");
+    }
     return info;
 }
 

@@ -50,6 +50,8 @@ protocol::CommandReply apply(const protocol::Command& c, ClientControls& control
             } else {
                 return answer(c, ReplyStatus::Unsupported, next, "unknown parameter '" + n + "'");
             }
+        } else if (const auto* cut = std::get_if<protocol::Cut>(&c.body)) {
+            rc = core::CutCommand{cut->from, cut->to, cut->radius};
         } else if (const auto* r = std::get_if<protocol::RunControl>(&c.body)) {
             if (r->action == protocol::RunAction::Pause)
                 controls.paused = true;

@@ -37,20 +37,25 @@ void placeInMap(const Scene& scene, const GradientMap& map, RunStart& s) {
 }
 
 // A restart file of a bonded bag holds the scene's placed particles (some may have died): each id
-// of the file names a placed particle of the same species.
+// of the file names a placed particle of the same species. After a cut (`cut`), particles born on
+// the cut faces (ids beyond the placement's) and volume particles made surface particles of their
+// own bag are the run's own too.
 void checkPlacedIds(const core::Particles& placed, const core::Particles& file, const core::Model& model,
-                    const std::string& restart) {
+                    const std::string& restart, bool cut) {
     std::vector<int> speciesOf;
     for (std::size_t i = 0; i < placed.size(); ++i) {
         if (placed.id[i] >= speciesOf.size()) speciesOf.resize(placed.id[i] + 1, 0);
         speciesOf[placed.id[i]] = placed.species[i];
     }
-    for (std::size_t i = 0; i < file.size(); ++i)
-        if (file.id[i] >= speciesOf.size() || speciesOf[file.id[i]] != file.species[i])
-            throw Error(restart, "particle id " + std::to_string(file.id[i]) + " (" +
-                                     model.species[file.species[i]].name +
+    for (std::size_t i = 0; i < file.size(); ++i) {
+        const bool placedId = file.id[i] < speciesOf.size();
+        const int was = placedId ? speciesOf[file.id[i]] : 0, is = file.species[i];
+        const bool ok = placedId ? was == is || (cut && was > 0 && bagOfSpecies(was) == bagOfSpecies(is)) : cut;
+        if (!ok)
+            throw Error(restart, "particle id " + std::to_string(file.id[i]) + " (" + model.species[is].name +
                                      ") is not one this scene places: a bonded bag restarts from its own "
                                      "scene's run");
+    }
 }
 
 std::string bondReport(const core::BondNetwork& net, std::size_t particles) {
@@ -68,9 +73,11 @@ std::string bondReport(const core::BondNetwork& net, std::size_t particles) {
 
 core::Particles initialParticles(const Scene& scene, const core::Model& model,
                                  const std::vector<core::ConstructionEvent>& timeline, const std::string& restart,
-                                 long long& firstStep, core::Construction& construction, std::string& settle) {
+                                 long long& firstStep, core::Construction& construction, std::string& settle,
+                                 std::vector<core::CutCommand>& cuts) {
     firstStep = 0;
     settle.clear();
+    cuts.clear();
     construction = core::Construction(scene.construction, timeline, model.speciesCount());
     if (!restart.empty()) {
         XyzFrame f = readExtendedXyz(restart, speciesNames(model));
@@ -79,6 +86,7 @@ core::Particles initialParticles(const Scene& scene, const core::Model& model,
             throw Error(restart, "not a state a run can start from: " + u.text());
         firstStep = f.info.step;
         settle = f.info.settle;
+        cuts = f.info.cuts;
         if (!f.info.births.empty()) {
             try {
                 construction.restore(f.info.births, std::uint64_t(std::max(0LL, f.info.seeds)),
@@ -155,11 +163,11 @@ RunStart startRun(const Scene& scene, const std::string& cache, const std::strin
     }
     core::Construction construction({}, {}, s.model->speciesCount());
     core::Particles fromFile =
-        initialParticles(scene, *s.model, s.timeline, restart, s.firstStep, construction, s.settle);
+        initialParticles(scene, *s.model, s.timeline, restart, s.firstStep, construction, s.settle, s.options.cuts);
     s.settleFile = restart;
     if (!place) s.particles = std::move(fromFile);
     if (bonded) {
-        if (!restart.empty()) checkPlacedIds(placedForBonds, s.particles, *s.model, restart);
+        if (!restart.empty()) checkPlacedIds(placedForBonds, s.particles, *s.model, restart, !s.options.cuts.empty());
         auto model = std::make_shared<core::Model>(*s.model);
         model->bonds = std::make_shared<const core::BondNetwork>(
             core::buildBonds(*model, placedForBonds, core::bondCut(*model, scene.params), bagParent,

@@ -11,3 +11,4 @@ class CommandBody(object):
     SwitchMapFrame = 5
     Checkpoint = 6
     Record = 7
+    Cut = 8
