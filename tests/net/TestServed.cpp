@@ -10,6 +10,7 @@
 #include "security/CurveKeys.hpp"
 #include "shape/KeyframeTestScene.hpp"
 #include "transport/UdpSocket.hpp"
+#include "bop/common/Units.hpp"
 
 #include <catch2/catch.hpp>
 #include <zmq.hpp>
@@ -212,9 +213,10 @@ TEST_CASE("malformed, truncated and oversized messages are refused and counted, 
 namespace {
 
 // Serves `scene` at 2 ranks with a recording on, moves a probe through the box's centre, changes a
-// damping, goes quiet for 1.5 s (the server switches the probe off), then replays the recording:
-// every frame chunk must come out bit for bit.
-void recordAndReplay(const std::string& scene) {
+// damping (and with `cut`, cuts through the box's middle along x, across the ranks' faces), goes
+// quiet for 1.5 s (the server switches the probe off), then replays the recording: every frame
+// chunk must come out bit for bit.
+void recordAndReplay(const std::string& scene, bool cut = false) {
     test::TempDir dir("served-record");
     const std::string rec = dir.file("session.mcap");
     ChildProcess srv(server(2, scene, {"--publish-hz", "30", "--record", rec, "-o", dir.file("out")}));
@@ -235,10 +237,29 @@ void recordAndReplay(const std::string& scene) {
     drag.body = SetParameter{"drag_v", 1, 0, 0.5};
     const CommandReply r = c.sendCommand(drag, 10s);
     CHECK(r.status == ReplyStatus::Ok);
+    if (cut) {
+        Command blade;
+        blade.requestId = 8;
+        const Eigen::Vector3d mid = centreOf(info);
+        blade.body = Cut{{info.boxLo.x(), mid.y(), mid.z()}, {info.boxHi.x(), mid.y(), mid.z()}, 1.5 * kR0};
+        CHECK(c.sendCommand(blade, 10s).status == ReplyStatus::Ok);
+        std::this_thread::sleep_for(300ms);
+        blade.requestId = 9;
+        blade.body = Cut{{mid.x(), info.boxLo.y(), mid.z()}, {mid.x(), info.boxHi.y(), mid.z()}, kR0};
+        CHECK(c.sendCommand(blade, 10s).status == ReplyStatus::Ok);
+        blade.requestId = 10;
+        blade.body = Cut{{mid.x(), mid.y(), mid.z()}, {mid.x(), mid.y(), mid.z()}, -1.0};
+        CHECK_THROWS(c.sendCommand(blade, 10s));  // refused before it leaves: no radius
+    }
     // Over a second without probes: the server switches the client's probe off, and the replay
     // must do so at the same step.
     std::this_thread::sleep_for(1500ms);
     stopCleanly(srv);
+    if (cut) {
+        const std::string log = srv.output();
+        INFO(log);
+        CHECK(std::regex_search(log, std::regex("cut 2 at step [0-9]+: [1-9][0-9]* particles out")));
+    }
     const auto [code, out] = test::runCommand(
         test::buildDir() + "/protocol/bop-replay check " + rec + " -o " + dir.file("replay") + " 2>&1", 120s);
     INFO(out);
@@ -257,6 +278,10 @@ TEST_CASE("a recorded session replayed at the same rank count reproduces every f
 
 TEST_CASE("a recorded session of several bags (the organs scene) replays bit for bit", "[net][replay]") {
     recordAndReplay("organs");
+}
+
+TEST_CASE("a recorded session with cuts (the placed torus cut twice) replays bit for bit", "[net][replay][cut]") {
+    recordAndReplay("torus-cut", true);
 }
 
 TEST_CASE(

@@ -77,6 +77,7 @@ private:
     LifecycleOptions o_;
     std::optional<CardiacRun> cardiac_;
     std::function<std::string()> extra_;
+    std::size_t cutsSaid_ = 0;  // cuts the log has told of
     double readySeconds_ = 0;
 };
 
