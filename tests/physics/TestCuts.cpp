@@ -4,7 +4,10 @@
 #include "OneProcessRun.hpp"
 #include "RawShapeScene.hpp"
 #include "app/runs/Settling.hpp"
+#include "app/files/Checkpoint.hpp"
+#include "app/files/ExtendedXyz.hpp"
 #include "app/scene/Fidelity.hpp"
+#include "app/scene/RunStart.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -94,4 +97,85 @@ TEST_CASE("a torus cut across its tube at two places: two pieces that stay apart
     CHECK(in1 >= 0.95);
     const app::Fidelity f = app::measureFidelity(sim.model(), *sim.mapInForce().map(), p);
     CHECK(f.volumeInOwnVoxels >= 0.95);
+}
+
+TEST_CASE("a checkpoint after cuts carries them: the restart's map is the cut run's, its sheet holds", "[physics][cut]") {
+    test::TempDir dir("cut-restart");
+    const test::Shape shape = torus();
+    const app::Scene scene = app::loadScene(test::writeScene(dir, shape));
+    test::OneProcessRun run(scene, "", true);
+    settle(run, scene);
+    core::Simulation& sim = *run;
+    const double h = voxelLength(sim.mapInForce().map()->r0Voxels);
+    cutAcross(sim, 1.0, h);
+    for (int s = 0; s < 100; ++s) sim.step();
+    const std::string file = dir.file("checkpoint.xyz");
+    app::writeCheckpoint(file, sim.gather(), sim.model(), sim.construction(), sim.stepCount(), "", sim.cuts());
+    REQUIRE(app::readExtendedXyz(file, app::speciesNames(sim.model())).info.cuts.size() == 3);
+
+    test::OneProcessRun again(scene, file);
+    const GradientMap &cut = *sim.mapInForce().map(), &restarted = *again->mapInForce().map();
+    CHECK(again->cuts().size() == 3);
+    CHECK(restarted.occ == cut.occ);
+    CHECK(restarted.nearest == cut.nearest);
+    CHECK(restarted.surface.size() == cut.surface.size());
+    CHECK(again->particles().size() == sim.particles().size());
+    again->run(300);
+    const double in = std::min(surfaceInSurfaceVoxels(*again, 0, shape), surfaceInSurfaceVoxels(*again, 1, shape));
+    INFO("after the restart, surface particles in surface voxels: " << 100 * in << "% (the piece with fewer)");
+    CHECK(in >= 0.95);
+}
+
+TEST_CASE("a notch cut into the bonded tissue block is closed by a sheet within 500 steps", "[physics][cut]") {
+    const app::Scene scene = app::loadScene(test::sourceDir() + "/config/scenes/tissue-block.toml");
+    test::OneProcessRun run(scene, "", true);
+    settle(run, scene);
+    core::Simulation& sim = *run;
+    const GradientMap before = *sim.mapInForce().map();
+    const double h = voxelLength(before.r0Voxels);
+    // The bag's top and its middle, voxel units.
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+    for (std::size_t v = 0; v < before.occ.size(); ++v)
+        if (before.occ[v]) {
+            const Eigen::Vector3d c = before.dims().coords(v).cast<double>();
+            lo = lo.cwiseMin(c), hi = hi.cwiseMax(c + Eigen::Vector3d::Ones());
+        }
+    const Eigen::Vector3d mid = 0.5 * (lo + hi);
+    // Two strokes across the top along x, the second 1.5 r0 deeper: a notch about 3.5 r0 deep.
+    for (double depth : {0.0, 1.5 * before.r0Voxels}) {
+        const Eigen::Vector3d a(lo.x() + 8, mid.y(), hi.z() - depth), b(hi.x() - 8, mid.y(), hi.z() - depth);
+        sim.submit(core::CutCommand{a * h, b * h, kR0});
+    }
+    sim.step();
+    const core::CutReport report = sim.lastCut();
+    for (int s = 1; s < 500; ++s) sim.step();
+    const GradientMap& after = *sim.mapInForce().map();
+    const core::Particles& p = sim.particles();
+    // Surface particles in surface voxels of the edited map; the new faces' voxels with a surface
+    // particle within r0.
+    std::size_t surface = 0, inSurface = 0, faces = 0, covered = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (!sim.model().isSurface(p.species[i])) continue;
+        ++surface;
+        const std::int64_t v = after.voxelHolding(p.pos[i] / h);
+        inSurface += v >= 0 && after.occ[std::size_t(v)] == p.species[i];
+    }
+    for (std::size_t v = 0; v < after.occ.size(); ++v) {
+        if (!isSurfaceSpecies(after.occ[v]) || isSurfaceSpecies(before.occ[v])) continue;
+        ++faces;
+        const Eigen::Vector3d c = (after.dims().coords(v).cast<double>() + Eigen::Vector3d::Constant(0.5)) * h;
+        bool near = false;
+        for (std::size_t i = 0; i < p.size() && !near; ++i)
+            near = sim.model().isSurface(p.species[i]) && (p.pos[i] - c).squaredNorm() <= kR0 * kR0;
+        covered += near;
+    }
+    const double inFraction = double(inSurface) / double(surface), coverage = double(covered) / double(faces);
+    INFO(report.removed << " particles out, " << report.converted << " made surface, " << report.bondsBroken
+                        << " bonds broken; after 500 steps " << 100 * inFraction
+                        << "% of surface particles in surface voxels; " << faces << " new face voxels, "
+                        << 100 * coverage << "% with a surface particle within r0");
+    CHECK(report.removed > 0);
+    CHECK(report.bondsBroken > 0);
+    CHECK(inFraction >= 0.95);
+    CHECK(coverage >= 0.95);
 }
