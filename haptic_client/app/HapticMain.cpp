@@ -75,6 +75,11 @@ int main(int argc, char** argv) {
             ->check(CLI::Range(protocol::ranges::kMinProbeK0, protocol::ranges::kMaxProbeK0));
         app.add_option("--k1", o.k1, "probe strength (paper eq. 9; default: the server's)")
             ->check(CLI::Range(protocol::ranges::kMinProbeK1, protocol::ranges::kMaxProbeK1));
+        app.add_flag("--cut", o.cut, "cut with the probe: the hand's path is a blade's (docs/haptics.md \"Cutting\")");
+        app.add_option("--cut-button", o.cutButton, "cut while this device button is held (0, 1, ...)")
+            ->check(CLI::Range(0, 31));
+        app.add_option("--cut-radius", o.cutRadius, "the blade's radius, length (default: r0)")
+            ->check(CLI::PositiveNumber);
         app.add_flag("--udp", o.udp, "probes and feedback as datagrams (the server's UDP port)");
         app.add_option("--reconnect-after", o.reconnectAfterS,
                        "no feedback for this long, s: connect to the server "

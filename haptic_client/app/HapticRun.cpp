@@ -7,6 +7,7 @@
 #include "bop/common/PythonPlot.hpp"
 #include "client/ClientSession.hpp"
 #include "client/RoundTrip.hpp"
+#include "control/BladeCuts.hpp"
 #include "control/RateLoop.hpp"
 
 #include <chrono>
@@ -100,7 +101,7 @@ int runHaptic(const RunOptions& o) {
     const protocol::SceneInfo scene = link.connect(std::chrono::seconds(30));
     std::printf("bop-haptic: connected to %s\n", o.endpoint.c_str());
     std::fflush(stdout);
-    const std::optional<FieldForce> field = downloadField(link.session(), scene, o.fieldStiffness, o.mapMaxMb);
+    std::optional<FieldForce> field = downloadField(link.session(), scene, o.fieldStiffness, o.mapMaxMb);
     DeviceOptions script = o.script;
     script.target = o.target ? *o.target : topOfBag(field, scene);
     const UnitSystem& units = scene.unitSystem;
@@ -130,6 +131,11 @@ int runHaptic(const RunOptions& o) {
         std::printf("bop-haptic: coupling stiffness lowered to %.3g force/length (%.3g N/mm, the device's most)\n",
                     params.stiffness, device->limits().maxStiffnessNPerMm);
     }
+    // Cutting: strokes of the hand's path sent without waiting, the field's map cut alike.
+    BladePath blade(o.cutRadius);
+    std::optional<FieldCutter> cutter;
+    if (field && (o.cut || o.cutButton >= 0)) cutter.emplace(*field, SurfaceGeometryParams{});
+    std::uint64_t strokes = 0, strokesDropped = 0;
     ForceModel model(params, field && fieldStiffness > 0
                                  ? std::function<Eigen::Vector3d(const Eigen::Vector3d&)>(std::cref(*field))
                                  : std::function<Eigen::Vector3d(const Eigen::Vector3d&)>());
@@ -192,6 +198,14 @@ int runHaptic(const RunOptions& o) {
             const PeriodStats r = loop.recent();
             stats = {float(r.rateHz), float(r.p99Us), r.missed + r.late};
         }
+        const bool cutting = o.cut || (o.cutButton >= 0 && ((state.buttons >> o.cutButton) & 1u));
+        if (const std::optional<Stroke> s = blade.tick(t.tS, cutting, x)) {  // the hand's, not the proxy's
+            protocol::Command c;
+            c.requestId = ++strokes;
+            c.body = protocol::Cut{s->from, s->to, s->radius};
+            if (!link.session().postCommand(c)) ++strokesDropped;
+            if (cutter) cutter->push(*s);
+        }
         protocol::Probe p{++seq, wallNs(), out.proxy, true, k0, k1, stats, w.forceToScene(n)};
         link.session().sendProbe(p);
         roundTrip.sent(seq, wallS());
@@ -205,6 +219,13 @@ int runHaptic(const RunOptions& o) {
                 roundTrip.percentileMs(50), roundTrip.percentileMs(99), roundTrip.percentileMs(100), roundTrip.count(),
                 (unsigned long long)feedbacks);
     if (link.reconnections() > 0) std::printf("reconnections: %u\n", link.reconnections());
+    if (o.cut || o.cutButton >= 0) {
+        if (cutter) cutter->drain();
+        std::printf("cutting: %llu strokes sent (%llu dropped, the send queue full), radius %.3g; the map's copy cut "
+                    "by %zu of them, the slowest edit %.2f ms (off the loop)\n",
+                    (unsigned long long)strokes, (unsigned long long)strokesDropped, o.cutRadius,
+                    cutter ? cutter->applied() : std::size_t(0), cutter ? cutter->slowestMs() : 0.0);
+    }
     std::printf("largest force rendered: %.3f N; trace in %s/haptic-trace.csv\n", largestN, o.outDir.c_str());
     if (scripted(o.device) && !curve.points().empty()) {
         curve.writeCsv(o.outDir + "/stiffness.csv");

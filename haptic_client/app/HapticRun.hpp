@@ -32,6 +32,11 @@ struct RunOptions {
     double workspaceScale = 0;                       // length per mm; 0: the device's workspace spans the scene's box
     std::optional<Eigen::Vector3d> workspaceCentre;  // the scene point at the workspace's centre; default: the box's
     double k0 = 0, k1 = 0;                           // 0: the server's
+    // Cutting: always (--cut) or while a device button is held (--cut-button; -1: none); the
+    // blade's radius, length.
+    bool cut = false;
+    int cutButton = -1;
+    double cutRadius = 1.7320508075688772;  // r0
     bool udp = false;
     double mapMaxMb = 512;
     double reconnectAfterS = 2;                  // no feedback for this long: connect again (0: never)

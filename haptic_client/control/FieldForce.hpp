@@ -10,11 +10,21 @@
 
 #include <Eigen/Core>
 
+#include <atomic>
+#include <memory>
+
 namespace bop::haptic {
 
+// The map can be replaced while the loop reads it (a cut, FieldCutter): each query reads one map
+// whole, the one in force when it began.
 class FieldForce {
 public:
     FieldForce(GradientMap map, double stiffness);  // stiffness: force / length
+    FieldForce(const FieldForce& other);
+    FieldForce& operator=(const FieldForce&) = delete;
+
+    std::shared_ptr<const GradientMap> map() const { return map_.load(); }
+    void setMap(std::shared_ptr<const GradientMap> map) { map_.store(std::move(map)); }
 
     double signedDistance(const Eigen::Vector3d& x) const;   // length; > 0 outside every bag
     Eigen::Vector3d normal(const Eigen::Vector3d& x) const;  // outward, of the nearest surface
@@ -25,9 +35,11 @@ public:
     Eigen::Vector3d top() const;
 
 private:
-    double sample(const Eigen::Vector3d& x, Eigen::Vector3d* gradient) const;  // distance and its gradient
-    double distanceAtVoxel(int i, int j, int k) const;                         // length, clamped into the grid
-    GradientMap map_;
+    // Distance and its gradient; a voxel's distance, length, clamped into the grid.
+    double sample(const GradientMap& m, const Eigen::Vector3d& x, Eigen::Vector3d* gradient) const;
+    double distanceAtVoxel(const GradientMap& m, int i, int j, int k) const;
+    Eigen::Vector3d normal(const GradientMap& m, const Eigen::Vector3d& x) const;
+    std::atomic<std::shared_ptr<const GradientMap>> map_;
     double stiffness_, h_;
 };
 

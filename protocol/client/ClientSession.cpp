@@ -307,6 +307,15 @@ CommandReply ClientSession::sendCommand(const Command& command, milliseconds tim
     return std::move(*answer);
 }
 
+bool ClientSession::postCommand(const Command& command) {
+    Impl& d = *impl_;
+    if (!d.dealer) throw std::logic_error("ClientSession::postCommand before connect");
+    const Buffer b = encodeCommand(command);
+    if (!d.dealer->send(zmq::buffer(b), zmq::send_flags::dontwait)) return false;
+    d.lastSent = Clock::now();
+    return true;
+}
+
 std::optional<Feedback> ClientSession::pollFeedback() {
     Impl& d = *impl_;
     if (!d.dealer) return std::nullopt;

@@ -110,6 +110,9 @@ public:
     // server refuses the command before it could read its request id (a Refusal, its reason).
     CommandReply sendCommand(const Command& command, std::chrono::milliseconds timeout);
     CommandReply sendCommand(const Command& command);
+    // Sends the command without waiting for its reply (a 1 kHz loop's cuts); false when the send
+    // queue is full. The reply, read later by pollFeedback(), counts in stats().repliesDropped.
+    bool postCommand(const Command& command);
     // Downloads the server's gradient-map file (SceneInfo::mapBytes; the bytes of a .bopgm file,
     // common/include/bop/common/GradientMapFile.hpp) in pieces of 1 MiB, each waited for up to
     // `timeout`, calling `progress(bytes so far, total)` after each. bop::Error naming the
