@@ -68,7 +68,11 @@ int runHeadless(ViewerLink& link, const LoopOptions& o) {
             }
             if (o.probe) {
                 const double u = std::min(1.0, (now - *firstFrameS) / std::max(o.probe->seconds, 1e-9));
-                core.scriptProbe(o.probe->from + u * (o.probe->to - o.probe->from), true);
+                const Eigen::Vector3d at = o.probe->from + u * (o.probe->to - o.probe->from);
+                if (o.probe->cutRadius > 0)
+                    core.scriptCut(at, o.probe->cutRadius);
+                else
+                    core.scriptProbe(at, true);
             }
             const auto t1 = Clock::now();
             target.bind();

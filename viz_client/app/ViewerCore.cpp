@@ -134,6 +134,12 @@ void ViewerCore::scriptProbe(const Eigen::Vector3d& position, bool active) {
     sendProbe();
 }
 
+void ViewerCore::scriptCut(const Eigen::Vector3d& position, double radius) {
+    if (bladeAt_ && (position - *bladeAt_).norm() < radius) return;
+    link_.submit(cutCommand(bladeAt_ ? *bladeAt_ : position, position, radius));
+    bladeAt_ = position;
+}
+
 void ViewerCore::setProbeParameters(double k0, double k1) {
     if (k0 > 0) controls_.now.k0 = k0;
     if (k1 > 0) controls_.now.k1 = k1;
@@ -148,6 +154,9 @@ void ViewerCore::press(int button, double x, double y, double aspect) {
         sendProbe();
     } else if (panel.tool == MouseTool::Seed) {
         link_.submit(seedCommand(panel.seedSpecies, camera.onViewPlane(x, y, camera.target(), aspect)));
+    } else if (panel.tool == MouseTool::Cut && scene_) {
+        bladeAt_.reset();
+        scriptCut(camera.onViewPlane(x, y, camera.target(), aspect), panel.bladeR0 * scene_->r0);
     }
 }
 
@@ -157,6 +166,8 @@ void ViewerCore::move(double x, double y, double aspect) {
     } else if (dragButton_ == 0 && panel.tool == MouseTool::Probe) {
         probe.drag(x, y, camera, aspect);
         sendProbe();
+    } else if (dragButton_ == 0 && panel.tool == MouseTool::Cut && scene_) {
+        scriptCut(camera.onViewPlane(x, y, camera.target(), aspect), panel.bladeR0 * scene_->r0);
     } else if (dragButton_ == 0 && panel.tool == MouseTool::View) {
         camera.orbit(-kOrbitRadPerNdc * (x - lastX_), -kOrbitRadPerNdc * (y - lastY_));
     }

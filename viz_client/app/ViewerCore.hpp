@@ -35,6 +35,10 @@ public:
 
     // The probe placed by a script (headless runs): position (length) and on/off.
     void scriptProbe(const Eigen::Vector3d& position, bool active);
+    // A blade at `position` (length) of `radius` (length): the path it has gone since the last
+    // stroke becomes a Cut once it is a radius long (the first call: a point). Headless scripts and
+    // the cut tool's drag.
+    void scriptCut(const Eigen::Vector3d& position, double radius);
     // Sets the k0 and k1 sliders (sent as commands too, and with every probe); 0 keeps one.
     void setProbeParameters(double k0, double k1);
 
@@ -63,6 +67,7 @@ private:
     bool fitPending_ = false;
     int dragButton_ = -1;
     double lastX_ = 0, lastY_ = 0;
+    std::optional<Eigen::Vector3d> bladeAt_;  // where the cut's last stroke ended (none: not cutting)
 };
 
 }  // namespace bop::viz

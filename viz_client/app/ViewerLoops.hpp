@@ -17,6 +17,7 @@ struct ProbeScript {
     Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
     double seconds = 1;
     double k0 = 0, k1 = 0;  // range scale and strength (paper eq. 9); 0 = the server's
+    double cutRadius = 0;   // above 0: the probe is a blade of this radius (length) and its path cuts
 };
 
 struct LoopOptions {

@@ -47,7 +47,10 @@ int main(int argc, char** argv) {
         app.add_option("--probe-to", probeTo, "headless: ... and moves here (length)");
         app.add_option("--probe-seconds", probeSeconds, "headless: ... over this long from the first frame, s")
             ->check(CLI::PositiveNumber);
-        double probeK0 = 0, probeK1 = 0;
+        double probeK0 = 0, probeK1 = 0, cutRadius = 0;
+        app.add_option("--probe-cut", cutRadius,
+                       "headless: the scripted probe is a blade of this radius (length): its path cuts the bags")
+            ->check(CLI::PositiveNumber);
         app.add_option("--probe-k0", probeK0,
                        "headless: the probe's range scale k0 (paper eq. 9; default: the server's)")
             ->check(CLI::Range(protocol::ranges::kMinProbeK0, protocol::ranges::kMaxProbeK0));
@@ -76,7 +79,7 @@ int main(int argc, char** argv) {
             if (!headless)
                 throw Error("--probe-from", "a scripted probe is for --headless runs; the window has the mouse");
             o.probe = viz::ProbeScript{parseVector3(probeFrom, "--probe-from"), parseVector3(probeTo, "--probe-to"),
-                                       probeSeconds, probeK0, probeK1};
+                                       probeSeconds, probeK0, probeK1, cutRadius};
         }
         if (headless && o.frames == 0) o.frames = 10;
         if (headless && connectS == 0) connectS = 30;

@@ -54,6 +54,10 @@ protocol::Command seedCommand(int species, const Eigen::Vector3d& position) {
     return {0, protocol::SeedParticle{species, position}};
 }
 
+protocol::Command cutCommand(const Eigen::Vector3d& from, const Eigen::Vector3d& to, double radius) {
+    return {0, protocol::Cut{from, to, radius}};
+}
+
 protocol::Command birthCommand(int species, bool on) {
     return {0, protocol::SetBirth{species, on}};
 }

@@ -33,6 +33,8 @@ private:
 
 // The panel's one-off commands (request ids are set by whoever sends them).
 protocol::Command seedCommand(int species, const Eigen::Vector3d& position);  // position: length
+// A blade of `radius` swept from `from` to `to` (length).
+protocol::Command cutCommand(const Eigen::Vector3d& from, const Eigen::Vector3d& to, double radius);
 protocol::Command birthCommand(int species, bool on);
 protocol::Command runCommand(protocol::RunAction action, std::uint32_t steps = 1);
 protocol::Command recordCommand(bool start, const std::string& fileName = {});  // empty: the server's default

@@ -99,7 +99,11 @@ void view(PanelState& s) {
     ImGui::RadioButton("probe", &tool, int(MouseTool::Probe));
     ImGui::SameLine();
     ImGui::RadioButton("seed", &tool, int(MouseTool::Seed));
+    ImGui::SameLine();
+    ImGui::RadioButton("cut", &tool, int(MouseTool::Cut));
     s.tool = MouseTool(tool);
+    if (s.tool == MouseTool::Cut)  // a drag across the view plane through the target cuts the bags
+        ImGui::SliderFloat("blade radius, r0", &s.bladeR0, 0.5f, 4.0f, "%.2f");
 }
 
 void construction(PanelState& s, ViewerLink& link, const protocol::SceneInfo& scene) {

@@ -16,12 +16,13 @@ namespace bop::viz {
 
 inline constexpr float kPanelWidthPx = 360;  // the panel's width as it first opens
 
-enum class MouseTool { View = 0, Probe = 1, Seed = 2 };
+enum class MouseTool { View = 0, Probe = 1, Seed = 2, Cut = 3 };
 
 // What the panel edits besides the sliders (Controls).
 struct PanelState {
     MouseTool tool = MouseTool::View;
     int seedSpecies = 1;        // 1-based
+    float bladeR0 = 1;          // the cut tool's blade radius, r0
     std::vector<bool> birthOn;  // by species number; the panel's idea, unknown at connect
     bool paused = false;
     int singleSteps = 1;
