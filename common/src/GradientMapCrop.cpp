@@ -47,8 +47,20 @@ GradientMap cropGradientMap(const GradientMap& map, const VoxelWindow& window) {
                 const std::size_t dst = cd.index(i, j, k);
                 out.occ[dst] = map.occ[src];
                 out.nearest[dst] = map.nearest[src];
-                named.push_back(map.nearest[src]);
+                // neighbours mostly name the same record: a run of one is pushed once
+                if (named.empty() || named.back() != map.nearest[src]) named.push_back(map.nearest[src]);
             }
+    if (map.surface.size() <= 8 * cd.count()) {  // a small map's records: marked, then numbered in order
+        std::vector<std::uint32_t> renumber(map.surface.size(), 0);
+        for (std::uint32_t s : named) renumber[s] = 1;
+        for (std::size_t s = 0; s < map.surface.size(); ++s)
+            if (renumber[s]) {
+                renumber[s] = std::uint32_t(out.surface.size());
+                out.surface.push_back(map.surface[s]);
+            }
+        for (auto& n : out.nearest) n = renumber[n];
+        return out;
+    }
     std::sort(named.begin(), named.end());
     named.erase(std::unique(named.begin(), named.end()), named.end());
     out.surface.reserve(named.size());

@@ -152,8 +152,9 @@ MapPatch cutPatch(const MapWindowReader& read, const Dims& whole, double r0Voxel
     const int K = kernels.radius;
     std::vector<double> scratch;
     for (int margin = K + 2;; margin *= 2, ++patch.grows) {
-        // Read enough around the blade for the window, its two checked layers and the filters.
-        const VoxelWindow X = grown(bladeBox, 1 + margin + 2 + K + 2, whole);
+        // Read enough around the blade (the changes lie within one voxel of it) for the window, its
+        // two checked layers, and the filters of the surface voxels within K + 1 of a change.
+        const VoxelWindow X = grown(bladeBox, 1 + std::max(margin + 2, 2 * K + 1), whole);
         const GradientMap crop = read(X);
         const EditedImage e = editImage(crop, X, bladeBox, blade);
         if (e.removed == 0) return patch;
@@ -170,14 +171,21 @@ MapPatch cutPatch(const MapWindowReader& read, const Dims& whole, double r0Voxel
         });
         exactDistanceTransform(Wext.dims(), feature, dist2, 1);
 
+        // The old records' places and whether the blade took them, once per record.
+        std::vector<V3i> placeOf(crop.surface.size());
+        std::vector<char> goneOf(crop.surface.size());
+        for (std::size_t r = 0; r < crop.surface.size(); ++r) {
+            placeOf[r] = whole.coords(crop.surface[r].voxel);
+            goneOf[r] = holdsVoxel(X, placeOf[r]) && e.changed[indexIn(X, placeOf[r])] == kRemoved;
+        }
         std::vector<std::uint32_t> nearest(W.dims().count());
         bool exact = true;
         forEachVoxel(Wext, [&](const V3i& c) {
             if (!exact) return;
-            const std::uint32_t old = crop.surface[crop.nearest[indexIn(X, c)]].voxel;
-            const V3i s = whole.coords(old);
-            const std::int64_t dOld = (c - s).cast<std::int64_t>().squaredNorm();
-            const bool gone = holdsVoxel(X, s) && e.changed[indexIn(X, s)] == kRemoved;
+            const std::uint32_t record = crop.nearest[indexIn(X, c)];
+            const std::uint32_t old = crop.surface[record].voxel;
+            const std::int64_t dOld = (c - placeOf[record]).cast<std::int64_t>().squaredNorm();
+            const bool gone = goneOf[record];
             const std::size_t ei = indexIn(Wext, c);
             const std::int64_t dNew = feature[ei] == kNoSite ? INT64_MAX : dist2[ei];
             if (!holdsVoxel(W, c)) {  // the layers around the window keep their answers
@@ -198,16 +206,24 @@ MapPatch cutPatch(const MapWindowReader& read, const Dims& whole, double r0Voxel
         if (!exact && !everything) continue;
         if (!exact) throw std::logic_error("cutPatch: no surface voxel left in the map");
 
-        // Records: recomputed within the filters' reach of a change, the old ones elsewhere.
+        // Records: recomputed within the filters' reach of a change, the old ones elsewhere. The
+        // indicator of each bag met, over the read window, once.
         const std::vector<std::uint8_t> near = nearChange(e, W, K + 1);
+        std::vector<std::vector<std::uint8_t>> outsideOf(std::size_t(crop.bagCount) + 1);
+        const Dims xd = X.dims();
         std::vector<SurfaceVoxel> fresh;
         forEachVoxel(W, [&](const V3i& c) {
             const std::uint8_t o = e.occ[indexIn(X, c)];
             if (!isSurfaceSpecies(o) || !near[indexIn(W, c)]) return;
             const int bag = bagOfSpecies(o);
+            std::vector<std::uint8_t>& chi = outsideOf.at(std::size_t(bag));
+            if (chi.empty()) {
+                chi.resize(e.occ.size());
+                for (std::size_t v = 0; v < e.occ.size(); ++v) chi[v] = !crop.bagWithin(bagOfSpecies(e.occ[v]), bag);
+            }
             auto outside = [&](int x, int y, int z) {
                 if (!whole.contains(x, y, z)) return true;
-                return !crop.bagWithin(bagOfSpecies(e.occ[indexIn(X, V3i(x, y, z))]), bag);
+                return chi[xd.index(x - X.lo.x(), y - X.lo.y(), z - X.lo.z())] != 0;
             };
             SurfaceVoxel sv;
             sv.voxel = std::uint32_t(whole.index(c.x(), c.y(), c.z()));
@@ -216,7 +232,9 @@ MapPatch cutPatch(const MapWindowReader& read, const Dims& whole, double r0Voxel
                                faceNormal(outside, c.x(), c.y(), c.z()), r0Voxels, p);
             fresh.push_back(sv);
         });
-        std::vector<std::uint32_t> named(nearest);
+        std::vector<std::uint32_t> named;
+        for (std::uint32_t id : nearest)
+            if (named.empty() || named.back() != id) named.push_back(id);  // runs of one record, once
         std::sort(named.begin(), named.end());
         named.erase(std::unique(named.begin(), named.end()), named.end());
         std::vector<SurfaceVoxel> kept;

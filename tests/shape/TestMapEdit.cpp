@@ -135,14 +135,20 @@ TEST_CASE("map edit: the torus cut across its tube; the cut faces are new surfac
     const GradientMap edited = applyPatch(original, patch);
     sweepOut(layout, blade);
     requireSame(edited, rebuild(layout));
-    // The new faces at x = 35.5 and x = 32.5 look away from the cut along x.
-    int facing = 0, faces = 0;
+    // The voxels that became surface face the blade: their normals point at its axis (along the
+    // rims, where the cut face meets the old surface, the smoothing blends the two), never away.
+    int facing = 0, faces = 0, away = 0;
     for (const SurfaceVoxel& s : edited.surface) {
-        const Eigen::Vector3i c = kDims.coords(s.voxel);
-        if (std::abs(c.y() - 24) > 2 || std::abs(c.z() - 14) > 2 || (c.x() != 32 && c.x() != 36)) continue;
+        if (isSurfaceSpecies(original.occ[s.voxel])) continue;
         ++faces;
-        facing += (c.x() == 36 ? s.normal.x() : -s.normal.x()) < -0.8f;
+        const Eigen::Vector3d c = kDims.coords(s.voxel).cast<double>() + Eigen::Vector3d::Constant(0.5);
+        const Eigen::Vector3d toAxis = Eigen::Vector3d(34, 24, c.z()) - c;
+        const double cosine = s.normal.cast<double>().dot(toAxis.normalized());
+        facing += cosine > 0.3;
+        away += cosine < -0.3;
     }
+    INFO(facing << " of " << faces << " new surface voxels face the blade, " << away << " look away");
     REQUIRE(faces >= 20);
-    REQUIRE(facing == faces);
+    REQUIRE(facing >= 0.8 * faces);
+    REQUIRE(away == 0);
 }
