@@ -209,8 +209,9 @@ MapPatch cutPatch(const MapWindowReader& read, const Dims& whole, double r0Voxel
         // Records: recomputed within the filters' reach of a change, the old ones elsewhere. The
         // indicator of each bag met, over the read window, once.
         const std::vector<std::uint8_t> near = nearChange(e, W, K + 1);
+        // Padded by K on every side, beyond the grid outside: a look-up without a bounds check.
         std::vector<std::vector<std::uint8_t>> outsideOf(std::size_t(crop.bagCount) + 1);
-        const Dims xd = X.dims();
+        const Dims xd = X.dims(), pd{xd.nx + 2 * K, xd.ny + 2 * K, xd.nz + 2 * K};
         std::vector<SurfaceVoxel> fresh;
         forEachVoxel(W, [&](const V3i& c) {
             const std::uint8_t o = e.occ[indexIn(X, c)];
@@ -218,13 +219,16 @@ MapPatch cutPatch(const MapWindowReader& read, const Dims& whole, double r0Voxel
             const int bag = bagOfSpecies(o);
             std::vector<std::uint8_t>& chi = outsideOf.at(std::size_t(bag));
             if (chi.empty()) {
-                chi.resize(e.occ.size());
-                for (std::size_t v = 0; v < e.occ.size(); ++v) chi[v] = !crop.bagWithin(bagOfSpecies(e.occ[v]), bag);
+                chi.assign(pd.count(), 1);
+                forEachVoxel(X, [&](const V3i& u) {
+                    const V3i p = u - X.lo + V3i::Constant(K);
+                    chi[pd.index(p.x(), p.y(), p.z())] = !crop.bagWithin(bagOfSpecies(e.occ[indexIn(X, u)]), bag);
+                });
             }
-            auto outside = [&](int x, int y, int z) {
-                if (!whole.contains(x, y, z)) return true;
-                return chi[xd.index(x - X.lo.x(), y - X.lo.y(), z - X.lo.z())] != 0;
-            };
+            const std::uint8_t* base = chi.data() + pd.index(K - X.lo.x(), K - X.lo.y(), K - X.lo.z());
+            const std::ptrdiff_t sy = pd.nx, sz = std::ptrdiff_t(pd.nx) * pd.ny;
+            // (x, y, z) within K of a surface voxel near a change: inside the padded window
+            auto outside = [&](int x, int y, int z) { return base[x + sy * y + sz * z] != 0; };
             SurfaceVoxel sv;
             sv.voxel = std::uint32_t(whole.index(c.x(), c.y(), c.z()));
             sv.species = o;
@@ -268,9 +272,10 @@ GradientMap applyPatch(const GradientMap& map, const MapPatch& patch) {
     std::vector<std::uint8_t> used(map.surface.size(), 0);
     std::vector<std::uint32_t> fromPatch;
     forEachVoxel(M, [&](const V3i& c) {
-        if (holdsVoxel(I, c))
-            fromPatch.push_back(patch.nearest[indexIn(patch.window, c)]);
-        else
+        if (holdsVoxel(I, c)) {
+            const std::uint32_t id = patch.nearest[indexIn(patch.window, c)];
+            if (fromPatch.empty() || fromPatch.back() != id) fromPatch.push_back(id);  // runs once
+        } else
             used[map.nearest[indexIn(M, c)]] = 1;
     });
     std::sort(fromPatch.begin(), fromPatch.end());
