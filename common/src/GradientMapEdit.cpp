@@ -58,8 +58,8 @@ struct EditedImage {
     std::vector<int> bags;  // that lost voxels
 };
 
-EditedImage editImage(const GradientMap& crop, const VoxelWindow& X, const VoxelWindow& bladeBox,
-                      const BladeSweep& blade) {
+EditedImage editImage(const GradientMap& crop, const VoxelWindow& X, const VoxelWindow& box,
+                      const VoxelPredicate& takes) {
     EditedImage e;
     e.X = X;
     e.occ = crop.occ;
@@ -71,9 +71,9 @@ EditedImage editImage(const GradientMap& crop, const VoxelWindow& X, const Voxel
         e.changedBox.hi = e.changedBox.hi.cwiseMax(c + V3i::Ones());
     };
     std::vector<V3i> removed;
-    forEachVoxel(bladeBox, [&](const V3i& c) {
+    forEachVoxel(box, [&](const V3i& c) {
         std::uint8_t& o = e.occ[indexIn(X, c)];
-        if (o == 0 || !blade.holds(c.cast<double>() + Eigen::Vector3d::Constant(0.5))) return;
+        if (o == 0 || !takes(c)) return;
         const int bag = bagOfSpecies(o);
         if (std::find(e.bags.begin(), e.bags.end(), bag) == e.bags.end()) e.bags.push_back(bag);
         o = 0;
@@ -138,25 +138,33 @@ bool BladeSweep::holds(const Eigen::Vector3d& x) const {
 
 MapPatch cutPatch(const MapWindowReader& read, const Dims& whole, double r0Voxels, const BladeSweep& blade,
                   const SurfaceGeometryParams& p) {
-    MapPatch patch;
     const V3i n = dimsOf(whole);
-    VoxelWindow bladeBox;  // voxels whose centres can lie in the sweep
+    VoxelWindow box;  // voxels whose centres can lie in the sweep
     for (int a = 0; a < 3; ++a) {
         const double lo = std::min(blade.a[a], blade.b[a]) - blade.radius - 0.5;
         const double hi = std::max(blade.a[a], blade.b[a]) + blade.radius - 0.5;
-        bladeBox.lo[a] = int(std::clamp(std::ceil(lo), 0.0, double(n[a])));
-        bladeBox.hi[a] = int(std::clamp(std::floor(hi) + 1, 0.0, double(n[a])));
-        if (!(bladeBox.lo[a] < bladeBox.hi[a])) return patch;
+        box.lo[a] = int(std::clamp(std::ceil(lo), 0.0, double(n[a])));
+        box.hi[a] = int(std::clamp(std::floor(hi) + 1, 0.0, double(n[a])));
+        if (!(box.lo[a] < box.hi[a])) return {};
     }
+    return removalPatch(read, whole, r0Voxels, box,
+                        [&](const V3i& c) { return blade.holds(c.cast<double>() + Eigen::Vector3d::Constant(0.5)); },
+                        p);
+}
+
+MapPatch removalPatch(const MapWindowReader& read, const Dims& whole, double r0Voxels, const VoxelWindow& box,
+                      const VoxelPredicate& takes, const SurfaceGeometryParams& p) {
+    MapPatch patch;
+    const V3i n = dimsOf(whole);
     const SurfaceKernels kernels(p.sigmaVoxels);
     const int K = kernels.radius;
     std::vector<double> scratch;
     for (int margin = K + 2;; margin *= 2, ++patch.grows) {
-        // Read enough around the blade (the changes lie within one voxel of it) for the window, its
+        // Read enough around the box (the changes lie within one voxel of it) for the window, its
         // two checked layers, and the filters of the surface voxels within K + 1 of a change.
-        const VoxelWindow X = grown(bladeBox, 1 + std::max(margin + 2, 2 * K + 1), whole);
+        const VoxelWindow X = grown(box, 1 + std::max(margin + 2, 2 * K + 1), whole);
         const GradientMap crop = read(X);
-        const EditedImage e = editImage(crop, X, bladeBox, blade);
+        const EditedImage e = editImage(crop, X, box, takes);
         if (e.removed == 0) return patch;
         const VoxelWindow W = grown(e.changedBox, margin, whole), Wext = grown(W, 2, whole);
         const bool everything = W.lo == V3i::Zero() && W.hi == n;

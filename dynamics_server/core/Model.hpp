@@ -4,6 +4,7 @@
 // (weights, drags, the probe) is Params.hpp's; the map in force at a step (this process's window,
 // the keyframes' blend) is MapInForce.hpp's.
 #include "Keyframes.hpp"
+#include "Plasticity.hpp"
 #include "Potentials.hpp"
 #include "bop/common/GradientMap.hpp"
 #include "bop/common/SurfaceFilters.hpp"
@@ -101,6 +102,7 @@ struct Model {
     // How the map's normals, curvatures and co-planar weights were made (the shape's [grid]): the
     // map edits of a cut (CutCommand) make the cut faces' alike.
     SurfaceGeometryParams mapGeometry;
+    PlasticityParams plasticity;  // lasting deformation (Plasticity.hpp); off by default
 
     int speciesCount() const { return int(species.size()) - 1; }
     bool isSurface(int s) const { return species[std::size_t(s)].kind == ParticleKind::Surface; }

@@ -102,6 +102,7 @@ void Run::reseat(const Particles& all, const Construction& construction, long lo
     o.firstStep = step;
     o.params = i.sim->params();  // the weights, drags and probe that commands set
     o.cuts = i.sim->cuts();      // the maps and bonds as cuts left them
+    o.yields = i.sim->yields();  // and as dents that yielded left them
     i.carriedMigrations += double(i.ex->counts().migrations);
     i.carriedRebuilds += double(i.sim->rebuilds());
     i.carriedExchange += i.sim->exchangeSeconds();

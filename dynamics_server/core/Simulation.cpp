@@ -54,6 +54,7 @@ Simulation::Simulation(std::unique_ptr<Exchange> own, Exchange* exchange, std::s
     maps_.region = ex_->region(model_->box);
     placeMaps();
     restoreCuts(options.cuts);
+    restoreYields(options.yields);
     applyKeyframe(stats_.time);
     // Every process holds `all`: new ids count on from its largest alike.
     if (all.size()) construction_.reserveIds(*std::max_element(all.id.begin(), all.id.end()));
@@ -151,6 +152,7 @@ void Simulation::step() {
     }
     commands_.clear();
     applyKeyframe(double(stats_.step + 1) * model_->integration.dt);  // the time of this step's forces
+    checkDents();
     construct(std::move(events));
     times_.construction += secondsSince(t0);
     if (forcesStale_) forces(true);  // the step starts from forces of today's weights and particles

@@ -18,6 +18,7 @@
 #include "bop/common/GradientMapEdit.hpp"
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -81,6 +82,7 @@ struct SimulationOptions {
     // Cuts already made (a restart after them, a checkpoint-and-go-on): the maps edited and the
     // bonds broken as they were; the particles are the start's.
     std::vector<CutCommand> cuts{};
+    std::vector<std::vector<std::uint64_t>> yields{};  // voxels that yielded (Plasticity.hpp), each check's
     // Particles re-sorted in the neighbour list's cell order at the first list rebuild this
     // many steps after the last sort (Exchange::sortParticles; 0: kept in their order).
     long long sortEverySteps = kSortEverySteps;
@@ -152,6 +154,9 @@ public:
     // The cuts applied so far, in order (a checkpoint carries them), and what the last one did.
     const std::vector<CutCommand>& cuts() const { return cuts_; }
     const CutReport& lastCut() const { return lastCut_; }
+    // The voxels dents took out of their bags (Model::plasticity), each check's in voxel order; a
+    // checkpoint carries them too.
+    const std::vector<std::vector<std::uint64_t>>& yields() const { return yields_; }
     // The bonds in force: the model's less those a cut broke (null: no bonds).
     const std::shared_ptr<const BondNetwork>& bonds() const { return bondNet_; }
     // Voxel counts of each keyframe's whole map (one entry for a static shape, none without a map).
@@ -178,9 +183,16 @@ private:
     // maps' edits (returning the bags cut); a window with every patch so far; the whole cut.
     void checkCut(const CutCommand& c) const;
     std::vector<int> editMaps(const CutCommand& c);
+    // Every keyframe's window patched by `make` (given a reader of the current map and the
+    // window held); the bags that lost voxels.
+    using PatchMaker = std::function<bop::MapPatch(const bop::MapWindowReader&, const GradientMap&)>;
+    std::vector<int> patchMaps(const PatchMaker& make);
+    void checkDents();                                // SimulationPlasticity.cpp
+    void yieldVoxels(const std::vector<std::uint64_t>& voxels);  // whole-map indices, sorted
     bop::GradientMap patched(std::size_t frame, bop::GradientMap window) const;
     void cut(const CutCommand& c);  // collective
-    void restoreCuts(const std::vector<CutCommand>& cuts);  // SimulationOptions::cuts
+    void restoreCuts(const std::vector<CutCommand>& cuts);  // SimulationOptions::cuts and ::yields
+    void restoreYields(const std::vector<std::vector<std::uint64_t>>& yields);
     [[noreturn]] void throwUnsound() const;  // collective: UnsoundState naming what a process found
 
     std::unique_ptr<Exchange> ownExchange_;  // one process's
@@ -211,6 +223,10 @@ private:
     std::vector<CutCommand> cuts_;                     // applied, in order
     std::vector<std::vector<bop::MapPatch>> patches_;  // per keyframe, the cuts' patches in order
     CutReport lastCut_;
+    std::vector<std::vector<std::uint64_t>> yields_;
+    std::map<std::uint64_t, long long> dentedSince_;  // every process alike: the step each dent's voxel fell in front
+    std::vector<std::uint64_t> frontBefore_;         // the voxels in front at the last check, sorted
+    bool frontSeen_ = false;                          // a check has looked
     std::shared_ptr<const BondNetwork> bondNet_;  // model_->bonds less the bonds cuts broke
     std::vector<MapVolume> frameVolumes_;  // whole-map counts per keyframe
 };

@@ -39,8 +39,7 @@ bop::GradientMap Simulation::patched(std::size_t frame, bop::GradientMap window)
     return window;
 }
 
-std::vector<int> Simulation::editMaps(const CutCommand& c) {
-    const bop::BladeSweep blade = sweepOf(c, voxelLength(maps_.map()->r0Voxels));
+std::vector<int> Simulation::patchMaps(const PatchMaker& make) {
     patches_.resize(maps_.frames.size());
     std::vector<int> bags;
     for (std::size_t f = 0; f < maps_.frames.size(); ++f) {
@@ -49,18 +48,26 @@ std::vector<int> Simulation::editMaps(const CutCommand& c) {
         const auto read = [&](const bop::VoxelWindow& w) {
             if ((w.lo.array() >= held.origin.array()).all() && (w.hi.array() <= heldHi.array()).all())
                 return bop::cropGradientMap(held, w);
-            // Beyond this process's window: the source's, with every cut so far.
+            // Beyond this process's window: the source's, with every edit so far.
             if (mapSource_) return patched(f, mapSource_->crop(int(f), w));
             const auto& whole = model_->frames.size() > 1 ? model_->frames[f] : model_->map;
             return patched(f, bop::cropGradientMap(*whole, w));
         };
-        bop::MapPatch patch = bop::cutPatch(read, held.wholeDims(), held.r0Voxels, blade, model_->mapGeometry);
+        bop::MapPatch patch = make(read, held);
         if (patch.empty()) continue;
         for (int b : patch.bags)
             if (std::find(bags.begin(), bags.end(), b) == bags.end()) bags.push_back(b);
         maps_.frames[f] = std::make_shared<const GradientMap>(bop::applyPatch(held, patch));
         patches_[f].push_back(std::move(patch));
     }
+    return bags;
+}
+
+std::vector<int> Simulation::editMaps(const CutCommand& c) {
+    const bop::BladeSweep blade = sweepOf(c, voxelLength(maps_.map()->r0Voxels));
+    const std::vector<int> bags = patchMaps([&](const bop::MapWindowReader& read, const GradientMap& held) {
+        return bop::cutPatch(read, held.wholeDims(), held.r0Voxels, blade, model_->mapGeometry);
+    });
     cuts_.push_back(c);
     return bags;
 }

@@ -19,9 +19,11 @@ XyzFrameInfo snapshotInfo(const core::Model& model, long long step);
 // all: every particle of the run (sorted by id, as a decomposed run gathers them).
 // bop::Error naming the file when it cannot be written.
 // settle: the settling's state (app/runs/Settling.hpp), empty when the run does not settle;
-// cuts: the cuts made so far (Simulation::cuts), so that a restart edits the map alike.
+// cuts, yields: the cuts made and the dents yielded so far (Simulation::cuts, ::yields), so that a
+// restart edits the map alike.
 void writeCheckpoint(const std::string& path, const core::Particles& all, const core::Model& model,
                      const core::Construction& construction, long long step, const std::string& settle = {},
-                     const std::vector<core::CutCommand>& cuts = {});
+                     const std::vector<core::CutCommand>& cuts = {},
+                     const std::vector<std::vector<std::uint64_t>>& yields = {});
 
 }  // namespace bop::app

@@ -101,6 +101,18 @@ std::string commentLine(const XyzFrameInfo& info) {
         }
         s += '"';
     }
+    if (!info.yields.empty()) {
+        s += " Yields=\"";
+        for (const auto& group : info.yields) {
+            if (&group != info.yields.data()) s += ' ';
+            putInteger(s, (long long)group.size());
+            for (std::uint64_t v : group) {
+                s += ' ';
+                putInteger(s, (long long)v);
+            }
+        }
+        s += '"';
+    }
     if (!info.settle.empty()) {
         s += " Settle=\"";
         s += info.settle;

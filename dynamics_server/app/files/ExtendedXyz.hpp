@@ -25,6 +25,8 @@
 // above 2^63) read as before, such an id with bit 62 in place of bit 63.
 #include "bop/common/UnitSystem.hpp"
 #include "core/Command.hpp"
+
+#include <cstdint>
 #include "core/Particles.hpp"
 
 #include <Eigen/Core>
@@ -54,6 +56,9 @@ struct XyzFrameInfo {
     // Cuts: the cuts made so far (core::CutCommand), seven numbers each (from, to, radius;
     // simulation length units), so that a restart edits the map as the run did. Empty: none.
     std::vector<core::CutCommand> cuts;
+    // Yields: the voxels dents took out of their bags (core/Plasticity.hpp), each check's group as
+    // its count, then its whole-map voxel indices in order. Empty: none.
+    std::vector<std::vector<std::uint64_t>> yields;
     UnitSystem units;  // written where known (lengthKnown(), physical)
 };
 

@@ -137,6 +137,24 @@ XyzFrameInfo parseInfo(const Reader& r, long long line, const KeyValues& kv) {
             r.fail(line, "Cuts=\"" + c->second.substr(0, 80) +
                              "\", expected seven finite numbers per cut (from, to, a radius above 0)");
     }
+    if (auto y = kv.find("yields"); y != kv.end()) {
+        const auto words = splitWords(y->second);
+        bool ok = true;
+        for (std::size_t k = 0; ok && k < words.size();) {
+            long long n = 0;
+            ok = parseWhole(words[k++], n) && n > 0 && k + std::size_t(n) <= words.size();
+            std::vector<std::uint64_t> group;
+            for (long long d = 0; ok && d < n; ++d) {
+                long long v = -1;
+                ok = parseWhole(words[k++], v) && v >= 0 && (group.empty() || std::uint64_t(v) > group.back());
+                group.push_back(std::uint64_t(v));
+            }
+            info.yields.push_back(std::move(group));
+        }
+        if (!ok)
+            r.fail(line, "Yields=\"" + y->second.substr(0, 80) +
+                             "\", expected groups of a count and that many voxel indices, rising");
+    }
     return info;
 }
 

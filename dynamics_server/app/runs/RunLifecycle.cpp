@@ -59,7 +59,7 @@ void RunLifecycle::checkpoint(const core::Particles& all, bool goOn) {
     const core::Model& model = *model_;
     if (root()) try {
             writeCheckpoint(o_.outDir + "/checkpoint.xyz", all, model, run_.construction(), run_.stepNumber(),
-                            extra_ ? extra_() : std::string(), run_.simulation().cuts());
+                            extra_ ? extra_() : std::string(), run_.simulation().cuts(), run_.simulation().yields());
         } catch (const std::exception& e) {  // on rank 0 alone: the run goes on; the previous checkpoint is whole
             spdlog::error("{}", e.what());
         }
@@ -111,7 +111,7 @@ RunEnding RunLifecycle::drive(const std::function<bool()>& pass, const std::func
             return end;
         }
         writeCheckpoint(checkpointFile, last->particles, *model_, last->construction, last->step, {},
-                        run_.simulation().cuts());
+                        run_.simulation().cuts(), run_.simulation().yields());
         spdlog::error("the last sound state (step {}) is in {}", last->step, checkpointFile);
         return end;
     }

@@ -74,10 +74,11 @@ std::string bondReport(const core::BondNetwork& net, std::size_t particles) {
 core::Particles initialParticles(const Scene& scene, const core::Model& model,
                                  const std::vector<core::ConstructionEvent>& timeline, const std::string& restart,
                                  long long& firstStep, core::Construction& construction, std::string& settle,
-                                 std::vector<core::CutCommand>& cuts) {
+                                 std::vector<core::CutCommand>& cuts, std::vector<std::vector<std::uint64_t>>& yields) {
     firstStep = 0;
     settle.clear();
     cuts.clear();
+    yields.clear();
     construction = core::Construction(scene.construction, timeline, model.speciesCount());
     if (!restart.empty()) {
         XyzFrame f = readExtendedXyz(restart, speciesNames(model));
@@ -87,6 +88,7 @@ core::Particles initialParticles(const Scene& scene, const core::Model& model,
         firstStep = f.info.step;
         settle = f.info.settle;
         cuts = f.info.cuts;
+        yields = f.info.yields;
         if (!f.info.births.empty()) {
             try {
                 construction.restore(f.info.births, std::uint64_t(std::max(0LL, f.info.seeds)),
@@ -163,7 +165,8 @@ RunStart startRun(const Scene& scene, const std::string& cache, const std::strin
     }
     core::Construction construction({}, {}, s.model->speciesCount());
     core::Particles fromFile =
-        initialParticles(scene, *s.model, s.timeline, restart, s.firstStep, construction, s.settle, s.options.cuts);
+        initialParticles(scene, *s.model, s.timeline, restart, s.firstStep, construction, s.settle, s.options.cuts,
+                         s.options.yields);
     s.settleFile = restart;
     if (!place) s.particles = std::move(fromFile);
     if (bonded) {

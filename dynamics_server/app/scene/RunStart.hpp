@@ -42,11 +42,11 @@ void useSettleTimeStep(const Scene& scene, RunStart& start);
 // The particles to start from (a restart file's, a bulk lattice, or none) and the construction:
 // `timeline`, with a checkpoint's birth switches and seed count when the restart file is one
 // (app/Checkpoint.hpp). model: the start's; firstStep: the file's step, else 0; settle: the file's
-// Settle=; cuts: the file's Cuts=.
+// Settle=; cuts, yields: the file's Cuts= and Yields=.
 core::Particles initialParticles(const Scene& scene, const core::Model& model,
                                  const std::vector<core::ConstructionEvent>& timeline, const std::string& restart,
                                  long long& firstStep, core::Construction& construction, std::string& settle,
-                                 std::vector<core::CutCommand>& cuts);
+                                 std::vector<core::CutCommand>& cuts, std::vector<std::vector<std::uint64_t>>& yields);
 
 // "placed on the map: ..." with each species' count against its ideal at r0 spacing.
 std::string placementReport(const core::Model& model, const std::vector<app::PlacedSpecies>& placed);

@@ -39,6 +39,30 @@ void readMatrix(const ConfigTable& t, const std::string& key, core::WeightMatrix
     }
 }
 
+// [plasticity]: a dent held (hold_time, simulation time units) or pressed deep (yield_depth_r0)
+// becomes the rest shape (core/Plasticity.hpp). Bags the map alone holds: bonds keep their own.
+void readPlasticity(const ConfigTable& root, const Scene& s, core::Model& m) {
+    const auto t = root.optionalTable("plasticity");
+    if (!t) return;
+    core::PlasticityParams& p = m.plasticity;
+    p.on = t->boolean("enabled", true);
+    if (!s.shape) t->fail("enabled", "plasticity moves a bag's map: a bulk [box] has none");
+    if (p.on && !s.materials.empty())
+        t->fail("enabled", "the scene's [[material]] bonds its bags, and bonds keep their rest shape: plasticity is "
+                           "for bags the map alone holds");
+    p.holdTime = t->number("hold_time", 0.0);
+    p.yieldDepthR0 = t->number("yield_depth_r0", 0.0);
+    p.bandR0 = positive(*t, "band_r0", t->number("band_r0", p.bandR0));
+    if (!(p.holdTime >= 0)) t->fail("hold_time", "expected a time of 0 (only by depth) or more");
+    if (!(p.yieldDepthR0 >= 0)) t->fail("yield_depth_r0", "expected a depth of 0 (only by time) or more");
+    if (p.on && p.holdTime == 0 && p.yieldDepthR0 == 0)
+        t->fail("hold_time", "give hold_time, yield_depth_r0 or both: nothing would ever yield");
+    const double every = t->number("every_steps", double(p.everySteps));
+    if (!(every >= 1 && every <= 1e6 && every == std::floor(every))) t->fail("every_steps", "expected a whole number of steps from 1");
+    p.everySteps = (long long)every;
+    t->finish();
+}
+
 // kindsFromMap: species kinds follow the map numbering (bag k: 2k-1 surface, 2k volume).
 void readSpecies(const ConfigTable& root, core::Model& m, core::Params& params, bool kindsFromMap) {
     if (!root.has("species")) return;
@@ -325,6 +349,7 @@ Scene loadScene(const std::string& path) {
         t->finish();
     }
     if (s.placement) s.run.steps = kPlacedStepsCap;
+    readPlasticity(root, s, m);
     if (const auto t = root.optionalTable("probe")) {
         s.probe.active = t->boolean("active", false);
         if (t->has("position_voxels")) s.probePositionVoxels = t->vec3("position_voxels");

@@ -38,6 +38,9 @@ struct MapPatch {
     bool empty() const { return occ.empty(); }
 };
 
+// Whether a voxel (whole-map coordinates) leaves its bag.
+using VoxelPredicate = std::function<bool(const Eigen::Vector3i&)>;
+
 // Reads a window of the current map (records named by its voxels included, as a crop).
 using MapWindowReader = std::function<GradientMap(const VoxelWindow&)>;
 
@@ -46,6 +49,11 @@ using MapWindowReader = std::function<GradientMap(const VoxelWindow&)>;
 // One thread; deterministic.
 MapPatch cutPatch(const MapWindowReader& read, const Dims& whole, double r0Voxels, const BladeSweep& blade,
                   const SurfaceGeometryParams& p);
+
+// The same for any voxels: those of `box` (whole-map coordinates, within the grid) that `takes`
+// leave their bags (a dent that yields, core/Plasticity.hpp).
+MapPatch removalPatch(const MapWindowReader& read, const Dims& whole, double r0Voxels, const VoxelWindow& box,
+                      const VoxelPredicate& takes, const SurfaceGeometryParams& p);
 
 // `map` (a whole map or a window of one) with the patch applied: its voxels inside the patch's
 // window rewritten, every record the patch holds replacing the map's. Linear in map's size.
