@@ -208,7 +208,7 @@ def encode_command(request_id, kind, **args):
         a = [float(v) for v in args["start"]]
         e = [float(v) for v in args.get("end", a)]
         Cut.Start(b)
-        Cut.AddFrom(b, Vec3.CreateVec3(b, *a))
+        Cut.AddFrom_(b, Vec3.CreateVec3(b, *a))
         Cut.AddTo(b, Vec3.CreateVec3(b, *e))
         Cut.AddRadius(b, float(args["radius"]))
         body, body_type = Cut.End(b), CommandBody.CommandBody.Cut

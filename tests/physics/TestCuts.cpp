@@ -12,6 +12,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <fstream>
 
 using namespace bop;
 
@@ -178,4 +179,46 @@ TEST_CASE("a notch cut into the bonded tissue block is closed by a sheet within 
     CHECK(report.bondsBroken > 0);
     CHECK(inFraction >= 0.95);
     CHECK(coverage >= 0.95);
+}
+
+TEST_CASE("a probe pushed through the whole tube: once it has gone the volume is back inside", "[physics][cut]") {
+    test::TempDir dir("push-through");
+    const test::Shape shape = torus();
+    const std::string path = test::writeScene(dir, shape);
+    std::ofstream(path, std::ios::app) << "\n[probe]\nradius_mm = 4.0\n";  // a sphere of 2 r0, the tube 6 r0 wide
+    const app::Scene scene = app::loadScene(path);
+    test::OneProcessRun run(scene, "", true);
+    settle(run, scene);
+    core::Simulation& sim = *run;
+    const double h = voxelLength(sim.mapInForce().map()->r0Voxels);
+    // Down through the tube at the ring's +x side, from above it to below it, over 600 steps.
+    const Eigen::Vector3d top = (kTorusCentre + Eigen::Vector3d(kRing, 0, kTube + 6)) * h;
+    const Eigen::Vector3d bottom = (kTorusCentre + Eigen::Vector3d(kRing, 0, -kTube - 6)) * h;
+    core::ProbeState probe;
+    probe.active = true;
+    for (int s = 0; s <= 600; ++s) {
+        probe.position = top + (bottom - top) * (s / 600.0);
+        sim.submit(core::ProbeCommand{probe});
+        sim.step();
+    }
+    probe.active = false;
+    sim.submit(core::ProbeCommand{probe});
+    const GradientMap& map = *sim.mapInForce().map();
+    const auto inside = [&] {  // volume particles in a voxel of their bag, a fraction
+        std::size_t n = 0, in = 0;
+        for (std::size_t i = 0; i < sim.particles().size(); ++i) {
+            const int s = sim.particles().species[i];
+            if (sim.model().isSurface(s)) continue;
+            ++n;
+            const std::int64_t v = map.voxelHolding(sim.particles().pos[i] / h);
+            in += v >= 0 && map.inBag(std::size_t(v), bagOfSpecies(s));
+        }
+        return double(in) / double(n);
+    };
+    const double justAfter = inside();
+    sim.run(2000);
+    const double later = inside();
+    INFO("volume particles inside their bag: " << 100 * justAfter << "% as the probe leaves, " << 100 * later
+                                               << "% 2,000 steps later");
+    CHECK(later >= 0.99);
 }

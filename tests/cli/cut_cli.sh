@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Cutting from the Python client and from bop-haptic (docs/physics.md §9): the placed torus served
+# at one rank; python/examples/cut.py sweeps one blade of 3.2 r0 through the box's middle, across
+# the tube twice: after 4 s the frame holds two pieces more than 1 r0 apart, and the server logs
+# the cut; then bop-haptic pokes with --cut for 3 s at 1 kHz: no missed deadline, its strokes sent
+# and its own map copy cut by each.
+# Usage: cut_cli.sh BOP_SERVER BOP_HAPTIC SOURCE_DIR
+set -u
+server=$1 haptic=$2 src=$3
+source "$(dirname "$0")/cli-checks.sh"
+py=/usr/bin/python3
+scene="$src/config/scenes/torus-cut.toml"
+
+bounded 120 "$work/settle.log" "$server" "$scene" --no-listen --cache "$work/map.bopgm" -o "$work/settled"
+check "the torus is placed and settled" "[ -s '$work/settled/final.xyz' ]"
+serve() {
+  "$server" "$scene" --restart "$work/settled/final.xyz" --cache "$work/map.bopgm" --port 0 --steps 1000000000 \
+    -o "$work/served" >"$1" 2>&1 &
+  pid=$!
+  endpoint=""
+  for _ in $(seq 1 300); do
+    endpoint=$(sed -n 's/^listening on \(tcp:[^ ]*\).*/\1/p' "$1" | head -1)
+    [[ -n $endpoint ]] && break
+    sleep 0.1
+  done
+  check "the server listens" "[ -n '$endpoint' ]"
+}
+
+serve "$work/server.log"
+bounded 60 "$work/cut.txt" "$py" "$src/python/examples/cut.py" "$endpoint" --radius-r0 3.2 --seconds 4
+cat "$work/cut.txt"
+kill -INT "$pid"
+wait "$pid"
+check "the server cut the map and the particles" "grep -qE 'cut 1 at step [0-9]+: [1-9][0-9]* particles out' '$work/server.log'"
+gap=$(sed -n 's/.* particles, \([0-9.]*\) r0 apart at the closest/\1/p' "$work/cut.txt")
+check "two pieces, more than 1 r0 apart (${gap:-none})" \
+  "grep -qE 'in 2 pieces' '$work/cut.txt' && $py -c 'import sys; sys.exit(0 if float(\"${gap:-0}\") > 1 else 1)'"
+
+serve "$work/server-haptic.log"
+bounded 60 "$work/haptic.txt" "$haptic" "$endpoint" --device sim:poke --cut --seconds 3 --out "$work/haptic"
+cat "$work/haptic.txt"
+kill -INT "$pid"
+wait "$pid"
+check "bop-haptic cuts at 1 kHz without a missed deadline" "grep -qE '^loop: .* 0 missed deadlines' '$work/haptic.txt'"
+strokes=$(sed -n 's/^cutting: \([0-9]*\) strokes sent.*/\1/p' "$work/haptic.txt")
+check "its strokes reach the server and its map copy (${strokes:-0} strokes)" \
+  "[ '${strokes:-0}' -gt 0 ] && grep -qE 'the map.s copy cut by ${strokes:-x} of them' '$work/haptic.txt' && [ \$(grep -c 'cut [0-9]* at step' '$work/server-haptic.log') -eq ${strokes:-0} ]"
+exit $fail
