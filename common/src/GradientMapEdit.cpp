@@ -115,11 +115,12 @@ std::vector<std::uint8_t> nearChange(const EditedImage& e, const VoxelWindow& W,
         prefix.assign(std::size_t(len) + 1, 0);
         for (std::size_t start = 0; start < d.count(); ++start) {
             if ((start / stride[a]) % std::size_t(len) != 0) continue;  // not the first voxel of a line
-            for (int t = 0; t < len; ++t) prefix[std::size_t(t) + 1] = prefix[std::size_t(t)] + (near[start + t * stride[a]] & 1);
+            for (int t = 0; t < len; ++t)
+                prefix[std::size_t(t) + 1] = prefix[std::size_t(t)] + (near[start + t * stride[a]] & 1);
             for (int t = 0; t < len; ++t) {
                 const int lo = std::max(t - reach, 0), hi = std::min(t + reach + 1, len);
-                near[start + t * stride[a]] = std::uint8_t((near[start + t * stride[a]] & 1) |
-                                                           ((prefix[std::size_t(hi)] - prefix[std::size_t(lo)] > 0) << 1));
+                near[start + t * stride[a]] = std::uint8_t(
+                    (near[start + t * stride[a]] & 1) | ((prefix[std::size_t(hi)] - prefix[std::size_t(lo)] > 0) << 1));
             }
             for (int t = 0; t < len; ++t) near[start + t * stride[a]] >>= 1;
         }
@@ -147,9 +148,9 @@ MapPatch cutPatch(const MapWindowReader& read, const Dims& whole, double r0Voxel
         box.hi[a] = int(std::clamp(std::floor(hi) + 1, 0.0, double(n[a])));
         if (!(box.lo[a] < box.hi[a])) return {};
     }
-    return removalPatch(read, whole, r0Voxels, box,
-                        [&](const V3i& c) { return blade.holds(c.cast<double>() + Eigen::Vector3d::Constant(0.5)); },
-                        p);
+    return removalPatch(
+        read, whole, r0Voxels, box,
+        [&](const V3i& c) { return blade.holds(c.cast<double>() + Eigen::Vector3d::Constant(0.5)); }, p);
 }
 
 MapPatch removalPatch(const MapWindowReader& read, const Dims& whole, double r0Voxels, const VoxelWindow& box,
@@ -326,11 +327,10 @@ GradientMap applyPatch(const GradientMap& map, const MapPatch& patch) {
         const std::size_t pv = indexIn(patch.window, c);
         out.occ[v] = patch.occ[pv];
         const std::uint32_t id = patch.nearest[pv];
-        out.nearest[v] = std::uint32_t(std::lower_bound(out.surface.begin(), out.surface.end(), id,
-                                                        [](const SurfaceVoxel& s, std::uint32_t x) {
-                                                            return s.voxel < x;
-                                                        }) -
-                                       out.surface.begin());
+        out.nearest[v] =
+            std::uint32_t(std::lower_bound(out.surface.begin(), out.surface.end(), id,
+                                           [](const SurfaceVoxel& s, std::uint32_t x) { return s.voxel < x; }) -
+                          out.surface.begin());
     });
     return out;
 }

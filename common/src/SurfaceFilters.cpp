@@ -47,10 +47,10 @@ void setSurfaceGeometry(SurfaceVoxel& sv, const IndicatorDerivatives& f, const E
     } else {
         sv.normal = g.normalized().cast<float>();
         const double gn = std::sqrt(g2);
-        const double H = (f.fx * f.fx * (f.fyy + f.fzz) + f.fy * f.fy * (f.fxx + f.fzz) +
-                          f.fz * f.fz * (f.fxx + f.fyy) - 2 * f.fx * f.fy * f.fxy - 2 * f.fx * f.fz * f.fxz -
-                          2 * f.fy * f.fz * f.fyz) /
-                         (2 * g2 * gn);
+        const double H =
+            (f.fx * f.fx * (f.fyy + f.fzz) + f.fy * f.fy * (f.fxx + f.fzz) + f.fz * f.fz * (f.fxx + f.fyy) -
+             2 * f.fx * f.fy * f.fxy - 2 * f.fx * f.fz * f.fxz - 2 * f.fy * f.fz * f.fyz) /
+            (2 * g2 * gn);
         const double K2 =
             (f.fx * f.fx * (f.fyy * f.fzz - f.fyz * f.fyz) + f.fy * f.fy * (f.fxx * f.fzz - f.fxz * f.fxz) +
              f.fz * f.fz * (f.fxx * f.fyy - f.fxy * f.fxy) + 2 * f.fy * f.fz * (f.fxy * f.fxz - f.fxx * f.fyz) +

@@ -4,9 +4,10 @@
 // that lie in a bag, within bandR0 of its surface, and in front of every particle (below); the
 // processes gather them by voxel, so that any rank count decides alike. A dent is a change: a
 // voxel that was not in front at the check before (the first check only looks). One in front for
-// holdTime without a break since, or in front deeper than yieldDepthR0 below the surface, yields: it leaves its bag (bop::removalPatch), so that the map's surface is where the particles
-// now are and nothing pulls them back. The particles stay. Off by default. A bonded bag's bonds
-// keep their rest lengths, and so their shape: plasticity is for the bags the map alone holds.
+// holdTime without a break since, or in front deeper than yieldDepthR0 below the surface, yields: it leaves its bag
+// (bop::removalPatch), so that the map's surface is where the particles now are and nothing pulls them back. The
+// particles stay. Off by default. A bonded bag's bonds keep their rest lengths, and so their shape: plasticity is for
+// the bags the map alone holds.
 #include "bop/common/GradientMapCrop.hpp"
 
 #include <cstdint>

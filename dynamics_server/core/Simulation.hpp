@@ -58,11 +58,11 @@ struct Totals {
 
 // What the last cut did (CutCommand; over every process).
 struct CutReport {
-    double mapSeconds = 0;     // this process's map edits (every keyframe's window), s
-    std::size_t removed = 0;   // particles in the swept volume, taken out
-    std::size_t converted = 0; // volume particles on a new face, made surface particles
+    double mapSeconds = 0;      // this process's map edits (every keyframe's window), s
+    std::size_t removed = 0;    // particles in the swept volume, taken out
+    std::size_t converted = 0;  // volume particles on a new face, made surface particles
     std::size_t bondsBroken = 0;
-    std::size_t bags = 0;      // bags that lost voxels
+    std::size_t bags = 0;  // bags that lost voxels
 };
 
 // Where a process gets its window of the gradient map: the whole map's grid and r0 (arrays empty)
@@ -187,10 +187,10 @@ private:
     // window held); the bags that lost voxels.
     using PatchMaker = std::function<bop::MapPatch(const bop::MapWindowReader&, const GradientMap&)>;
     std::vector<int> patchMaps(const PatchMaker& make);
-    void checkDents();                                // SimulationPlasticity.cpp
+    void checkDents();                                           // SimulationPlasticity.cpp
     void yieldVoxels(const std::vector<std::uint64_t>& voxels);  // whole-map indices, sorted
     bop::GradientMap patched(std::size_t frame, bop::GradientMap window) const;
-    void cut(const CutCommand& c);  // collective
+    void cut(const CutCommand& c);                          // collective
     void restoreCuts(const std::vector<CutCommand>& cuts);  // SimulationOptions::cuts and ::yields
     void restoreYields(const std::vector<std::vector<std::uint64_t>>& yields);
     [[noreturn]] void throwUnsound() const;  // collective: UnsoundState naming what a process found
@@ -225,10 +225,10 @@ private:
     CutReport lastCut_;
     std::vector<std::vector<std::uint64_t>> yields_;
     std::map<std::uint64_t, long long> dentedSince_;  // every process alike: the step each dent's voxel fell in front
-    std::vector<std::uint64_t> frontBefore_;         // the voxels in front at the last check, sorted
+    std::vector<std::uint64_t> frontBefore_;          // the voxels in front at the last check, sorted
     bool frontSeen_ = false;                          // a check has looked
-    std::shared_ptr<const BondNetwork> bondNet_;  // model_->bonds less the bonds cuts broke
-    std::vector<MapVolume> frameVolumes_;  // whole-map counts per keyframe
+    std::shared_ptr<const BondNetwork> bondNet_;      // model_->bonds less the bonds cuts broke
+    std::vector<MapVolume> frameVolumes_;             // whole-map counts per keyframe
 };
 
 }  // namespace bop::core

@@ -47,7 +47,8 @@ private:
         return k.cast<int>();
     }
     std::size_t index(const Eigen::Vector3i& u) const {
-        return std::size_t(u.x()) + std::size_t(n_.x() + 1) * (std::size_t(u.y()) + std::size_t(n_.y() + 1) * std::size_t(u.z()));
+        return std::size_t(u.x()) +
+               std::size_t(n_.x() + 1) * (std::size_t(u.y()) + std::size_t(n_.y() + 1) * std::size_t(u.z()));
     }
     void add(const Eigen::Vector3d& x) { cells_[index(cell(x))].push_back(x); }
     Eigen::Vector3d lo_, n_;
@@ -110,7 +111,8 @@ void Simulation::yieldVoxels(const std::vector<std::uint64_t>& voxels) {
         return bop::removalPatch(
             read, whole, held.r0Voxels, boxOfVoxels(voxels, whole),
             [&](const Eigen::Vector3i& c) {
-                return std::binary_search(voxels.begin(), voxels.end(), std::uint64_t(whole.index(c.x(), c.y(), c.z())));
+                return std::binary_search(voxels.begin(), voxels.end(),
+                                          std::uint64_t(whole.index(c.x(), c.y(), c.z())));
             },
             model_->mapGeometry);
     });

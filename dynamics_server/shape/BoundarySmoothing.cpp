@@ -1,7 +1,7 @@
 #include "BoundarySmoothing.hpp"
 
-#include "bop/common/DistanceTransform.hpp"
 #include "SimplePoint.hpp"
+#include "bop/common/DistanceTransform.hpp"
 
 #include <algorithm>
 #include <climits>

@@ -1,8 +1,8 @@
 #include "ShapeBuilder.hpp"
 
 #include "BoundarySmoothing.hpp"
-#include "bop/common/DistanceTransform.hpp"
 #include "Labels.hpp"
+#include "bop/common/DistanceTransform.hpp"
 #include "bop/common/GradientMapFile.hpp"
 
 #include <algorithm>

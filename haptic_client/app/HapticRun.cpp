@@ -221,10 +221,11 @@ int runHaptic(const RunOptions& o) {
     if (link.reconnections() > 0) std::printf("reconnections: %u\n", link.reconnections());
     if (o.cut || o.cutButton >= 0) {
         if (cutter) cutter->drain();
-        std::printf("cutting: %llu strokes sent (%llu dropped, the send queue full), radius %.3g; the map's copy cut "
-                    "by %zu of them, the slowest edit %.2f ms (off the loop)\n",
-                    (unsigned long long)strokes, (unsigned long long)strokesDropped, o.cutRadius,
-                    cutter ? cutter->applied() : std::size_t(0), cutter ? cutter->slowestMs() : 0.0);
+        std::printf(
+            "cutting: %llu strokes sent (%llu dropped, the send queue full), radius %.3g; the map's copy cut "
+            "by %zu of them, the slowest edit %.2f ms (off the loop)\n",
+            (unsigned long long)strokes, (unsigned long long)strokesDropped, o.cutRadius,
+            cutter ? cutter->applied() : std::size_t(0), cutter ? cutter->slowestMs() : 0.0);
     }
     std::printf("largest force rendered: %.3f N; trace in %s/haptic-trace.csv\n", largestN, o.outDir.c_str());
     if (scripted(o.device) && !curve.points().empty()) {

@@ -78,9 +78,8 @@ void FieldCutter::work() {
         blade.a = s.from / h;
         blade.b = s.to / h;
         blade.radius = s.radius / h;
-        const MapPatch patch =
-            cutPatch([&](const VoxelWindow& w) { return cropGradientMap(*map, w); }, map->wholeDims(), map->r0Voxels,
-                     blade, geometry_);
+        const MapPatch patch = cutPatch([&](const VoxelWindow& w) { return cropGradientMap(*map, w); },
+                                        map->wholeDims(), map->r0Voxels, blade, geometry_);
         if (!patch.empty()) field_.setMap(std::make_shared<const GradientMap>(applyPatch(*map, patch)));
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         {

@@ -3,8 +3,8 @@
 // becomes strokes of a blade, each sent as a Cut command without waiting; the client's own copy
 // of the gradient map takes the same edit on a thread of its own (bop/common/GradientMapEdit.hpp),
 // so that its field follows the server's map and the loop never waits for either.
-#include "control/FieldForce.hpp"
 #include "bop/common/SurfaceFilters.hpp"
+#include "control/FieldForce.hpp"
 
 #include <Eigen/Core>
 
@@ -18,7 +18,7 @@ namespace bop::haptic {
 
 struct Stroke {
     Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();  // length
-    double radius = 0;                                                              // length
+    double radius = 0;                                                             // length
 };
 
 // The path of the blade: a stroke from where the last one ended once the blade has gone a

@@ -212,7 +212,7 @@ struct Record {
 // A blade of `radius` swept from `from` to `to` (schemas/command.fbs).
 struct Cut {
     Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();  // length
-    double radius = 0;                                                              // length, > 0
+    double radius = 0;                                                             // length, > 0
 };
 
 using CommandBody =

@@ -235,14 +235,16 @@ TEST_CASE("a cut across the subdomain faces: every rank's map and the particles 
     CHECK(run.simulation().lastCut().converted == b.serial->lastCut().converted);
     // Each rank's window of the edited map is the single process's edited map there.
     const GradientMap& mine = *run.simulation().mapInForce().map();
-    const bop::VoxelWindow w{mine.origin, mine.origin + Eigen::Vector3i(mine.dims().nx, mine.dims().ny, mine.dims().nz)};
+    const bop::VoxelWindow w{mine.origin,
+                             mine.origin + Eigen::Vector3i(mine.dims().nx, mine.dims().ny, mine.dims().nz)};
     const GradientMap theirs = bop::cropGradientMap(*b.serial->mapInForce().map(), w);
     CHECK(mine.occ == theirs.occ);
     CHECK(mine.nearest == theirs.nearest);
     REQUIRE(mine.surface.size() == theirs.surface.size());
     std::size_t same = 0;
     for (std::size_t s = 0; s < mine.surface.size(); ++s)
-        same += mine.surface[s].voxel == theirs.surface[s].voxel && mine.surface[s].normal == theirs.surface[s].normal &&
+        same += mine.surface[s].voxel == theirs.surface[s].voxel &&
+                mine.surface[s].normal == theirs.surface[s].normal &&
                 mine.surface[s].cpWeight == theirs.surface[s].cpWeight;
     CHECK(same == mine.surface.size());
     // The particles: the same ids, positions to round-off.

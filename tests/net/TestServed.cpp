@@ -4,13 +4,13 @@
 // malformed and oversized messages refused and counted, a client killed mid-message.
 #include "NetTestUtil.hpp"
 #include "TestUtil.hpp"
+#include "bop/common/Units.hpp"
 #include "client/ClientSession.hpp"
 #include "codec/Codec.hpp"
 #include "recording/SessionReader.hpp"
 #include "security/CurveKeys.hpp"
 #include "shape/KeyframeTestScene.hpp"
 #include "transport/UdpSocket.hpp"
-#include "bop/common/Units.hpp"
 
 #include <catch2/catch.hpp>
 #include <zmq.hpp>

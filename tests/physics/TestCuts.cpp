@@ -3,9 +3,9 @@
 // cut into a ball is closed by a sheet within 500 steps.
 #include "OneProcessRun.hpp"
 #include "RawShapeScene.hpp"
-#include "app/runs/Settling.hpp"
 #include "app/files/Checkpoint.hpp"
 #include "app/files/ExtendedXyz.hpp"
+#include "app/runs/Settling.hpp"
 #include "app/scene/Fidelity.hpp"
 #include "app/scene/RunStart.hpp"
 
@@ -100,7 +100,8 @@ TEST_CASE("a torus cut across its tube at two places: two pieces that stay apart
     CHECK(f.volumeInOwnVoxels >= 0.95);
 }
 
-TEST_CASE("a checkpoint after cuts carries them: the restart's map is the cut run's, its sheet holds", "[physics][cut]") {
+TEST_CASE("a checkpoint after cuts carries them: the restart's map is the cut run's, its sheet holds",
+          "[physics][cut]") {
     test::TempDir dir("cut-restart");
     const test::Shape shape = torus();
     const app::Scene scene = app::loadScene(test::writeScene(dir, shape));

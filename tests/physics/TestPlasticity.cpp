@@ -22,10 +22,12 @@ namespace {
 const Eigen::Vector3d kCentre(24, 24, 10);  // voxels of 1 mm; the slab is 40 x 40 x 12
 
 test::Shape slab() {
-    return {"slab",
-            {48, 48, 20},
-            [](const Eigen::Vector3d& x) { return (x - kCentre).cwiseAbs().maxCoeff() < 20 && std::abs(x.z() - 10) < 6; },
-            0, [](const Eigen::Vector3d&) { return 0; }};
+    return {
+        "slab",
+        {48, 48, 20},
+        [](const Eigen::Vector3d& x) { return (x - kCentre).cwiseAbs().maxCoeff() < 20 && std::abs(x.z() - 10) < 6; },
+        0,
+        [](const Eigen::Vector3d&) { return 0; }};
 }
 
 // The slab scene with a sphere probe of 3 r0 and, with `plastic`, a hold time of 10 time units.
@@ -88,7 +90,8 @@ Dent pressAndRelease(test::OneProcessRun& run, const app::Scene& sc) {
 
 }  // namespace
 
-TEST_CASE("plasticity: a dent held past the hold time stays; without it the slab springs back", "[physics][plasticity]") {
+TEST_CASE("plasticity: a dent held past the hold time stays; without it the slab springs back",
+          "[physics][plasticity]") {
     test::TempDir dir("plasticity");
     const app::Scene plastic = scene(dir, true);
     REQUIRE(plastic.model->plasticity.on);

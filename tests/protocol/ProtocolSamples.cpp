@@ -117,9 +117,14 @@ Feedback sampleFeedback() {
 }
 
 std::vector<Command> sampleCommands() {
-    return {{1, SeedParticle{3, {1, 2, 3}}},           {2, SetBirth{2, false}}, {3, SetParameter{"lj", 1, 2, 0.75}},
-            {4, RunControl{RunAction::SingleStep, 5}}, {5, SwitchMapFrame{7}},  {6, Checkpoint{"out/checkpoint.xyz"}},
-            {7, Record{true, "out/session.bop"}},    {8, Cut{{1, 2, 3}, {4, 5, 6}, 1.5}}};
+    return {{1, SeedParticle{3, {1, 2, 3}}},
+            {2, SetBirth{2, false}},
+            {3, SetParameter{"lj", 1, 2, 0.75}},
+            {4, RunControl{RunAction::SingleStep, 5}},
+            {5, SwitchMapFrame{7}},
+            {6, Checkpoint{"out/checkpoint.xyz"}},
+            {7, Record{true, "out/session.bop"}},
+            {8, Cut{{1, 2, 3}, {4, 5, 6}, 1.5}}};
 }
 
 CommandReply sampleReply() {

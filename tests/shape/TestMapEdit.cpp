@@ -80,8 +80,7 @@ TEST_CASE("map edit: a blade's windowed patch equals a whole-grid rebuild of the
     shape::BagLayout layout = layoutOf();
     const GradientMap original = rebuild(layout);
     std::mt19937 rng(52);
-    std::uniform_real_distribution<double> ux(0, kDims.nx), uy(0, kDims.ny), uz(0, kDims.nz), ur(0.8, 4.0),
-        ul(-12, 12);
+    std::uniform_real_distribution<double> ux(0, kDims.nx), uy(0, kDims.ny), uz(0, kDims.nz), ur(0.8, 4.0), ul(-12, 12);
     GradientMap edited = original;
     int cuts = 0, windowed = 0;
     for (int t = 0; t < 14; ++t) {

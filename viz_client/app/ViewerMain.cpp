@@ -78,8 +78,12 @@ int main(int argc, char** argv) {
         if (!probeFrom.empty()) {
             if (!headless)
                 throw Error("--probe-from", "a scripted probe is for --headless runs; the window has the mouse");
-            o.probe = viz::ProbeScript{parseVector3(probeFrom, "--probe-from"), parseVector3(probeTo, "--probe-to"),
-                                       probeSeconds, probeK0, probeK1, cutRadius};
+            o.probe = viz::ProbeScript{parseVector3(probeFrom, "--probe-from"),
+                                       parseVector3(probeTo, "--probe-to"),
+                                       probeSeconds,
+                                       probeK0,
+                                       probeK1,
+                                       cutRadius};
         }
         if (headless && o.frames == 0) o.frames = 10;
         if (headless && connectS == 0) connectS = 30;

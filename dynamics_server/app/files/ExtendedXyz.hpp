@@ -25,13 +25,12 @@
 // above 2^63) read as before, such an id with bit 62 in place of bit 63.
 #include "bop/common/UnitSystem.hpp"
 #include "core/Command.hpp"
-
-#include <cstdint>
 #include "core/Particles.hpp"
 
 #include <Eigen/Core>
 
 #include <array>
+#include <cstdint>
 #include <ostream>
 #include <string>
 #include <vector>

@@ -1,9 +1,9 @@
 // Extended XYZ reader, text level: words, the comment line and the Properties key.
 #include "app/files/ExtendedXyzParse.hpp"
 
-#include <cmath>
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 namespace bop::app::xyz {
 

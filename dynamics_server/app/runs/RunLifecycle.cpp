@@ -79,10 +79,10 @@ void RunLifecycle::afterStep(bool last) {
         cutsSaid_ = cuts.size();
         const core::CutReport& c = run_.simulation().lastCut();
         if (root())
-            spdlog::info("cut {} at step {}: {} particles out, {} made surface, {} bonds broken, {} bag(s); map "
-                         "edited in {:.2f} ms",
-                         cutsSaid_, run_.stepNumber(), c.removed, c.converted, c.bondsBroken, c.bags,
-                         1e3 * c.mapSeconds);
+            spdlog::info(
+                "cut {} at step {}: {} particles out, {} made surface, {} bonds broken, {} bag(s); map "
+                "edited in {:.2f} ms",
+                cutsSaid_, run_.stepNumber(), c.removed, c.converted, c.bondsBroken, c.bags, 1e3 * c.mapSeconds);
     }
     if (!last && o_.checkpointEvery > 0 && run_.stepNumber() % o_.checkpointEvery == 0) checkpoint(run_.gather(), true);
 }

@@ -164,9 +164,8 @@ RunStart startRun(const Scene& scene, const std::string& cache, const std::strin
         }
     }
     core::Construction construction({}, {}, s.model->speciesCount());
-    core::Particles fromFile =
-        initialParticles(scene, *s.model, s.timeline, restart, s.firstStep, construction, s.settle, s.options.cuts,
-                         s.options.yields);
+    core::Particles fromFile = initialParticles(scene, *s.model, s.timeline, restart, s.firstStep, construction,
+                                                s.settle, s.options.cuts, s.options.yields);
     s.settleFile = restart;
     if (!place) s.particles = std::move(fromFile);
     if (bonded) {

@@ -48,8 +48,9 @@ void readPlasticity(const ConfigTable& root, const Scene& s, core::Model& m) {
     p.on = t->boolean("enabled", true);
     if (!s.shape) t->fail("enabled", "plasticity moves a bag's map: a bulk [box] has none");
     if (p.on && !s.materials.empty())
-        t->fail("enabled", "the scene's [[material]] bonds its bags, and bonds keep their rest shape: plasticity is "
-                           "for bags the map alone holds");
+        t->fail("enabled",
+                "the scene's [[material]] bonds its bags, and bonds keep their rest shape: plasticity is "
+                "for bags the map alone holds");
     p.holdTime = t->number("hold_time", 0.0);
     p.yieldDepthR0 = t->number("yield_depth_r0", 0.0);
     p.bandR0 = positive(*t, "band_r0", t->number("band_r0", p.bandR0));
@@ -58,7 +59,8 @@ void readPlasticity(const ConfigTable& root, const Scene& s, core::Model& m) {
     if (p.on && p.holdTime == 0 && p.yieldDepthR0 == 0)
         t->fail("hold_time", "give hold_time, yield_depth_r0 or both: nothing would ever yield");
     const double every = t->number("every_steps", double(p.everySteps));
-    if (!(every >= 1 && every <= 1e6 && every == std::floor(every))) t->fail("every_steps", "expected a whole number of steps from 1");
+    if (!(every >= 1 && every <= 1e6 && every == std::floor(every)))
+        t->fail("every_steps", "expected a whole number of steps from 1");
     p.everySteps = (long long)every;
     t->finish();
 }

@@ -48,8 +48,9 @@ bool sameMap(const bop::GradientMap& a, const bop::GradientMap& b) {
 }
 
 int run(int argc, char** argv) {
-    CLI::App app{"bop-map-cut: time the windowed map edits of cuts into a scene's bags on one core, one CSV row a "
-                 "stroke (scripts/bench/cut.sh)"};
+    CLI::App app{
+        "bop-map-cut: time the windowed map edits of cuts into a scene's bags on one core, one CSV row a "
+        "stroke (scripts/bench/cut.sh)"};
     std::string scene, cache, csvPath = "map-cut.csv";
     double radiusR0 = 1;
     int strokes = 24;
@@ -57,7 +58,8 @@ int run(int argc, char** argv) {
     app.add_option("scene", scene, "scene file (TOML)")->required();
     app.add_option("--cache", cache, "gradient-map cache file (default: none, the map is built)");
     app.add_option("--radius", radiusR0, "the blade's radius, r0")->check(CLI::Range(0.25, 8.0));
-    app.add_option("--strokes", strokes, "strokes, each a blade swept 0 to 5 r0 into a bag")->check(CLI::Range(1, 10000));
+    app.add_option("--strokes", strokes, "strokes, each a blade swept 0 to 5 r0 into a bag")
+        ->check(CLI::Range(1, 10000));
     app.add_option("--csv", csvPath, "the table, one row per stroke");
     app.add_flag("--check", check, "compare every edited map with a whole-grid rebuild of the edited image");
     CLI11_PARSE(app, argc, argv);
@@ -77,18 +79,18 @@ int run(int argc, char** argv) {
     std::size_t equal = 0;
     for (int k = 0; k < strokes; ++k) {
         // From a surface voxel into the bag, along the inward normal, 0 to 5 r0 long.
-        const bop::SurfaceVoxel& at = *std::lower_bound(
-            map.surface.begin(), map.surface.end(), surface[rng() % surface.size()],
-            [](const bop::SurfaceVoxel& a, std::uint32_t v) { return a.voxel < v; });
+        const bop::SurfaceVoxel& at =
+            *std::lower_bound(map.surface.begin(), map.surface.end(), surface[rng() % surface.size()],
+                              [](const bop::SurfaceVoxel& a, std::uint32_t v) { return a.voxel < v; });
         bop::BladeSweep blade;
         blade.a = map.dims().coords(at.voxel).cast<double>() + Eigen::Vector3d::Constant(0.5);
         const double length = (k % 6) * map.r0Voxels;
         blade.b = blade.a - length * at.normal.cast<double>();
         blade.radius = r;
         auto t0 = Clock::now();
-        const bop::MapPatch patch = bop::cutPatch(
-            [&](const bop::VoxelWindow& w) { return bop::cropGradientMap(map, w); }, map.dims(), map.r0Voxels, blade,
-            s.model->mapGeometry);
+        const bop::MapPatch patch =
+            bop::cutPatch([&](const bop::VoxelWindow& w) { return bop::cropGradientMap(map, w); }, map.dims(),
+                          map.r0Voxels, blade, s.model->mapGeometry);
         const double patchMs = msSince(t0);
         if (patch.empty()) continue;
         t0 = Clock::now();
@@ -108,10 +110,11 @@ int run(int argc, char** argv) {
         csv << k << ',' << length << ',' << w.nx << ',' << w.ny << ',' << w.nz << ',' << w.count() << ','
             << patch.removed << ',' << patch.newSurface << ',' << patch.grows << ',' << patchMs << ',' << applyMs << ','
             << rebuildMs << ',' << (check ? (same ? "yes" : "no") : "") << '\n';
-        std::printf("stroke %d: %.1f voxels long, window %d x %d x %d, %zu voxels out, %zu new surface; patch %.2f ms, "
-                    "applied to the whole map %.2f ms%s\n",
-                    k, length, w.nx, w.ny, w.nz, patch.removed, patch.newSurface, patchMs, applyMs,
-                    check ? (same ? ", equal to a whole-grid rebuild" : ", DIFFERS from a whole-grid rebuild") : "");
+        std::printf(
+            "stroke %d: %.1f voxels long, window %d x %d x %d, %zu voxels out, %zu new surface; patch %.2f ms, "
+            "applied to the whole map %.2f ms%s\n",
+            k, length, w.nx, w.ny, w.nz, patch.removed, patch.newSurface, patchMs, applyMs,
+            check ? (same ? ", equal to a whole-grid rebuild" : ", DIFFERS from a whole-grid rebuild") : "");
         std::fflush(stdout);
     }
     std::printf("bop-map-cut: table in %s%s\n", csvPath.c_str(), check ? "" : " (no --check)");
