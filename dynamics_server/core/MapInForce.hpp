@@ -2,7 +2,8 @@
 // The gradient map in force at a step, beside the scene's constants (Model.hpp): this process's
 // region of the box, its window of every keyframe's map, and the keyframe blend of the step's
 // time (Keyframes.hpp). Simulation keeps it (SimulationMaps.cpp), moved with the region and the
-// keyframes; the map edits of cutting are to live here too.
+// keyframes; a cut or a yield replaces the windows with their edited copies (SimulationCuts.cpp),
+// and the patches it keeps edit the windows a moved region reads later.
 #include "Keyframes.hpp"
 #include "Model.hpp"
 #include "bop/common/GradientMapCrop.hpp"
