@@ -4,6 +4,7 @@
 // in build/test-output/viewer/ to look at.
 #include "NetTestUtil.hpp"
 #include "TestUtil.hpp"
+#include "client/ClientSession.hpp"
 
 #include <Eigen/Core>
 #include <catch2/catch.hpp>
@@ -297,4 +298,53 @@ TEST_CASE("the window viewer under Xvfb draws the served particles and its panel
     CHECK(title > 2000);
     CHECK(particlePixels(p, 360) > std::size_t((800 - 360) * 500) / 10);
     srv.stop(SIGINT);
+}
+
+TEST_CASE("bop-viewer --headless cuts the served torus with a scripted blade: the server cuts, the pictures show it",
+          "[net][gui][cut]") {
+    test::TempDir dir("viewer-cut");
+    // The placed torus (torus-cut.toml, settled at its start) served at 2 ranks; the blade of
+    // 3.2 r0 drawn along x through the box's middle at mid-height crosses the tube twice.
+    test::ChildProcess srv(server("torus-cut", {"--publish-hz", "10", "-o", dir.file("run")}));
+    protocol::ClientSession c;
+    const protocol::SceneInfo info = c.connect(srv.endpoint(), 20s);
+    const Eigen::Vector3d mid = 0.5 * (info.boxLo + info.boxHi);
+    const auto point = [](double x, double y, double z) {
+        std::ostringstream s;
+        s << x << ',' << y << ',' << z;
+        return s.str();
+    };
+    const std::string out = test::outputDir("viewer", "cut");
+    const auto [code, printed] = test::runCommand(
+        test::buildDir() + "/viz_client/bop-viewer " + srv.endpoint() + " --headless --frames 30 --out " + out +
+            " --probe-from " + point(info.boxLo.x(), mid.y(), mid.z()) + " --probe-to " +
+            point(info.boxHi.x(), mid.y(), mid.z()) + " --probe-seconds 1 --probe-cut " +
+            std::to_string(3.2 * info.r0) + " 2>&1",
+        60s);
+    INFO(printed);
+    REQUIRE(code == 0);
+    srv.stop(SIGINT);
+    const std::string log = srv.output();
+    INFO(log);
+    REQUIRE(log.find("final state:") != std::string::npos);
+    // Strokes of a radius each along the box's width: several cuts, particles taken out.
+    std::size_t cuts = 0, taken = 0;
+    const std::regex cutLine("cut [0-9]+ at step [0-9]+: ([0-9]+) particles out");
+    for (auto it = std::sregex_iterator(log.begin(), log.end(), cutLine); it != std::sregex_iterator(); ++it)
+        ++cuts, taken += std::stoul((*it)[1]);
+    CHECK(cuts >= 3);
+    CHECK(taken > 200);
+    // The last picture holds the two pieces: fewer particles than the first frame's.
+    std::ifstream csv(out + "/frames.csv");
+    std::string row, first, last;
+    std::getline(csv, row);
+    while (std::getline(csv, row)) (first.empty() ? first : last) = row;
+    const auto particlesOf = [](const std::string& r) {  // column 8: particles
+        std::istringstream s(r);
+        std::string cell;
+        for (int k = 0; k < 8; ++k) std::getline(s, cell, ',');
+        return std::stoul(cell);
+    };
+    INFO("frames: first " << first << ", last " << last);
+    CHECK(particlesOf(last) + 200 < particlesOf(first));
 }

@@ -31,7 +31,9 @@ const char* statusName(protocol::ReplyStatus s) {
 }
 
 const char* commandName(const protocol::CommandBody& b) {
-    static const char* const names[] = {"seed", "birth", "parameter", "run", "map frame", "checkpoint", "record"};
+    static const char* const names[] = {"seed",      "birth",      "parameter", "run",
+                                        "map frame", "checkpoint", "record",    "cut"};
+    static_assert(std::size(names) == std::variant_size_v<protocol::CommandBody>, "a name for every command");
     return names[b.index()];
 }
 
