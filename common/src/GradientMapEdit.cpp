@@ -209,11 +209,12 @@ MapPatch removalPatch(const MapWindowReader& read, const Dims& whole, double r0V
                     if (W.hi[a] < n[a]) gap = std::min<std::int64_t>(gap, W.hi[a] - c[a]);
                 }
                 exact = dNew != INT64_MAX && (gap == INT64_MAX || dNew <= gap * gap);
+                if (!exact) return;  // no site here: a wider window, or none left at all
             }
             nearest[indexIn(W, c)] = keep ? old : sites[std::size_t(feature[ei])];
         });
         if (!exact && !everything) continue;
-        if (!exact) throw std::logic_error("cutPatch: no surface voxel left in the map");
+        if (!exact) throw std::domain_error("the edit would leave no bag in the map");
 
         // Records: recomputed within the filters' reach of a change, the old ones elsewhere. The
         // indicator of each bag met, over the read window, once.

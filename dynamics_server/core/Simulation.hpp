@@ -63,6 +63,7 @@ struct CutReport {
     std::size_t converted = 0;  // volume particles on a new face, made surface particles
     std::size_t bondsBroken = 0;
     std::size_t bags = 0;  // bags that lost voxels
+    bool refused = false;  // the blade would have taken every voxel of every bag: nothing changed
 };
 
 // Where a process gets its window of the gradient map: the whole map's grid and r0 (arrays empty)
@@ -154,6 +155,7 @@ public:
     // The cuts applied so far, in order (a checkpoint carries them), and what the last one did.
     const std::vector<CutCommand>& cuts() const { return cuts_; }
     const CutReport& lastCut() const { return lastCut_; }
+    std::size_t cutCommands() const { return cutCommands_; }  // cut commands taken, refused ones too
     // The voxels dents took out of their bags (Model::plasticity), each check's in voxel order; a
     // checkpoint carries them too.
     const std::vector<std::vector<std::uint64_t>>& yields() const { return yields_; }
@@ -223,6 +225,7 @@ private:
     std::vector<CutCommand> cuts_;                     // applied, in order
     std::vector<std::vector<bop::MapPatch>> patches_;  // per keyframe, the cuts' patches in order
     CutReport lastCut_;
+    std::size_t cutCommands_ = 0;
     std::vector<std::vector<std::uint64_t>> yields_;
     std::map<std::uint64_t, long long> dentedSince_;  // every process alike: the step each dent's voxel fell in front
     std::vector<std::uint64_t> frontBefore_;          // the voxels in front at the last check, sorted

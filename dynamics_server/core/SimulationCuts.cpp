@@ -1,8 +1,9 @@
 // A cut in a step (CutCommand, docs/physics.md §9): the map follows (every keyframe's window is
 // patched by bop::cutPatch, the same patch on every process, kept to patch the windows a moved
 // region reads later), then the particles: those in the swept volume leave, a volume particle
-// left on a new face becomes a surface particle with the map's normal, a bonded bag's bonds across
-// the blade break (Bonds.hpp breakBonds), and the births of the cut bags' surfaces go on so that their faces close.
+// left on a new face becomes a surface particle with the map's normal, a bonded bag's bonds
+// across the blade break (Bonds.hpp breakBonds), and the births of the cut bags' surfaces go on
+// so that their faces close.
 #include "Integrator.hpp"
 #include "Simulation.hpp"
 #include "Stopwatch.hpp"
@@ -41,7 +42,8 @@ bop::GradientMap Simulation::patched(std::size_t frame, bop::GradientMap window)
 
 std::vector<int> Simulation::patchMaps(const PatchMaker& make) {
     patches_.resize(maps_.frames.size());
-    std::vector<int> bags;
+    // Every keyframe's patch first: an edit refused for one (std::domain_error) changes none.
+    std::vector<bop::MapPatch> made(maps_.frames.size());
     for (std::size_t f = 0; f < maps_.frames.size(); ++f) {
         const GradientMap& held = *maps_.frames[f];
         const Eigen::Vector3i heldHi = held.origin + Eigen::Vector3i(held.dims().nx, held.dims().ny, held.dims().nz);
@@ -53,11 +55,15 @@ std::vector<int> Simulation::patchMaps(const PatchMaker& make) {
             const auto& whole = model_->frames.size() > 1 ? model_->frames[f] : model_->map;
             return patched(f, bop::cropGradientMap(*whole, w));
         };
-        bop::MapPatch patch = make(read, held);
+        made[f] = make(read, held);
+    }
+    std::vector<int> bags;
+    for (std::size_t f = 0; f < maps_.frames.size(); ++f) {
+        bop::MapPatch& patch = made[f];
         if (patch.empty()) continue;
         for (int b : patch.bags)
             if (std::find(bags.begin(), bags.end(), b) == bags.end()) bags.push_back(b);
-        maps_.frames[f] = std::make_shared<const GradientMap>(bop::applyPatch(held, patch));
+        maps_.frames[f] = std::make_shared<const GradientMap>(bop::applyPatch(*maps_.frames[f], patch));
         patches_[f].push_back(std::move(patch));
     }
     return bags;
@@ -82,8 +88,15 @@ void Simulation::restoreCuts(const std::vector<CutCommand>& cuts) {
 
 void Simulation::cut(const CutCommand& c) {
     const auto t0 = PhaseClock::now();
-    const std::vector<int> bags = editMaps(c);
     lastCut_ = {};
+    ++cutCommands_;
+    std::vector<int> bags;
+    try {
+        bags = editMaps(c);
+    } catch (const std::domain_error&) {  // every process alike: the blade would take every bag
+        lastCut_.refused = true;
+        return;
+    }
     lastCut_.mapSeconds = secondsSince(t0);
     const GradientMap& map = *maps_.map();
     const double h = voxelLength(map.r0Voxels);

@@ -122,6 +122,15 @@ TEST_CASE("a checkpoint after cuts carries them: the restart's map is the cut ru
     CHECK(restarted.nearest == cut.nearest);
     CHECK(restarted.surface.size() == cut.surface.size());
     CHECK(again->particles().size() == sim.particles().size());
+    // A blade over the whole box would take the whole bag: refused, the map and particles kept.
+    const core::Box& box = again->model().box;
+    const std::size_t particles = again->particles().size();
+    again->submit(core::CutCommand{box.lo, box.hi, (box.hi - box.lo).norm()});
+    again->step();
+    CHECK(again->lastCut().refused);
+    CHECK(again->cuts().size() == 3);
+    CHECK(again->particles().size() == particles);
+    CHECK(again->mapInForce().map()->occ == cut.occ);
     again->run(300);
     const double in = std::min(surfaceInSurfaceVoxels(*again, 0, shape), surfaceInSurfaceVoxels(*again, 1, shape));
     INFO("after the restart, surface particles in surface voxels: " << 100 * in << "% (the piece with fewer)");

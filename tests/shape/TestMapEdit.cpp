@@ -151,3 +151,16 @@ TEST_CASE("map edit: the torus cut across its tube; the cut faces are new surfac
     REQUIRE(facing >= 0.8 * faces);
     REQUIRE(away == 0);
 }
+
+TEST_CASE("map edit: a blade that would take every bag is refused and changes nothing", "[mapedit]") {
+    const GradientMap original = rebuild(layoutOf());
+    BladeSweep blade;
+    blade.a = Eigen::Vector3d(0, 24, 14);
+    blade.b = Eigen::Vector3d(56, 24, 14);
+    blade.radius = 60;  // the whole grid
+    CHECK_THROWS_AS(cut(original, blade), std::domain_error);
+    blade.radius = 2;  // a blade that meets no bag: an empty patch
+    blade.a = blade.b = Eigen::Vector3d(1, 1, 1);
+    CHECK(cut(original, blade).empty());
+    CHECK(applyPatch(original, cut(original, blade)).occ == original.occ);
+}

@@ -75,10 +75,13 @@ void RunLifecycle::checkpoint(const core::Particles& all, bool goOn) {
 
 void RunLifecycle::afterStep(bool last) {
     if (cardiac_) cardiac_->record(run_, *model_);
-    if (const auto& cuts = run_.simulation().cuts(); cuts.size() > cutsSaid_) {  // what the step's cut did
-        cutsSaid_ = cuts.size();
+    if (const std::size_t cuts = run_.simulation().cutCommands(); cuts > cutsSaid_) {  // what the step's cut did
+        cutsSaid_ = cuts;
         const core::CutReport& c = run_.simulation().lastCut();
-        if (root())
+        if (root() && c.refused)
+            spdlog::warn("cut {} at step {} refused: it would take every voxel of every bag", cutsSaid_,
+                         run_.stepNumber());
+        else if (root())
             spdlog::info(
                 "cut {} at step {}: {} particles out, {} made surface, {} bonds broken, {} bag(s); map "
                 "edited in {:.2f} ms",

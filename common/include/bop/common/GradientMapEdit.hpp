@@ -45,8 +45,8 @@ using VoxelPredicate = std::function<bool(const Eigen::Vector3i&)>;
 using MapWindowReader = std::function<GradientMap(const VoxelWindow&)>;
 
 // The patch of sweeping `blade` through the map `read` gives (whole dims `whole`, r0 in voxels);
-// p: the map's surface-geometry parameters. Empty when the blade meets no voxel of any bag.
-// One thread; deterministic.
+// p: the map's surface-geometry parameters. Empty when the blade meets no voxel of any bag;
+// std::domain_error when it would take every voxel of every bag. One thread; deterministic.
 MapPatch cutPatch(const MapWindowReader& read, const Dims& whole, double r0Voxels, const BladeSweep& blade,
                   const SurfaceGeometryParams& p);
 
