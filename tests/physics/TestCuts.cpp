@@ -232,3 +232,52 @@ TEST_CASE("a probe pushed through the whole tube: once it has gone the volume is
                                                << "% 2,000 steps later");
     CHECK(later >= 0.99);
 }
+
+TEST_CASE("a bag squeezed to half its width: once the walls are gone the volume is back inside", "[physics][cut]") {
+    test::TempDir dir("squeeze");
+    const test::Shape shape = torus();
+    const app::Scene scene = app::loadScene(test::writeScene(dir, shape));
+    test::OneProcessRun run(scene, "", true);
+    settle(run, scene);
+    core::Simulation& sim = *run;
+    const GradientMap& map = *sim.mapInForce().map();
+    const double h = voxelLength(map.r0Voxels);
+    // Two walls along x, from the torus's sides (20 voxels from its axis) to half its width
+    // (10 voxels) over 1,000 steps, held 200 steps: a particle past a wall is put back on it
+    // with no speed into it.
+    const double cx = kTorusCentre.x() * h, half = (kRing + kTube) * h;
+    const auto squeeze = [&](double w) {
+        core::Particles& p = sim.particles();
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            double& x = p.pos[i].x();
+            double& v = p.vel[i].x();
+            if (x > cx + w) x = cx + w, v = std::min(v, 0.0);
+            if (x < cx - w) x = cx - w, v = std::max(v, 0.0);
+        }
+    };
+    for (int s = 0; s <= 1200; ++s) {
+        squeeze(half * (1.0 - 0.5 * std::min(1.0, s / 1000.0)));
+        sim.step();
+    }
+    const auto inside = [&] {  // volume particles in a voxel of their bag, a fraction
+        std::size_t n = 0, in = 0;
+        for (std::size_t i = 0; i < sim.particles().size(); ++i) {
+            const int s = sim.particles().species[i];
+            if (sim.model().isSurface(s)) continue;
+            ++n;
+            const std::int64_t v = map.voxelHolding(sim.particles().pos[i] / h);
+            in += v >= 0 && map.inBag(std::size_t(v), bagOfSpecies(s));
+        }
+        return double(in) / double(n);
+    };
+    const double squeezed = inside();
+    double widest = 0;
+    for (const Eigen::Vector3d& x : sim.particles().pos) widest = std::max(widest, std::abs(x.x() - cx));
+    sim.run(2000);
+    const double later = inside();
+    INFO("volume particles inside their bag: " << 100 * squeezed << "% squeezed to half the width (the widest "
+                                               << widest / half << " of the half width), " << 100 * later
+                                               << "% 2,000 steps after the walls are gone");
+    CHECK(widest <= 0.5 * half + 0.2 * kR0);  // squeezed: the walls' last step lets a particle move 0.2 r0
+    CHECK(later >= 0.99);
+}
