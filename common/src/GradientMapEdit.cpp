@@ -290,15 +290,8 @@ GradientMap applyPatch(const GradientMap& map, const MapPatch& patch) {
     });
     std::sort(fromPatch.begin(), fromPatch.end());
     fromPatch.erase(std::unique(fromPatch.begin(), fromPatch.end()), fromPatch.end());
-    GradientMap out;
-    out.grid = map.grid;
-    out.r0Voxels = map.r0Voxels;
-    out.bagCount = map.bagCount;
-    out.bagParent = map.bagParent;
-    out.origin = map.origin;
-    out.whole = map.whole;
-    out.occ = map.occ;
-    out.nearest.resize(map.nearest.size());
+    GradientMap out = map;  // the header and the occupancy; the records and nearest are redone
+    out.surface.clear();
     std::vector<std::uint32_t> oldToNew(map.surface.size(), 0);
     auto recordOf = [&](const SurfaceVoxel& old) {
         const SurfaceVoxel* r = findRecord(patch.records, old.voxel);

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
 
 using namespace bop;
 
@@ -51,17 +52,37 @@ void cutAcross(core::Simulation& sim, double a, double h) {
     }
 }
 
-// Surface particles of a piece in surface voxels of the map in force, a fraction.
-double surfaceInSurfaceVoxels(const core::Simulation& sim, int piece, const test::Shape& s) {
+// Surface particles in surface voxels of the map in force, a fraction: of those whose position
+// (voxel units) `counts`, every one without it.
+double surfaceInSurfaceVoxels(const core::Simulation& sim,
+                              const std::function<bool(const Eigen::Vector3d&)>& counts = {}) {
     const GradientMap& map = *sim.mapInForce().map();
     const double h = voxelLength(map.r0Voxels);
     std::size_t n = 0, in = 0;
     const core::Particles& p = sim.particles();
     for (std::size_t i = 0; i < p.size(); ++i) {
-        if (!sim.model().isSurface(p.species[i]) || s.piece(p.pos[i] / h) != piece) continue;
+        if (!sim.model().isSurface(p.species[i]) || (counts && !counts(p.pos[i] / h))) continue;
         ++n;
         const std::int64_t v = map.voxelHolding(p.pos[i] / h);
         in += v >= 0 && map.occ[std::size_t(v)] == p.species[i];
+    }
+    return n ? double(in) / double(n) : 0.0;
+}
+double surfaceInSurfaceVoxels(const core::Simulation& sim, int piece, const test::Shape& s) {
+    return surfaceInSurfaceVoxels(sim, [&](const Eigen::Vector3d& x) { return s.piece(x) == piece; });
+}
+
+// Volume particles in a voxel of their own bag of the map in force, a fraction.
+double volumeInside(const core::Simulation& sim) {
+    const GradientMap& map = *sim.mapInForce().map();
+    const double h = voxelLength(map.r0Voxels);
+    std::size_t n = 0, in = 0;
+    for (std::size_t i = 0; i < sim.particles().size(); ++i) {
+        const int s = sim.particles().species[i];
+        if (sim.model().isSurface(s)) continue;
+        ++n;
+        const std::int64_t v = map.voxelHolding(sim.particles().pos[i] / h);
+        in += v >= 0 && map.inBag(std::size_t(v), bagOfSpecies(s));
     }
     return n ? double(in) / double(n) : 0.0;
 }
@@ -164,13 +185,7 @@ TEST_CASE("a notch cut into the bonded tissue block is closed by a sheet within 
     const core::Particles& p = sim.particles();
     // Surface particles in surface voxels of the edited map; the new faces' voxels with a surface
     // particle within r0.
-    std::size_t surface = 0, inSurface = 0, faces = 0, covered = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        if (!sim.model().isSurface(p.species[i])) continue;
-        ++surface;
-        const std::int64_t v = after.voxelHolding(p.pos[i] / h);
-        inSurface += v >= 0 && after.occ[std::size_t(v)] == p.species[i];
-    }
+    std::size_t faces = 0, covered = 0;
     for (std::size_t v = 0; v < after.occ.size(); ++v) {
         if (!isSurfaceSpecies(after.occ[v]) || isSurfaceSpecies(before.occ[v])) continue;
         ++faces;
@@ -180,7 +195,7 @@ TEST_CASE("a notch cut into the bonded tissue block is closed by a sheet within 
             near = sim.model().isSurface(p.species[i]) && (p.pos[i] - c).squaredNorm() <= kR0 * kR0;
         covered += near;
     }
-    const double inFraction = double(inSurface) / double(surface), coverage = double(covered) / double(faces);
+    const double inFraction = surfaceInSurfaceVoxels(sim), coverage = double(covered) / double(faces);
     INFO(report.removed << " particles out, " << report.converted << " made surface, " << report.bondsBroken
                         << " bonds broken; after 500 steps " << 100 * inFraction
                         << "% of surface particles in surface voxels; " << faces << " new face voxels, "
@@ -213,21 +228,9 @@ TEST_CASE("a probe pushed through the whole tube: once it has gone the volume is
     }
     probe.active = false;
     sim.submit(core::ProbeCommand{probe});
-    const GradientMap& map = *sim.mapInForce().map();
-    const auto inside = [&] {  // volume particles in a voxel of their bag, a fraction
-        std::size_t n = 0, in = 0;
-        for (std::size_t i = 0; i < sim.particles().size(); ++i) {
-            const int s = sim.particles().species[i];
-            if (sim.model().isSurface(s)) continue;
-            ++n;
-            const std::int64_t v = map.voxelHolding(sim.particles().pos[i] / h);
-            in += v >= 0 && map.inBag(std::size_t(v), bagOfSpecies(s));
-        }
-        return double(in) / double(n);
-    };
-    const double justAfter = inside();
+    const double justAfter = volumeInside(sim);
     sim.run(2000);
-    const double later = inside();
+    const double later = volumeInside(sim);
     INFO("volume particles inside their bag: " << 100 * justAfter << "% as the probe leaves, " << 100 * later
                                                << "% 2,000 steps later");
     CHECK(later >= 0.99);
@@ -240,8 +243,7 @@ TEST_CASE("a bag squeezed to half its width: once the walls are gone the volume 
     test::OneProcessRun run(scene, "", true);
     settle(run, scene);
     core::Simulation& sim = *run;
-    const GradientMap& map = *sim.mapInForce().map();
-    const double h = voxelLength(map.r0Voxels);
+    const double h = voxelLength(sim.mapInForce().map()->r0Voxels);
     // Two walls along x, from the torus's sides (20 voxels from its axis) to half its width
     // (10 voxels) over 1,000 steps, held 200 steps: a particle past a wall is put back on it
     // with no speed into it.
@@ -259,22 +261,11 @@ TEST_CASE("a bag squeezed to half its width: once the walls are gone the volume 
         squeeze(half * (1.0 - 0.5 * std::min(1.0, s / 1000.0)));
         sim.step();
     }
-    const auto inside = [&] {  // volume particles in a voxel of their bag, a fraction
-        std::size_t n = 0, in = 0;
-        for (std::size_t i = 0; i < sim.particles().size(); ++i) {
-            const int s = sim.particles().species[i];
-            if (sim.model().isSurface(s)) continue;
-            ++n;
-            const std::int64_t v = map.voxelHolding(sim.particles().pos[i] / h);
-            in += v >= 0 && map.inBag(std::size_t(v), bagOfSpecies(s));
-        }
-        return double(in) / double(n);
-    };
-    const double squeezed = inside();
+    const double squeezed = volumeInside(sim);
     double widest = 0;
     for (const Eigen::Vector3d& x : sim.particles().pos) widest = std::max(widest, std::abs(x.x() - cx));
     sim.run(2000);
-    const double later = inside();
+    const double later = volumeInside(sim);
     INFO("volume particles inside their bag: " << 100 * squeezed << "% squeezed to half the width (the widest "
                                                << widest / half << " of the half width), " << 100 * later
                                                << "% 2,000 steps after the walls are gone");
