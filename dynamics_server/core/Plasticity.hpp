@@ -30,7 +30,4 @@ struct PlasticityParams {
 // plane within r0 / sqrt 3 of a particle, and lies half a voxel inside its surface voxels' faces.
 inline constexpr double kAcrossR0 = 0.8, kBehindR0 = 0.25, kAheadR0 = 2.0;
 
-// The box of a set of voxels (whole-map linear indices, sorted) in a grid of dims `whole`.
-bop::VoxelWindow boxOfVoxels(const std::vector<std::uint64_t>& voxels, const Dims& whole);
-
 }  // namespace bop::core

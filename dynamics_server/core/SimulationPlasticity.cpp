@@ -107,14 +107,7 @@ void Simulation::checkDents() {
 
 void Simulation::yieldVoxels(const std::vector<std::uint64_t>& voxels) {
     patchMaps([&](const bop::MapWindowReader& read, const GradientMap& held) {
-        const Dims& whole = held.wholeDims();
-        return bop::removalPatch(
-            read, whole, held.r0Voxels, boxOfVoxels(voxels, whole),
-            [&](const Eigen::Vector3i& c) {
-                return std::binary_search(voxels.begin(), voxels.end(),
-                                          std::uint64_t(whole.index(c.x(), c.y(), c.z())));
-            },
-            model_->mapGeometry);
+        return bop::voxelsPatch(read, held.wholeDims(), held.r0Voxels, voxels, model_->mapGeometry);
     });
 }
 

@@ -8,6 +8,7 @@
 #include "client/ClientSession.hpp"
 #include "client/RoundTrip.hpp"
 #include "control/BladeCuts.hpp"
+#include "control/MapFollow.hpp"
 #include "control/RateLoop.hpp"
 
 #include <chrono>
@@ -131,10 +132,12 @@ int runHaptic(const RunOptions& o) {
         std::printf("bop-haptic: coupling stiffness lowered to %.3g force/length (%.3g N/mm, the device's most)\n",
                     params.stiffness, device->limits().maxStiffnessNPerMm);
     }
-    // Cutting: strokes of the hand's path sent without waiting, the field's map cut alike.
+    // Cutting: strokes of the hand's path sent without waiting, the field's map cut alike; the
+    // field's map follows the server's edits too (other clients' cuts, plasticity's yields).
     BladePath blade(o.cutRadius);
     std::optional<FieldCutter> cutter;
-    if (field && (o.cut || o.cutButton >= 0)) cutter.emplace(*field, SurfaceGeometryParams{});
+    std::optional<MapFollower> follower;
+    if (field) cutter.emplace(*field, SurfaceGeometryParams{}), follower.emplace(*cutter);
     std::uint64_t strokes = 0, strokesDropped = 0;
     ForceModel model(params, field && fieldStiffness > 0
                                  ? std::function<Eigen::Vector3d(const Eigen::Vector3d&)>(std::cref(*field))
@@ -188,7 +191,8 @@ int runHaptic(const RunOptions& o) {
             roundTrip.feedback(fb->probeSeq, wallS());
             ++feedbacks;
         }
-        link.tick(t.tS, fb.has_value());
+        if (link.tick(t.tS, fb.has_value()) && follower) follower->restart();
+        if (follower) follower->tick(link.session(), t.tS, fb ? std::optional(fb->mapEdits) : std::nullopt);
         const ForceOutput out = model.tick(t.tS, t.dtS, x);
         lastProxy = out.proxy;
         const Eigen::Vector3d n = clampNorm(w.forceToDevice(out.force), device->limits().maxForceN);
@@ -219,14 +223,16 @@ int runHaptic(const RunOptions& o) {
                 roundTrip.percentileMs(50), roundTrip.percentileMs(99), roundTrip.percentileMs(100), roundTrip.count(),
                 (unsigned long long)feedbacks);
     if (link.reconnections() > 0) std::printf("reconnections: %u\n", link.reconnections());
-    if (o.cut || o.cutButton >= 0) {
-        if (cutter) cutter->drain();
+    if (cutter) cutter->drain();
+    if (o.cut || o.cutButton >= 0)
+        std::printf("cutting: %llu strokes sent (%llu dropped, the send queue full), radius %.3g\n",
+                    (unsigned long long)strokes, (unsigned long long)strokesDropped, o.cutRadius);
+    if (cutter)
         std::printf(
-            "cutting: %llu strokes sent (%llu dropped, the send queue full), radius %.3g; the map's copy cut "
-            "by %zu of them, the slowest edit %.2f ms (off the loop)\n",
-            (unsigned long long)strokes, (unsigned long long)strokesDropped, o.cutRadius,
-            cutter ? cutter->applied() : std::size_t(0), cutter ? cutter->slowestMs() : 0.0);
-    }
+            "map copy: %zu edits (%llu own strokes, %u of the server's %u), %zu refused%s%s; the slowest %.2f ms "
+            "(off the loop)\n",
+            cutter->applied(), (unsigned long long)strokes, follower->taken(), follower->known(), cutter->refused(),
+            cutter->refused() ? ", the last: " : "", cutter->lastRefusal().c_str(), cutter->slowestMs());
     std::printf("largest force rendered: %.3f N; trace in %s/haptic-trace.csv\n", largestN, o.outDir.c_str());
     if (scripted(o.device) && !curve.points().empty()) {
         curve.writeCsv(o.outDir + "/stiffness.csv");

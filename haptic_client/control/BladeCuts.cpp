@@ -38,9 +38,13 @@ FieldCutter::~FieldCutter() {
 }
 
 void FieldCutter::push(const Stroke& s) {
+    push(CopyEdit{s, {}});
+}
+
+void FieldCutter::push(CopyEdit e) {
     {
         std::lock_guard lock(m_);
-        queue_.push_back(s);
+        queue_.push_back(std::move(e));
     }
     wake_.notify_one();
 }
@@ -55,32 +59,58 @@ std::size_t FieldCutter::applied() const {
     return applied_;
 }
 
+std::size_t FieldCutter::refused() const {
+    std::lock_guard lock(m_);
+    return refused_;
+}
+
+std::string FieldCutter::lastRefusal() const {
+    std::lock_guard lock(m_);
+    return lastRefusal_;
+}
+
 double FieldCutter::slowestMs() const {
     std::lock_guard lock(m_);
     return slowestMs_;
 }
 
+void FieldCutter::apply(const CopyEdit& e) {
+    const std::shared_ptr<const GradientMap> map = field_.map();
+    const MapWindowReader read = [&](const VoxelWindow& w) { return cropGradientMap(*map, w); };
+    MapPatch patch;
+    try {
+        if (e.stroke.radius > 0) {
+            const double h = voxelLength(map->r0Voxels);
+            BladeSweep blade;
+            blade.a = e.stroke.from / h;
+            blade.b = e.stroke.to / h;
+            blade.radius = e.stroke.radius / h;
+            patch = cutPatch(read, map->wholeDims(), map->r0Voxels, blade, geometry_);
+        } else {
+            patch = voxelsPatch(read, map->wholeDims(), map->r0Voxels, e.voxels, geometry_);
+        }
+    } catch (const std::exception& x) {  // would take every bag, or voxels beyond the grid: the map stays
+        std::lock_guard lock(m_);
+        ++refused_;
+        lastRefusal_ = x.what();
+        return;
+    }
+    if (!patch.empty()) field_.setMap(std::make_shared<const GradientMap>(applyPatch(*map, patch)));
+}
+
 void FieldCutter::work() {
     for (;;) {
-        Stroke s;
+        CopyEdit e;
         {
             std::unique_lock lock(m_);
             wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
             if (queue_.empty()) return;  // stopping, nothing left
-            s = queue_.front();
+            e = std::move(queue_.front());
             queue_.pop_front();
             busy_ = true;
         }
         const auto t0 = std::chrono::steady_clock::now();
-        const std::shared_ptr<const GradientMap> map = field_.map();
-        const double h = voxelLength(map->r0Voxels);
-        BladeSweep blade;
-        blade.a = s.from / h;
-        blade.b = s.to / h;
-        blade.radius = s.radius / h;
-        const MapPatch patch = cutPatch([&](const VoxelWindow& w) { return cropGradientMap(*map, w); },
-                                        map->wholeDims(), map->r0Voxels, blade, geometry_);
-        if (!patch.empty()) field_.setMap(std::make_shared<const GradientMap>(applyPatch(*map, patch)));
+        apply(e);
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         {
             std::lock_guard lock(m_);

@@ -2,7 +2,8 @@
 // Cutting from the haptic loop (docs/haptics.md "Cutting"): the hand's path, while the cut is on,
 // becomes strokes of a blade, each sent as a Cut command without waiting; the client's own copy
 // of the gradient map takes the same edit on a thread of its own (bop/common/GradientMapEdit.hpp),
-// so that its field follows the server's map and the loop never waits for either.
+// so that its field follows the server's map and the loop never waits for either. The edits other
+// clients and the server make reach the copy the same way (MapFollow.hpp).
 #include "bop/common/SurfaceFilters.hpp"
 #include "control/FieldForce.hpp"
 
@@ -12,7 +13,9 @@
 #include <deque>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
+#include <vector>
 
 namespace bop::haptic {
 
@@ -35,29 +38,42 @@ private:
     double lastS_ = -1e300;
 };
 
-// Applies strokes to a field's map on its own thread, in the order given; push() never waits for
-// an edit (only for the queue's lock, held for a push or a pop).
+// One edit of the map's copy: a stroke of the blade, or (stroke.radius 0) voxels that leave their
+// bags (whole-map linear indices, increasing: a yield of the server's, protocol MapEdit).
+struct CopyEdit {
+    Stroke stroke;
+    std::vector<std::uint64_t> voxels;
+};
+
+// Applies edits to a field's map on its own thread, in the order given; push() never waits for
+// an edit (only for the queue's lock, held for a push or a pop). An edit the map refuses (one
+// that would take every bag, voxels beyond the grid) leaves the map as it was and is counted.
 class FieldCutter {
 public:
     FieldCutter(FieldForce& field, SurfaceGeometryParams geometry);
-    ~FieldCutter();  // finishes the strokes queued, then joins
+    ~FieldCutter();  // finishes the edits queued, then joins
     FieldCutter(const FieldCutter&) = delete;
     FieldCutter& operator=(const FieldCutter&) = delete;
 
     void push(const Stroke& s);
-    void drain();  // waits until every stroke pushed so far is in the map (tests, the end of a run)
-    std::size_t applied() const;
+    void push(CopyEdit e);
+    void drain();                 // waits until every edit pushed so far is in the map (tests, the end of a run)
+    std::size_t applied() const;  // edits done, refused ones included
+    std::size_t refused() const;
+    std::string lastRefusal() const;
     double slowestMs() const;  // the longest edit so far, ms
 
 private:
     void work();
+    void apply(const CopyEdit& e);  // never throws: a refusal is counted
     FieldForce& field_;
     SurfaceGeometryParams geometry_;
     mutable std::mutex m_;
     std::condition_variable wake_, done_;
-    std::deque<Stroke> queue_;
+    std::deque<CopyEdit> queue_;
     bool stop_ = false, busy_ = false;
-    std::size_t applied_ = 0;
+    std::size_t applied_ = 0, refused_ = 0;
+    std::string lastRefusal_;
     double slowestMs_ = 0;
     std::thread worker_;
 };

@@ -1,9 +1,11 @@
-// The gradient-map download of a haptic client (MapRequest -> MapChunk, docs/protocol.md).
+// The gradient-map download of a haptic client (MapRequest -> MapChunk, docs/protocol.md), and
+// the map's edits since (MapEditsRequest -> MapEdits).
 #include "bop/common/Error.hpp"
 #include "client/ClientSessionImpl.hpp"
 #include "codec/Codec.hpp"
 
 #include <thread>
+#include <utility>
 
 namespace bop::protocol {
 
@@ -62,6 +64,19 @@ std::vector<std::uint8_t> ClientSession::downloadMap(
         if (progress) progress(file.size(), total);
     }
     return file;
+}
+
+bool ClientSession::requestMapEdits(std::uint32_t first) {
+    Impl& d = *impl_;
+    if (!d.dealer) throw std::logic_error("ClientSession::requestMapEdits before connect");
+    const Buffer b = encodeMapEditsRequest({first});
+    if (!d.dealer->send(zmq::buffer(b), zmq::send_flags::dontwait)) return false;
+    d.lastSent = std::chrono::steady_clock::now();
+    return true;
+}
+
+std::optional<MapEdits> ClientSession::takeMapEdits() {
+    return std::exchange(impl_->mapEdits, std::nullopt);
 }
 
 }  // namespace bop::protocol

@@ -92,6 +92,9 @@ MessageKind ClientSession::Impl::takeControl(const zmq::message_t& msg, CommandR
     } else if (kind == MessageKind::Feedback) {
         const auto f = decodeFeedback(data, size);
         if ((ok = f.ok())) feedback = f.value;  // one TCP stream: the last to arrive is the newest
+    } else if (kind == MessageKind::MapEdits) {
+        auto e = decodeMapEdits(data, size);
+        if ((ok = e.ok())) mapEdits = std::move(e.value);
     } else if (kind == MessageKind::Refusal) {
         auto r = decodeRefusal(data, size);
         if ((ok = r.ok())) takeRefusal(std::move(r.value));

@@ -119,6 +119,12 @@ public:
     // endpoint when the server has no map, the map is over `maxBytes`, or a piece does not come.
     std::vector<std::uint8_t> downloadMap(std::uint64_t maxBytes, std::chrono::milliseconds timeout,
                                           const std::function<void(std::uint64_t, std::uint64_t)>& progress = {});
+    // The map's edits since it was built (Feedback::mapEdits says how many the server has made):
+    // asks for those from number `first` on without waiting, false when the send queue is full.
+    // The answer (as many as fit in one message) is read by pollFeedback() and handed out once by
+    // takeMapEdits(); a later answer replaces one not yet taken.
+    bool requestMapEdits(std::uint32_t first);
+    std::optional<MapEdits> takeMapEdits();
     // The newest feedback since the last call, reading what the DEALER socket holds; never waits.
     // It also keeps the session: when the server forgets silent sessions (SceneInfo::
     // sessionTimeoutS) and nothing went over the DEALER socket for a third of that, Hello goes

@@ -25,6 +25,7 @@ struct ClientSession::Impl {
     SceneInfo scene;
     int tier = 0;
     std::optional<Feedback> feedback;      // newest not yet polled
+    std::optional<MapEdits> mapEdits;      // newest answer not yet taken
     std::optional<Refusal> refusal;        // newest not yet looked at by connect() or sendCommand()
     Buffer hello;                          // this session's Hello, sent again to keep the session
     Clock::time_point lastSent{};          // the last message over the DEALER socket

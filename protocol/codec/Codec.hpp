@@ -47,6 +47,12 @@ Decoded<MapRequest> decodeMapRequest(const std::uint8_t* buf, std::size_t len);
 Buffer encodeMapChunk(const MapChunk& m);
 Decoded<MapChunk> decodeMapChunk(const std::uint8_t* buf, std::size_t len);
 
+Buffer encodeMapEditsRequest(const MapEditsRequest& m);
+Decoded<MapEditsRequest> decodeMapEditsRequest(const std::uint8_t* buf, std::size_t len);
+
+Buffer encodeMapEdits(const MapEdits& m);
+Decoded<MapEdits> decodeMapEdits(const std::uint8_t* buf, std::size_t len);
+
 Buffer encodeRefusal(const Refusal& m);
 Decoded<Refusal> decodeRefusal(const std::uint8_t* buf, std::size_t len);
 

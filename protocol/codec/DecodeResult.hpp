@@ -54,6 +54,16 @@ inline constexpr std::size_t kMaxMapRequestBytes = 256;
 inline constexpr std::size_t kMaxRefusalBytes = 2 * 1024;
 inline constexpr std::size_t kMaxMapPieceBytes = 1 << 20;                  // data of one MapChunk
 inline constexpr std::size_t kMaxMapChunkBytes = kMaxMapPieceBytes + 256;  // the whole MapChunk
+inline constexpr std::size_t kMaxMapEditsRequestBytes = 256;
+inline constexpr std::size_t kMaxMapEditsBytes = kMaxMapChunkBytes;  // fits a client's control socket
+inline constexpr std::size_t kMaxEditVoxels = 1 << 16;               // voxels of one MapEdit (a yield is split)
+inline constexpr std::size_t kMaxEditsPerMessage = 4096;             // edits of one MapEdits
+// The most one edit of `voxels` voxels takes in a MapEdits (its table, vector and offset, padded),
+// bytes; a MapEdits holds edits of at most kMaxMapEditsPayload of them, so it stays within its cap.
+inline constexpr std::size_t mapEditWireBytes(std::size_t voxels) {
+    return 8 * voxels + 128;
+}
+inline constexpr std::size_t kMaxMapEditsPayload = kMaxMapEditsBytes - 1024;
 inline constexpr std::size_t kDefaultMaxFrameChunkBytes = 8u << 20;
 // FlatBuffers addresses less than 2 GiB; FrameLimits::maxChunkBytes is clamped to 1 GiB.
 inline constexpr std::size_t kAbsoluteMaxBytes = std::size_t(1) << 30;

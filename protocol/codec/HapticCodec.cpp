@@ -52,7 +52,7 @@ Buffer encodeFeedback(const Feedback& m) {
     flatbuffers::FlatBufferBuilder fbb(128);
     fbb.ForceDefaults(true);
     const wire::Vec3 force = detail::toWire(m.force);
-    wire::FinishFeedbackBuffer(fbb, wire::CreateFeedback(fbb, m.probeSeq, m.step, &force, m.serverTimeNs));
+    wire::FinishFeedbackBuffer(fbb, wire::CreateFeedback(fbb, m.probeSeq, m.step, &force, m.serverTimeNs, m.mapEdits));
     return detail::toBuffer(fbb);
 }
 
@@ -66,6 +66,7 @@ Decoded<Feedback> decodeFeedback(const std::uint8_t* buf, std::size_t len) {
     m.step = w.step();
     m.force = detail::toEigen(*w.force());
     m.serverTimeNs = w.server_time_ns();
+    m.mapEdits = w.map_edits();
     const Validation v = validate(m);
     return detail::accept(std::move(m), v);
 }

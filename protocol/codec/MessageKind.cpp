@@ -17,7 +17,7 @@ struct KindEntry {
 };
 
 // Identifiers must match the file_identifier of each schema in protocol/schemas/.
-constexpr std::array<KindEntry, 10> kKinds{{
+constexpr std::array<KindEntry, 12> kKinds{{
     {MessageKind::Hello, "BHEL", "Hello"},
     {MessageKind::SceneInfo, "BSCN", "SceneInfo"},
     {MessageKind::StateFrame, "BFRM", "StateFrame"},
@@ -28,6 +28,8 @@ constexpr std::array<KindEntry, 10> kKinds{{
     {MessageKind::MapRequest, "BMRQ", "MapRequest"},
     {MessageKind::MapChunk, "BMCK", "MapChunk"},
     {MessageKind::Refusal, "BREF", "Refusal"},
+    {MessageKind::MapEditsRequest, "BMER", "MapEditsRequest"},
+    {MessageKind::MapEdits, "BMED", "MapEdits"},
 }};
 
 }  // namespace

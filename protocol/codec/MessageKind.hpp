@@ -9,16 +9,18 @@ namespace bop::protocol {
 
 enum class MessageKind : std::uint8_t {
     Unknown = 0,
-    Hello,         // "BHEL"
-    SceneInfo,     // "BSCN"
-    StateFrame,    // "BFRM"
-    Probe,         // "BPRB"
-    Feedback,      // "BFBK"
-    Command,       // "BCMD"
-    CommandReply,  // "BRPL"
-    MapRequest,    // "BMRQ"
-    MapChunk,      // "BMCK"
-    Refusal,       // "BREF"
+    Hello,            // "BHEL"
+    SceneInfo,        // "BSCN"
+    StateFrame,       // "BFRM"
+    Probe,            // "BPRB"
+    Feedback,         // "BFBK"
+    Command,          // "BCMD"
+    CommandReply,     // "BRPL"
+    MapRequest,       // "BMRQ"
+    MapChunk,         // "BMCK"
+    Refusal,          // "BREF"
+    MapEditsRequest,  // "BMER"
+    MapEdits,         // "BMED"
 };
 
 // Unknown when buf is null, shorter than 8 bytes, or its identifier is none of the above.

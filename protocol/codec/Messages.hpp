@@ -151,6 +151,7 @@ struct Feedback {
     std::uint64_t step = 0;
     Eigen::Vector3d force = Eigen::Vector3d::Zero();  // reaction on the probe, force
     std::int64_t serverTimeNs = 0;
+    std::uint32_t mapEdits = 0;  // edits of the gradient map the server has made so far (MapEdits)
 };
 
 // ---- the gradient map, for haptic clients ----
@@ -213,6 +214,24 @@ struct Record {
 struct Cut {
     Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();  // length
     double radius = 0;                                                             // length, > 0
+};
+
+// ---- the gradient map's edits, for haptic clients whose copy follows the server's ----
+
+struct MapEditsRequest {
+    std::uint32_t first = 0;  // the first edit wanted, 0-based
+};
+
+// A blade (cut.radius > 0, voxels empty) or voxels that left their bags (cut.radius 0).
+struct MapEdit {
+    Cut cut;
+    std::vector<std::uint64_t> voxels;  // whole-map indices, x fastest, increasing, 1..kMaxEditVoxels of them
+};
+
+struct MapEdits {
+    std::uint32_t first = 0;  // the number of edits[0]
+    std::uint32_t total = 0;  // the edits the server has made so far, >= first + edits.size()
+    std::vector<MapEdit> edits;
 };
 
 using CommandBody =

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <variant>
 
 namespace bop::protocol {
@@ -196,6 +197,43 @@ Validation validate(const MapChunk& m) {
         c.require(m.offset <= m.total && m.data.size() <= m.total - m.offset, DecodeError::OutOfRange, "offset",
                   "the piece [" + std::to_string(m.offset) + ", +" + std::to_string(m.data.size()) +
                       ") is not within the file's " + std::to_string(m.total) + " bytes");
+    return c.result();
+}
+
+Validation validate(const MapEditsRequest&) {
+    return {};  // any number: the server answers from the nearest it has
+}
+
+Validation validate(const MapEdits& m) {
+    Checker c("MapEdits");
+    const std::uint64_t end = std::uint64_t(m.first) + m.edits.size();
+    if (!(c.require(m.edits.size() <= kMaxEditsPerMessage, DecodeError::BadLength, "edits",
+                    std::to_string(m.edits.size()) + " edits, at most " + std::to_string(kMaxEditsPerMessage)) &&
+          c.require(end <= m.total, DecodeError::OutOfRange, "first",
+                    "edits " + std::to_string(m.first) + ".." + std::to_string(end) + " beyond total " +
+                        std::to_string(m.total))))
+        return c.result();
+    std::size_t bytes = 0;
+    for (const MapEdit& e : m.edits) bytes += mapEditWireBytes(e.voxels.size());
+    if (!c.require(
+            bytes <= kMaxMapEditsPayload, DecodeError::TooLarge, "edits",
+            "about " + std::to_string(bytes) + " bytes of edits, at most " + std::to_string(kMaxMapEditsPayload)))
+        return c.result();
+    for (const MapEdit& e : m.edits) {
+        const bool blade = e.cut.radius > 0;
+        bool ok =
+            c.within(e.cut.from, ranges::kMaxCoordinate, "edits.from") &&
+            c.within(e.cut.to, ranges::kMaxCoordinate, "edits.to") &&
+            c.within(e.cut.radius, 0, ranges::kMaxCoordinate, "edits.radius") &&
+            c.require(
+                blade ? e.voxels.empty() : !e.voxels.empty() && e.voxels.size() <= kMaxEditVoxels,
+                DecodeError::BadLength, "edits.voxels",
+                std::to_string(e.voxels.size()) + (blade ? " voxels with a blade, expected none"
+                                                         : " voxels, expected 1.." + std::to_string(kMaxEditVoxels))) &&
+            c.require(std::adjacent_find(e.voxels.begin(), e.voxels.end(), std::greater_equal<>()) == e.voxels.end(),
+                      DecodeError::OutOfRange, "edits.voxels", "not increasing");
+        if (!ok) break;
+    }
     return c.result();
 }
 

@@ -22,6 +22,8 @@ Validation validate(const Command& m);
 Validation validate(const CommandReply& m);
 Validation validate(const MapRequest& m);
 Validation validate(const MapChunk& m);
+Validation validate(const MapEditsRequest& m);
+Validation validate(const MapEdits& m);
 Validation validate(const Refusal& m);
 // Array lengths (positions 3 x count, normals 0 or 3 x count, ids 0 or count), chunk index and
 // count, particle range within the frame, finite numbers, species numbers, quantisation bounds.

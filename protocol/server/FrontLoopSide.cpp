@@ -178,6 +178,12 @@ void ServerFront::setParticleCount(std::uint64_t n) {
     impl_->particleCount = n;
 }
 
+void ServerFront::setMapEdits(std::shared_ptr<const std::vector<MapEdit>> edits) {
+    front::InboundSlots& in = impl_->inbound;
+    LoopLock lock(in.m, in.waits);
+    in.mapEdits.swap(edits);  // the old list is let go after the lock
+}
+
 bool ServerFront::waitForClient(std::chrono::milliseconds timeout) {
     std::unique_lock lock(impl_->m);
     return impl_->helloSeen.wait_for(lock, timeout, [&] { return !impl_->clients.empty(); });

@@ -1,5 +1,6 @@
 // The gradient-map download (MapRequest -> MapChunk): pieces of FrontOptions::mapFile read
-// straight from disk on the front's thread. Budgets: a client gets at most 16 pieces (16 MiB) a
+// straight from disk on the front's thread; and the map's edits since (MapEditsRequest ->
+// MapEdits), from the list the step loop hands over. Budgets: a client gets at most 16 pieces (16 MiB) a
 // second and a pass of the loop answers at most 8; further requests get an empty piece and ask
 // again. So a client asking too fast, or asking and never reading, can neither hold up probes
 // and feedback nor pile up more than a second's pieces at a time in its send queue.
@@ -12,7 +13,7 @@ namespace bop::protocol {
 namespace {
 
 constexpr int kMapPiecesPerPass = 8;
-constexpr int kMapPiecesPerClientSecond = 16;
+constexpr int kMapPiecesPerClientSecond = 16;  // MapEdits answers count as pieces
 
 }  // namespace
 
@@ -34,6 +35,27 @@ Buffer ServerFront::Impl::mapPiece(const MapRequest& r, front::Client& client) {
     in.read(reinterpret_cast<char*>(c.data.data()), std::streamsize(c.data.size()));
     c.data.resize(std::size_t(in.gcount()));
     return encodeMapChunk(c);
+}
+
+Buffer ServerFront::Impl::mapEdits(const MapEditsRequest& r, front::Client& client) {
+    std::shared_ptr<const std::vector<MapEdit>> all;
+    {
+        std::lock_guard slots(inbound.m);
+        all = inbound.mapEdits;
+    }
+    MapEdits answer;
+    answer.total = all ? std::uint32_t(all->size()) : 0;
+    answer.first = std::min(r.first, answer.total);
+    if (answer.first == answer.total || ++mapPiecesThisPass > kMapPiecesPerPass ||
+        !client.mapPieces.take(Clock::now(), kMapPiecesPerClientSecond))
+        return encodeMapEdits(answer);  // none, or ask again
+    std::size_t bytes = 0;              // one edit alone fits: its voxels are at most kMaxEditVoxels
+    for (std::size_t i = answer.first; i < all->size() && answer.edits.size() < kMaxEditsPerMessage; ++i) {
+        bytes += mapEditWireBytes((*all)[i].voxels.size());
+        if (bytes > kMaxMapEditsPayload) break;
+        answer.edits.push_back((*all)[i]);
+    }
+    return encodeMapEdits(answer);
 }
 
 }  // namespace bop::protocol

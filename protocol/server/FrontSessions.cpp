@@ -167,6 +167,14 @@ void ServerFront::Impl::dispatch(const std::string& id, const std::uint8_t* data
             outbox.emplace_back(id, mapPiece(r.value, it->second));
             return;
         }
+        case MessageKind::MapEditsRequest: {
+            const auto r = decodeMapEditsRequest(data, size);
+            if (!r) return refuse(id, kind, 0, r.error, r.message);
+            const auto it = clients.find(id);
+            if (it == clients.end()) return refuse(id, kind, 0, DecodeError::None, "MapEditsRequest: hello first");
+            outbox.emplace_back(id, mapEdits(r.value, it->second));
+            return;
+        }
         case MessageKind::Probe: {
             const auto p = decodeProbe(data, size);
             if (!p) return refuse(id, kind, p.read ? p.value.seq : 0, p.error, p.message);

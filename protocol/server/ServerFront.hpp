@@ -104,6 +104,9 @@ public:
     // Stops the thread and finishes the recording (bop::Error if the file cannot be finished).
     void finish();
     void setParticleCount(std::uint64_t n);  // for SceneInfo of later handshakes
+    // Every edit of the gradient map so far, for MapEditsRequest (the list grows; Feedback's
+    // mapEdits, set by the step loop, says how long it is).
+    void setMapEdits(std::shared_ptr<const std::vector<MapEdit>> edits);
     // Hands the front one message as if peer `id` had sent it on the control socket: the same
     // checks, sessions, counts and answers (sent to `id`, dropped when no such peer is connected),
     // without a socket. For tests and the front fuzzer (tests/fuzz/FuzzFront.cpp).

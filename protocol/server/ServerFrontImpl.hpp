@@ -62,7 +62,8 @@ struct InboundSlots {
     std::optional<Probe> probe;
     std::optional<Feedback> feedback;
     std::vector<std::pair<std::string, Buffer>> replies;
-    std::vector<std::pair<Buffer, Buffer>> toRecord;  // (command, reply) or (probe, applied)
+    std::vector<std::pair<Buffer, Buffer>> toRecord;       // (command, reply) or (probe, applied)
+    std::shared_ptr<const std::vector<MapEdit>> mapEdits;  // the map's edits so far (FrontMap.cpp); null: none
     LoopWaits waits;
 };
 
@@ -156,7 +157,8 @@ struct ServerFront::Impl {
     front::Budget anonymousRefusals;
     Clock::time_point nextExpiry{};
     Buffer mapPiece(const MapRequest& r, front::Client& c);  // FrontMap.cpp
-    int mapPiecesThisPass = 0;                               // at most kMapPiecesPerPass per pass of the loop
+    Buffer mapEdits(const MapEditsRequest& r, front::Client& c);
+    int mapPiecesThisPass = 0;  // at most kMapPiecesPerPass per pass of the loop
     // ---- the publisher (FrontPublisher.cpp) ----
     void publish(StateFrame f);
     void send(std::vector<Buffer> chunks);

@@ -92,13 +92,14 @@ class Feedback:
     step: int
     force: np.ndarray        # (3,) force
     server_time_ns: int
+    map_edits: int = 0       # edits of the gradient map the server has made so far (cuts, yields)
 
 
 def decode_feedback(buf):
     f = FeedbackT.Feedback.GetRootAs(buf, 0)
     v = f.Force()
     return Feedback(f.ProbeSeq(), f.Step(), np.array([v.X(), v.Y(), v.Z()]) if v else np.zeros(3),
-                    f.ServerTimeNs())
+                    f.ServerTimeNs(), f.MapEdits())
 
 
 @dataclass

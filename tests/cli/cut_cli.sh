@@ -3,7 +3,9 @@
 # at one rank; python/examples/cut.py sweeps one blade of 3.2 r0 through the box's middle, across
 # the tube twice: after 4 s the frame holds two pieces more than 1 r0 apart, and the server logs
 # the cut; then bop-haptic pokes with --cut for 3 s at 1 kHz: no missed deadline, its strokes sent
-# and its own map copy cut by each.
+# and its own map copy cut by each; last, bop-haptic pokes without cutting while cut.py cuts: its
+# map copy takes the server's edit (the copy's equality with the server's map: tests/haptic/
+# TestMapFollow.cpp).
 # Usage: cut_cli.sh BOP_SERVER BOP_HAPTIC SOURCE_DIR
 set -u
 server=$1 haptic=$2 src=$3
@@ -44,5 +46,18 @@ wait "$pid"
 check "bop-haptic cuts at 1 kHz without a missed deadline" "grep -qE '^loop: .* 0 missed deadlines' '$work/haptic.txt'"
 strokes=$(sed -n 's/^cutting: \([0-9]*\) strokes sent.*/\1/p' "$work/haptic.txt")
 check "its strokes reach the server and its map copy (${strokes:-0} strokes)" \
-  "[ '${strokes:-0}' -gt 0 ] && grep -qE 'the map.s copy cut by ${strokes:-x} of them' '$work/haptic.txt' && [ \$(grep -c 'cut [0-9]* at step' '$work/server-haptic.log') -eq ${strokes:-0} ]"
+  "[ '${strokes:-0}' -gt 0 ] && grep -qE '^map copy: [0-9]+ edits \\(${strokes:-x} own strokes, .*\\), 0 refused' '$work/haptic.txt' && [ \$(grep -c 'cut [0-9]* at step' '$work/server-haptic.log') -eq ${strokes:-0} ]"
+
+serve "$work/server-follow.log"
+"$haptic" "$endpoint" --device sim:poke --seconds 9 --out "$work/follow" >"$work/follow.txt" 2>&1 &
+hpid=$!
+for _ in $(seq 1 100); do grep -q '^bop-haptic: connected' "$work/follow.txt" && break; sleep 0.1; done
+bounded 60 "$work/cut-follow.txt" "$py" "$src/python/examples/cut.py" "$endpoint" --radius-r0 3.2 --seconds 2
+wait "$hpid"
+kill -INT "$pid"
+wait "$pid"
+cat "$work/follow.txt"
+made=$(grep -c 'cut [0-9]* at step' "$work/server-follow.log")
+check "another client's cut reaches bop-haptic's map copy (the server made $made)" \
+  "[ $made -ge 1 ] && grep -qE '^map copy: $made edits \\(0 own strokes, $made of the server.s $made\\), 0 refused' '$work/follow.txt'"
 exit $fail

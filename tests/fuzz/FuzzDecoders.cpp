@@ -1,7 +1,7 @@
 // libFuzzer targets for the decoders of untrusted input: one source, one executable per target,
 // chosen at compile time with -DBOP_FUZZ_TARGET=<name> (tests/fuzz/CMakeLists.txt):
 //   hello scene frame probe feedback command reply   codec/Codec.hpp decoders
-//   maprequest mapchunk refusal
+//   maprequest mapchunk mapedits refusal
 //   mcap                                             recording/McapReader.hpp parseMcap
 // Besides the sanitizers' findings, a target aborts when a decoder breaks its contract:
 //   - a value it accepts must pass validate() and be accepted by the encoder (no EncodeError),
@@ -39,8 +39,8 @@ namespace {
 using namespace bop::protocol;
 
 constexpr std::string_view kTarget = BOP_FUZZ_STR(BOP_FUZZ_TARGET);
-constexpr std::string_view kTargets[] = {"hello", "scene",      "frame",    "probe",   "feedback", "command",
-                                         "reply", "maprequest", "mapchunk", "refusal", "mcap"};
+constexpr std::string_view kTargets[] = {"hello", "scene",      "frame",    "probe",    "feedback", "command",
+                                         "reply", "maprequest", "mapchunk", "mapedits", "refusal",  "mcap"};
 constexpr bool knownTarget() {
     for (std::string_view t : kTargets)
         if (t == kTarget) return true;
@@ -48,7 +48,7 @@ constexpr bool knownTarget() {
 }
 static_assert(knownTarget(),
               "BOP_FUZZ_TARGET must be hello, scene, frame, probe, feedback, command, reply, maprequest, mapchunk, "
-              "refusal or mcap");
+              "mapedits, refusal or mcap");
 
 [[noreturn]] void fail(const std::string& what) {
     std::fprintf(stderr, "\nFUZZ CONTRACT BROKEN (%.*s): %s\n", int(kTarget.size()), kTarget.data(), what.c_str());
@@ -181,6 +181,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         checkDecoder<MapRequest>(data, size, &decodeMapRequest, &encodeMapRequest, validator<MapRequest>());
     } else if constexpr (kTarget == "mapchunk") {
         checkDecoder<MapChunk>(data, size, &decodeMapChunk, &encodeMapChunk, validator<MapChunk>());
+    } else if constexpr (kTarget == "mapedits") {
+        checkDecoder<MapEdits>(data, size, &decodeMapEdits, &encodeMapEdits, validator<MapEdits>());
     } else if constexpr (kTarget == "refusal") {
         checkDecoder<Refusal>(data, size, &decodeRefusal, &encodeRefusal, validator<Refusal>());
     } else if constexpr (kTarget == "frame") {

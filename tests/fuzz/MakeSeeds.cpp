@@ -70,6 +70,8 @@ void haptics() {
     put("maprequest", "one", encodeMapRequest({0, 1}));
     put("mapchunk", "sample", encodeMapChunk(sampleMapChunk()));
     put("mapchunk", "nomap", encodeMapChunk(MapChunk{}));
+    put("mapedits", "sample", encodeMapEdits(sampleMapEdits()));
+    put("mapedits", "none", encodeMapEdits(MapEdits{}));
     put("refusal", "sample", encodeRefusal(sampleRefusal()));
     put("refusal", "empty", encodeRefusal(Refusal{}));
 }
@@ -215,6 +217,7 @@ void front() {
         .from(3, hello)
         .from(3, encodeMapRequest({0, 4096}))
         .from(3, encodeMapRequest({4096, 4096}))
+        .from(3, encodeMapEditsRequest({0}))
         .passes(1);
     put("front", "build", build.bytes());
 }

@@ -108,12 +108,23 @@ MapChunk sampleMapChunk() {
     return m;
 }
 
+MapEditsRequest sampleMapEditsRequest() {
+    return {17};
+}
+
+MapEdits sampleMapEdits() {
+    MapEdits m{5, 9, {}};
+    m.edits.push_back({Cut{{1.5, -2, 0.25}, {3, 4.5, -1}, 0.75}, {}});
+    m.edits.push_back({Cut{}, {3, 7, 8, 4096, 70000}});
+    return m;
+}
+
 Refusal sampleRefusal() {
     return {"Probe", 77, "Probe.k1: 1e+300 outside 0..50", 3};
 }
 
 Feedback sampleFeedback() {
-    return {41, 9001, {-0.125, 3.5, 1e-3}, 9'876'543'210};
+    return {41, 9001, {-0.125, 3.5, 1e-3}, 9'876'543'210, 12};
 }
 
 std::vector<Command> sampleCommands() {
@@ -201,12 +212,25 @@ bool same(const MapChunk& a, const MapChunk& b) {
     return a.offset == b.offset && a.total == b.total && a.data == b.data;
 }
 
+bool same(const MapEditsRequest& a, const MapEditsRequest& b) {
+    return a.first == b.first;
+}
+
+bool same(const MapEdits& a, const MapEdits& b) {
+    const auto edit = [](const MapEdit& x, const MapEdit& y) {
+        return x.cut.from == y.cut.from && x.cut.to == y.cut.to && x.cut.radius == y.cut.radius && x.voxels == y.voxels;
+    };
+    return a.first == b.first && a.total == b.total &&
+           std::equal(a.edits.begin(), a.edits.end(), b.edits.begin(), b.edits.end(), edit);
+}
+
 bool same(const Refusal& a, const Refusal& b) {
     return a.kind == b.kind && a.seq == b.seq && a.reason == b.reason && a.refused == b.refused;
 }
 
 bool same(const Feedback& a, const Feedback& b) {
-    return a.probeSeq == b.probeSeq && a.step == b.step && a.force == b.force && a.serverTimeNs == b.serverTimeNs;
+    return a.probeSeq == b.probeSeq && a.step == b.step && a.force == b.force && a.serverTimeNs == b.serverTimeNs &&
+           a.mapEdits == b.mapEdits;
 }
 
 bool same(const Command& a, const Command& b) {
@@ -241,6 +265,8 @@ std::vector<Sample> allSamples() {
                             {MessageKind::CommandReply, encodeCommandReply(sampleReply())},
                             {MessageKind::MapRequest, encodeMapRequest(sampleMapRequest())},
                             {MessageKind::MapChunk, encodeMapChunk(sampleMapChunk())},
+                            {MessageKind::MapEditsRequest, encodeMapEditsRequest(sampleMapEditsRequest())},
+                            {MessageKind::MapEdits, encodeMapEdits(sampleMapEdits())},
                             {MessageKind::Refusal, encodeRefusal(sampleRefusal())}};
     for (const Command& c : sampleCommands()) out.push_back({MessageKind::Command, encodeCommand(c)});
     out.push_back({MessageKind::StateFrame, encodeStateFrame(sampleFrame(5, FrameEncoding::Float32, true, true))});
@@ -267,6 +293,10 @@ DecodeCheck decodeAs(MessageKind kind, const std::uint8_t* buf, std::size_t len)
             return roundAgain(decodeMapRequest(buf, len), &encodeMapRequest, &decodeMapRequest);
         case MessageKind::MapChunk:
             return roundAgain(decodeMapChunk(buf, len), &encodeMapChunk, &decodeMapChunk);
+        case MessageKind::MapEditsRequest:
+            return roundAgain(decodeMapEditsRequest(buf, len), &encodeMapEditsRequest, &decodeMapEditsRequest);
+        case MessageKind::MapEdits:
+            return roundAgain(decodeMapEdits(buf, len), &encodeMapEdits, &decodeMapEdits);
         case MessageKind::Refusal:
             return roundAgain(decodeRefusal(buf, len), &encodeRefusal, &decodeRefusal);
         case MessageKind::StateFrame: {
@@ -305,6 +335,10 @@ bool decodesToSameAs(MessageKind kind, const std::uint8_t* buf, std::size_t len,
                 return encodeMapRequest(decodeMapRequest(p, n).value);
             case MessageKind::MapChunk:
                 return encodeMapChunk(decodeMapChunk(p, n).value);
+            case MessageKind::MapEditsRequest:
+                return encodeMapEditsRequest(decodeMapEditsRequest(p, n).value);
+            case MessageKind::MapEdits:
+                return encodeMapEdits(decodeMapEdits(p, n).value);
             case MessageKind::Refusal:
                 return encodeRefusal(decodeRefusal(p, n).value);
             case MessageKind::StateFrame:

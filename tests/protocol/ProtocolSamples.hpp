@@ -17,6 +17,8 @@ std::vector<Command> sampleCommands();  // one of each body type
 CommandReply sampleReply();
 MapRequest sampleMapRequest();
 MapChunk sampleMapChunk();
+MapEditsRequest sampleMapEditsRequest();
+MapEdits sampleMapEdits();  // a blade and a yield
 Refusal sampleRefusal();
 // n particles inside the box [-10, 20] x [0, 5] x [-3, 3], unit normals, species 1..4, ids when
 // asked; frameParticleCount = n (one whole chunk).
@@ -31,6 +33,8 @@ bool same(const CommandReply& a, const CommandReply& b);
 bool same(const LoopStats& a, const LoopStats& b);
 bool same(const MapRequest& a, const MapRequest& b);
 bool same(const MapChunk& a, const MapChunk& b);
+bool same(const MapEditsRequest& a, const MapEditsRequest& b);
+bool same(const MapEdits& a, const MapEdits& b);
 bool same(const Refusal& a, const Refusal& b);
 bool same(const StateFrame& a, const StateFrame& b);  // exact, arrays included
 

@@ -5,12 +5,14 @@
 #include "command_generated.h"
 #include "frame_generated.h"
 #include "hello_generated.h"
+#include "map_edits_generated.h"
 #include "probe_generated.h"
 #include "scene_generated.h"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -202,6 +204,60 @@ TEST_CASE("small messages breaking a rule are refused with a reason", "[protocol
     FinishCommandBuffer(fbb, CreateCommand(fbb, 5, bop::wire::CommandBody::SeedParticle, seed));
     b = finish(fbb);
     CHECK(decodeCommand(b.data(), b.size()).error == DecodeError::OutOfRange);
+}
+
+TEST_CASE("map edits that break a rule, or would take a client's memory, are refused", "[protocol][cut]") {
+    using namespace bop::wire;
+    flatbuffers::FlatBufferBuilder fbb;
+    const Vec3 a(1, 2, 3), b(4, 5, 6);
+    const auto decode = [&](std::vector<flatbuffers::Offset<bop::wire::MapEdit>> edits, std::uint32_t first,
+                            std::uint32_t total) {
+        FinishMapEditsBuffer(fbb, CreateMapEdits(fbb, first, total, fbb.CreateVector(edits)));
+        const Buffer buf = finish(fbb);
+        fbb.Clear();
+        return decodeMapEdits(buf.data(), buf.size());
+    };
+    // A bomb: 4,000 edits sharing one vector of 65,536 voxels pass the verifier in half a MiB,
+    // yet would decode to 2 GiB. Refused before a voxel is copied.
+    const auto shared = fbb.CreateVector(std::vector<std::uint64_t>(65536, 7));
+    std::vector<flatbuffers::Offset<bop::wire::MapEdit>> bomb;
+    for (int k = 0; k < 4000; ++k) bomb.push_back(CreateMapEdit(fbb, &a, &b, 0, shared));
+    const auto refused = decode(bomb, 0, 4000);
+    CHECK(refused.error == DecodeError::TooLarge);
+    CHECK(refused.message.find("MapEdits.edits") != std::string::npos);
+    // Voxels out of order, a blade with voxels, nothing at all, edits beyond the total, a NaN.
+    const auto unordered = fbb.CreateVector(std::vector<std::uint64_t>{5, 9, 9});
+    CHECK(decode({CreateMapEdit(fbb, &a, &b, 0, unordered)}, 0, 1).message == "MapEdits.edits.voxels: not increasing");
+    const auto some = fbb.CreateVector(std::vector<std::uint64_t>{5, 9});
+    CHECK(decode({CreateMapEdit(fbb, &a, &b, 1.5, some)}, 0, 1).error == DecodeError::BadLength);
+    CHECK(decode({CreateMapEdit(fbb, &a, &b, 0)}, 0, 1).error == DecodeError::BadLength);
+    CHECK(decode({CreateMapEdit(fbb, &a, &b, 1.5)}, 4, 4).message.find("MapEdits.first") == 0);
+    const Vec3 nan(0, std::numeric_limits<double>::quiet_NaN(), 0);
+    CHECK(decode({CreateMapEdit(fbb, &nan, &b, 1.5)}, 0, 1).error == DecodeError::NotFinite);
+    CHECK(decode({CreateMapEdit(fbb, nullptr, &b, 1.5)}, 0, 1).error == DecodeError::MissingField);
+    CHECK(decode({CreateMapEdit(fbb, &a, &b, 1.5)}, 0, 1).ok());
+
+    // Found by the fuzzer: a buffer whose voxel vector starts 4 bytes off an 8-byte boundary (the
+    // verifier checks only its length's alignment) and whose blade is out of range. The voxels
+    // are copied without a misaligned load (UBSan in CI), then the value is refused.
+    static const std::uint8_t offVoxels[] = {
+        0x14, 0x00, 0x00, 0x00, 0x42, 0x4d, 0x45, 0x44, 0x00, 0x00, 0x0a, 0x00, 0x10, 0x00, 0x04, 0x00, 0x08, 0x00,
+        0x0c, 0x00, 0x0a, 0x00, 0x00, 0x00, 0x05, 0x00, 0x00, 0x00, 0x09, 0x00, 0x00, 0x40, 0x04, 0x00, 0x00, 0x00,
+        0x02, 0x00, 0x00, 0x00, 0x84, 0x00, 0x00, 0x00, 0x10, 0x00, 0x00, 0x00, 0x0c, 0x00, 0x38, 0x00, 0x04, 0x00,
+        0x1c, 0x00, 0x00, 0x00, 0x34, 0x00, 0x0c, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x05, 0x00, 0x00, 0x00, 0x03, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x08, 0x00, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x10, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x70, 0x11, 0x01, 0x00, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0x07, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x08, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x00, 0x10, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x70, 0x11, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x0a, 0x00, 0x3c, 0x00, 0x04, 0x00, 0x1c, 0x00, 0x34, 0x00, 0x0a, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0xf8, 0x3f, 0x00, 0x00, 0x27, 0xfd, 0xff, 0xff, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x0a, 0x00, 0x10, 0x00, 0x04, 0x00, 0x08, 0x00,
+        0x0c, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xf0, 0xbf, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xe8, 0x3f,
+    };
+    const Decoded<bop::protocol::MapEdits> off = decodeMapEdits(offVoxels, sizeof offVoxels);
+    CHECK(off.error == DecodeError::OutOfRange);
+    CHECK(off.message.find("MapEdits.edits.to") == 0);
 }
 
 TEST_CASE("scene info beyond its limits is refused", "[protocol]") {

@@ -243,3 +243,52 @@ TEST_CASE("front: sessions that come and go leave the table as it was", "[protoc
     CHECK(s.sessionsExpired == 2000);
     CHECK(s.outOfRange == 2000);
 }
+
+TEST_CASE("front: the map's edits are served from any number on, in answers within a client's cap",
+          "[protocol][front][cut]") {
+    ServerFront front(ephemeral(), smallScene());
+    // Three yields of the most voxels an edit holds (half a MiB each) among blades: not one answer.
+    auto edits = std::make_shared<std::vector<MapEdit>>();
+    for (int k = 0; k < 8; ++k) {
+        if (k % 3 == 1) {
+            MapEdit e;
+            for (std::size_t v = 0; v < kMaxEditVoxels; ++v) e.voxels.push_back(3 * v + std::uint64_t(k));
+            edits->push_back(std::move(e));
+        } else {
+            edits->push_back({Cut{{0.5 * k, 1, 2}, {3, 0.25 * k, 1}, 0.5 + k}, {}});
+        }
+    }
+    front.setMapEdits(edits);
+    ClientSession client;
+    client.connect(front.controlEndpoint(), 5s);
+    RawClient early(front.controlEndpoint());  // no Hello: refused
+    CHECK(early.refusalOf(encodeMapEditsRequest({0})) == "MapEditsRequest: hello first");
+    const auto answer = [&](std::uint32_t first) {
+        REQUIRE(client.requestMapEdits(first));
+        for (const auto deadline = Clock::now() + 3s; Clock::now() < deadline; std::this_thread::sleep_for(1ms)) {
+            client.pollFeedback();
+            if (std::optional<MapEdits> e = client.takeMapEdits()) return *e;
+        }
+        FAIL("no MapEdits within 3 s");
+        return MapEdits{};
+    };
+    MapEdits all{0, 0, {}};
+    int answers = 0;
+    while (all.edits.size() < edits->size() && answers < 20) {
+        const MapEdits e = answer(std::uint32_t(all.edits.size()));
+        ++answers;
+        CHECK(e.total == edits->size());
+        REQUIRE(e.first == all.edits.size());
+        REQUIRE_FALSE(e.edits.empty());
+        CHECK(encodeMapEdits(e).size() <= kMaxMapEditsBytes);
+        all.edits.insert(all.edits.end(), e.edits.begin(), e.edits.end());
+    }
+    all.total = std::uint32_t(edits->size());
+    CHECK(answers >= 2);
+    CHECK(samples::same(all, MapEdits{0, all.total, *edits}));
+    // Past the end: none, and where the list ends.
+    const MapEdits none = answer(1000);
+    CHECK(none.first == edits->size());
+    CHECK(none.edits.empty());
+    CHECK(front.stats().internalErrors == 0);
+}

@@ -178,9 +178,32 @@ bool ServedLoop::pass() {
     if (ctl.publish && !run_.energiesCurrent()) run_.refreshForces();  // paused: the same forces, with energies
     const core::Totals t = run_.totals();                              // collective
     if (front_ && ctl.feedback)
-        front_->offerFeedback({controls_.probeSeq, std::uint64_t(run_.stepNumber()), t.probeReaction, nowNs()});
+        front_->offerFeedback(
+            {controls_.probeSeq, std::uint64_t(run_.stepNumber()), t.probeReaction, nowNs(), offerMapEdits()});
     if (ctl.publish) publish(t);
     return true;
+}
+
+std::uint32_t ServedLoop::offerMapEdits() {
+    const core::Simulation& sim = run_.simulation();
+    if (sim.cuts().size() > cutsOffered_ || sim.yields().size() > yieldsOffered_) {
+        auto edits = std::make_shared<std::vector<protocol::MapEdit>>();
+        if (mapEdits_) *edits = *mapEdits_;
+        for (; cutsOffered_ < sim.cuts().size(); ++cutsOffered_) {
+            const core::CutCommand& c = sim.cuts()[cutsOffered_];
+            edits->push_back({protocol::Cut{c.from, c.to, c.radius}, {}});
+        }
+        for (; yieldsOffered_ < sim.yields().size(); ++yieldsOffered_) {
+            const std::vector<std::uint64_t>& y = sim.yields()[yieldsOffered_];
+            for (std::size_t i = 0; i < y.size(); i += protocol::kMaxEditVoxels)
+                edits->push_back({{},
+                                  {y.begin() + std::ptrdiff_t(i),
+                                   y.begin() + std::ptrdiff_t(std::min(i + protocol::kMaxEditVoxels, y.size()))}});
+        }
+        mapEdits_ = std::move(edits);
+        front_->setMapEdits(mapEdits_);
+    }
+    return mapEdits_ ? std::uint32_t(mapEdits_->size()) : 0;
 }
 
 void ServedLoop::publish(const core::Totals& t) {

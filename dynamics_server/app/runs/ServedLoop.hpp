@@ -11,8 +11,10 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace bop::app {
 
@@ -42,7 +44,10 @@ private:
     Decision replayInputs();  // rank 0, replaying
     void takeProbe(const protocol::Probe& p);
     void publish(const core::Totals& t);  // collective gather; rank 0 offers the frame
-    bool keepsPace();                     // rank 0: the next step is due by the wall clock
+    // Rank 0: the map's edits the run made since the last call (cuts, yields split into pieces of
+    // at most protocol::kMaxEditVoxels voxels) join the list the front serves; its length.
+    std::uint32_t offerMapEdits();
+    bool keepsPace();  // rank 0: the next step is due by the wall clock
     // The pacing's wall-clock reference moved so that the simulated time stands behindS seconds
     // behind the wall clock at `now`.
     void restartPace(std::chrono::steady_clock::time_point now, double behindS);
@@ -61,7 +66,9 @@ private:
     long long done_ = 0;
     std::size_t nextCommand_ = 0, nextProbe_ = 0;  // replayed inputs (ServeOptions::replay), by step
     std::set<long long> frameSteps_;
-    double volume_ = 0;  // the box's, length^3
+    std::shared_ptr<const std::vector<protocol::MapEdit>> mapEdits_;  // rank 0: what the front serves
+    std::size_t cutsOffered_ = 0, yieldsOffered_ = 0;                 // of the run's cuts() and yields()
+    double volume_ = 0;                                               // the box's, length^3
     std::chrono::steady_clock::time_point rateClock_;
     long long rateSteps_ = 0;
     double stepRate_ = 0;

@@ -60,7 +60,14 @@ class Feedback(object):
             return self._tab.Get(flatbuffers.number_types.Int64Flags, o + self._tab.Pos)
         return 0
 
-def FeedbackStart(builder): builder.StartObject(4)
+    # Feedback
+    def MapEdits(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(12))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Uint32Flags, o + self._tab.Pos)
+        return 0
+
+def FeedbackStart(builder): builder.StartObject(5)
 def Start(builder):
     return FeedbackStart(builder)
 def FeedbackAddProbeSeq(builder, probeSeq): builder.PrependUint64Slot(0, probeSeq, 0)
@@ -75,6 +82,9 @@ def AddForce(builder, force):
 def FeedbackAddServerTimeNs(builder, serverTimeNs): builder.PrependInt64Slot(3, serverTimeNs, 0)
 def AddServerTimeNs(builder, serverTimeNs):
     return FeedbackAddServerTimeNs(builder, serverTimeNs)
+def FeedbackAddMapEdits(builder, mapEdits): builder.PrependUint32Slot(4, mapEdits, 0)
+def AddMapEdits(builder, mapEdits):
+    return FeedbackAddMapEdits(builder, mapEdits)
 def FeedbackEnd(builder): return builder.EndObject()
 def End(builder):
     return FeedbackEnd(builder)

@@ -55,6 +55,14 @@ MapPatch cutPatch(const MapWindowReader& read, const Dims& whole, double r0Voxel
 MapPatch removalPatch(const MapWindowReader& read, const Dims& whole, double r0Voxels, const VoxelWindow& box,
                       const VoxelPredicate& takes, const SurfaceGeometryParams& p);
 
+// The same for a list of voxels (whole-map linear indices, x fastest, increasing), over the box
+// that holds them; std::invalid_argument when they are out of order or beyond the grid
+// (common/src/VoxelRemoval.cpp).
+MapPatch voxelsPatch(const MapWindowReader& read, const Dims& whole, double r0Voxels,
+                     const std::vector<std::uint64_t>& voxels, const SurfaceGeometryParams& p);
+// The box of a set of voxels (whole-map linear indices) in a grid of dims `whole`; empty for none.
+VoxelWindow boxOfVoxels(const std::vector<std::uint64_t>& voxels, const Dims& whole);
+
 // `map` (a whole map or a window of one) with the patch applied: its voxels inside the patch's
 // window rewritten, every record the patch holds replacing the map's. Linear in map's size.
 GradientMap applyPatch(const GradientMap& map, const MapPatch& patch);
