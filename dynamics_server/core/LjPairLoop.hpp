@@ -14,17 +14,22 @@ namespace bop::core {
 
 // What a pair loop reads, per neighbour-list entry (e, species) and per species number
 // (isVolume), and where it adds forces: f[k - base] for entry k (a chunk's buffer starts at its
-// first row; torques t of the oriented loop alike).
+// first row; torques t of the oriented loop alike). `mixed`: the LJ loop's pair arithmetic in
+// single precision (docs/dynamics.md, "Mixed precision").
 struct PairInputs {
     const Eigen::Vector3d* e;
     const std::uint8_t* species;
     const char* isVolume;
     Eigen::Vector3d* f;
     std::size_t base = 0;
+    bool mixed = false;
 };
 
 // Adds the LJ forces of rows [x0, x1) of `pairs` to in.f and their virial, count and (with
-// `energies`) energy to sums.
+// `energies`) energy to sums. With in.mixed, sixteen entries of a row at a time: differences of
+// the double positions rounded to float, f(r)/r, the forces and the virial in float lanes, each
+// added to the double sums (forces, virial) in list order; energies in double from the double
+// differences (only on the steps that ask: the forces are the same on every step).
 void ljForcePairs(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const PairInputs& in, bool energies,
                   std::size_t x0, std::size_t x1, PairKernel::Sums& sums);
 

@@ -64,6 +64,9 @@ struct Integration {
     // hard into the bag, particles shot into each other) from flinging particles away.
     double maxStepR0 = 0.2;
     double maxTurn = 0.5;  // the most a surface particle turns in one step, radians (0: no limit)
+    // The LJ loop's pair arithmetic in single precision, its sums in double ([dynamics] precision
+    // = "mixed"; LjPairLoop.hpp, docs/dynamics.md "Mixed precision"); else double throughout.
+    bool mixedPrecision = false;
 };
 
 // The probe as a rigid sphere (docs/physics.md §2.5) instead of eq. 9's LJ particle: a particle

@@ -12,6 +12,7 @@ PairForces::PairForces(const Model& model, const Params& params, bool map)
       isWide_(std::size_t(model.speciesCount()) + 1, 0),
       oriented_(kernel_.anyOriented()),
       map_(map),
+      mixed_(model.integration.mixedPrecision),
       skin_(model.integration.skinR0 * kR0),
       prune_(model.integration.pruneR0 < model.integration.skinR0 ? model.integration.pruneR0 * kR0 : 0.0) {
     for (int s = 1; s <= model.speciesCount(); ++s) {
@@ -121,7 +122,7 @@ void PairForces::add(const Model& model, const MapInForce& maps, Particles& p, c
     // counts the other half).
     PairKernel::Sums sums, haloSums;
     PairEntries& e = entries_;
-    const PairInputs in{list_.positions().data(), e.species.data(), isVolume_.data(), e.force.data()};
+    const PairInputs in{list_.positions().data(), e.species.data(), isVolume_.data(), e.force.data(), 0, mixed_};
     const OrientedInputs o{e.normal.data(), e.curvature.data(), e.torque.data()};
     double loopSeconds[2] = {0, 0};
     const PrunedPairs::Sets sets = prune_ > 0 ? pruned_.sets() : PrunedPairs::whole(list_);

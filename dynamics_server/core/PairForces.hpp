@@ -76,6 +76,7 @@ private:
     std::vector<char> isWide_;    // per species number: in the oriented (wide) pairs
     bool oriented_ = false;       // some species pair has co-normal or co-planar weights
     bool map_ = false;            // the run has a gradient map
+    bool mixed_ = false;          // Integration::mixedPrecision
     double skin_ = 0;             // neighbour-list skin, length units
     double prune_ = 0;            // inner skin of pruned_, length units (0: no pruning)
     NeighbourList list_;

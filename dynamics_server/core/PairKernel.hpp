@@ -53,12 +53,17 @@ public:
                 ljUniform_ = ljUniform_ && ljF_[k] == ljF_[first] && ljE_[k] == ljE_[first];
             }
         uniformOriented_ = findUniformOrientedPair();
+        ljF32_.assign(ljF_.begin(), ljF_.end());
+        ljE32_.assign(ljE_.begin(), ljE_.end());
     }
 
     const LjForm& lj() const { return lj_; }
     int tableSide() const { return n_; }  // species tables are tableSide() x tableSide(), row a, column b
     const double* ljForceWeights() const { return ljF_.data(); }   // alpha_f^OP(a) * alpha_ab
     const double* ljEnergyWeights() const { return ljE_.data(); }  // (alpha_ab + alpha_ba) / 2
+    // The same rounded to float, for the mixed-precision loop (PairInputs::mixed).
+    const float* ljForceWeights32() const { return ljF32_.data(); }
+    const float* ljEnergyWeights32() const { return ljE32_.data(); }
     // Every species pair has the same LJ weights (a bag's surface and volume at the defaults):
     // the loop may take pair (1, 1)'s for all, the same numbers without the look-ups.
     bool ljUniform() const { return ljUniform_; }
@@ -175,6 +180,7 @@ private:
     int uniformOriented_ = -1;  // uniformOrientedPair()
     double cutoff2_ = 0;
     std::vector<double> ljF_, ljE_, cnF_, cnT_, cpF_, cpT_, cnE_, cpE_;
+    std::vector<float> ljF32_, ljE32_;
     std::vector<char> oriented_;
 };
 

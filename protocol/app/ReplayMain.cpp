@@ -113,6 +113,7 @@ int check(const std::string& file, std::string server, int ranks, const std::str
           std::string("--record"), replayed, std::string("-o"), outDir})
         args.push_back(a);
     if (!meta("restart").empty()) args.insert(args.end(), {"--restart", meta("restart")});
+    if (!meta("precision").empty()) args.insert(args.end(), {"--precision", meta("precision")});
     if (const int rc = runProcess(args); rc != 0)
         throw Error(server, "the replaying server exited with " + std::to_string(rc));
     return compare(file, replayed);

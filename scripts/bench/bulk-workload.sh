@@ -51,6 +51,14 @@ run $steps
 LMP
 }
 
+# write_ljcut_input SWITCHED_INPUT FILE: the switched box's LAMMPS input with 12-6 LJ in place of
+# the table: its minimum at r0 (sigma = r0 / 2^(1/6)), epsilon 1, the same cutoff (1.6 r0) and so
+# the same pairs per particle: a cost per pair for LAMMPS's lj/cut/opt and lj/cut/intel kernels.
+write_ljcut_input() {
+  sed -e 's|^pair_style table .*|pair_style lj/cut 2.7712812921102037|' \
+    -e 's|^pair_coeff 1 1 .*|pair_coeff 1 1 1.0 1.5430818442170522|' "$1" >"$2"
+}
+
 # write_gromacs_inputs CELLS STEPS DIR: GROMACS's nearest equivalent of the switched box, a cost
 # reference per pair, not the same potential: 12-6 LJ with its minimum at r0 (C6 = 2 r0^6,
 # C12 = r0^12, epsilon 1), GROMACS's force switch on [1.2, 1.6] r0, pair list to 1.9 r0 rebuilt
@@ -113,10 +121,12 @@ nstlog = 0
 MDP
 }
 
-# run_gromacs DIR: grompp and one mdrun on one core (-ntmpi 1 -ntomp 1 -nb cpu); its log is DIR/md.log.
+# run_gromacs DIR [GMX]: grompp and one mdrun on one core (-ntmpi 1 -ntomp 1 -nb cpu) with GMX
+# (default: Debian's gmx); its log is DIR/md.log.
 run_gromacs() {
-  (cd "$1" && gmx -quiet -nobackup grompp -f md.mdp -c conf.gro -p topol.top -o run.tpr >grompp.log 2>&1 &&
-    gmx -quiet -nobackup mdrun -s run.tpr -deffnm md -ntmpi 1 -ntomp 1 -nb cpu -noconfout >mdrun.out 2>&1) || true
+  local g=${2:-gmx}
+  (cd "$1" && "$g" -quiet -nobackup grompp -f md.mdp -c conf.gro -p topol.top -o run.tpr >grompp.log 2>&1 &&
+    "$g" -quiet -nobackup mdrun -s run.tpr -deffnm md -ntmpi 1 -ntomp 1 -nb cpu -noconfout >mdrun.out 2>&1) || true
 }
 
 # why_gromacs_failed DIR: one line saying why GROMACS gave no rate, from its own words in DIR (the

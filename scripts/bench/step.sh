@@ -17,6 +17,12 @@
 # The paper cutoff collapses the lattice after a few hundred steps (PEERS.md), so those runs stay
 # at or below 300 steps from a fresh lattice; it is taken at 2.99 r0 in both codes because 3 r0
 # falls exactly on the ninth fcc shell, where rounding decides which pairs count.
+# With the peers built for this CPU (scripts/bench/peers.sh; Debian's binaries are generic
+# builds), the switched rows also run, in the same alternation: LAMMPS `table/omp` on BoP's own
+# potential (its fastest style for a table: OPT and INTEL have none), and as costs per pair at
+# the same pairs per particle (12-6 LJ to the same cutoff) LAMMPS `lj/cut/opt`, `lj/cut/intel`
+# in mixed and in double precision, and GROMACS built for the CPU in mixed and double precision.
+# A second table and out/bench/step-peers.csv hold them, with the issue's targets.
 #   scripts/bench/step.sh [N ...]      (default 1000 10000 100000 1000000; CSV in out/bench/step.csv)
 #   BOP_BENCH_MODES="switched"           only one cutoff treatment
 set -euo pipefail
@@ -31,6 +37,10 @@ echo "workload,particles,steps,bop_particle_steps_per_s,lammps_atom_steps_per_s,
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
 
 source scripts/bench/bulk-workload.sh
+eval "$(scripts/bench/peers.sh --print)"
+peers_csv=out/bench/step-peers.csv
+echo "particles,bop_double,bop_mixed,lammps_table_omp,lammps_ljcut_opt,lammps_ljcut_intel_mixed,lammps_ljcut_intel_double,gromacs_mixed,gromacs_double" >"$peers_csv"
+peer_rows=()
 
 gmx_why=()
 cpu=$(sed -n 's/^model name[[:space:]]*: *//p' /proc/cpuinfo | head -1)
@@ -47,6 +57,11 @@ for mode in ${BOP_BENCH_MODES:-switched paper}; do
     write_bulk_inputs "$mode" "$cells" "$steps" "$out/table-$mode.txt" "$scene" "$out/in-$mode-$particles.lmp"
     [[ $mode == switched ]] && write_gromacs_inputs "$cells" "$steps" "$out/gromacs-$particles"
     bop=0 lmp_rate=0 gmx_rate=0
+    declare -A native=([bop_mixed]=0 [table_omp]=0 [ljcut_opt]=0 [intel_mixed]=0 [intel_double]=0 [gmx_mixed]=0 [gmx_double]=0)
+    if [[ $mode == switched ]]; then
+      write_ljcut_input "$out/in-$mode-$particles.lmp" "$out/in-ljcut-$particles.lmp"
+      [[ -z $PEER_GMX_D ]] || { rm -rf "$out/gromacs-d-$particles"; cp -r "$out/gromacs-$particles" "$out/gromacs-d-$particles"; }
+    fi
     for ((rep = 1; rep <= ${BOP_BENCH_REPEATS:-3}; rep++)); do
       /usr/bin/time -f "%M" -o "$out/bop-$mode-$particles.mem" \
         build/dynamics_server/bop-server "$scene" --no-listen --steps "$steps" -o "$out/run-$mode-$particles" \
@@ -58,7 +73,37 @@ for mode in ${BOP_BENCH_MODES:-switched paper}; do
         run_gromacs "$out/gromacs-$particles"
         gmx_rate=$(best "$gmx_rate" "$(rate_of_gromacs "$out/gromacs-$particles/md.log")")
       fi
+      if [[ $mode == switched ]]; then  # BoP's mixed precision (the LJ loop in float lanes)
+        build/dynamics_server/bop-server "$scene" --no-listen --steps "$steps" --precision mixed \
+          -o "$out/run-mixed-$particles" --report-every "$steps" >"$out/bop-mixed-$particles.log" 2>&1
+        native[bop_mixed]=$(best "${native[bop_mixed]}" "$(rate_of_bop "$out/bop-mixed-$particles.log")")
+      fi
+      if [[ $mode == switched && -n $PEER_LMP ]]; then  # the peers built for this CPU
+        run_native() {  # KEY INPUT LOG STYLE-FLAGS...
+          local k=$1 in=$2 log=$3
+          shift 3
+          "$PEER_LMP" "$@" -in "$in" -log none -screen "$log" >/dev/null 2>&1 || true
+          native[$k]=$(best "${native[$k]}" "$(rate_of_lammps "$log")")
+        }
+        run_native table_omp "$out/in-$mode-$particles.lmp" "$out/native-table-omp-$particles.log" -sf omp -pk omp 1
+        run_native ljcut_opt "$out/in-ljcut-$particles.lmp" "$out/native-ljcut-opt-$particles.log" -sf opt
+        run_native intel_mixed "$out/in-ljcut-$particles.lmp" "$out/native-intel-mixed-$particles.log" \
+          -sf intel -pk intel 0 omp 1 mode mixed lrt no
+        run_native intel_double "$out/in-ljcut-$particles.lmp" "$out/native-intel-double-$particles.log" \
+          -sf intel -pk intel 0 omp 1 mode double lrt no
+      fi
+      if [[ $mode == switched && -n $PEER_GMX ]]; then
+        run_gromacs "$out/gromacs-$particles" "$PEER_GMX"
+        native[gmx_mixed]=$(best "${native[gmx_mixed]}" "$(rate_of_gromacs "$out/gromacs-$particles/md.log")")
+      fi
+      if [[ $mode == switched && -n $PEER_GMX_D ]]; then
+        run_gromacs "$out/gromacs-d-$particles" "$PEER_GMX_D"
+        native[gmx_double]=$(best "${native[gmx_double]}" "$(rate_of_gromacs "$out/gromacs-d-$particles/md.log")")
+      fi
     done
+    if [[ $mode == switched ]]; then
+      echo "$particles,$bop,${native[bop_mixed]},${native[table_omp]},${native[ljcut_opt]},${native[intel_mixed]},${native[intel_double]},${native[gmx_mixed]},${native[gmx_double]}" >>"$peers_csv"
+    fi
     [[ $lmp_rate != 0 ]] || lmp_rate=""
     if [[ $mode == switched && $gmx_rate == 0 ]]; then  # say why, not n/a alone
       gmx_rate=""
@@ -79,6 +124,45 @@ awk -F, 'NR > 1 && $1 == "bulk-switched" && $2 >= 8000 && $2 <= 1200000 {
   l = ($6 == "n/a" || $6 == "") ? "LAMMPS not measured" : sprintf("%.2fx LAMMPS (>= 1.5: %s)", $6, $6 >= 1.5 ? "met" : "MISSED")
   g = ($10 == "n/a" || $10 == "") ? "GROMACS not measured" : sprintf("%.2fx GROMACS (>= 1.2: %s)", $10, $10 >= 1.2 ? "met" : "MISSED")
   printf "target, switched, %d particles: %s, %s\n", $2, l, g }' "$csv"
+# The peers built for this CPU (issue 53's targets; 0 = not measured).
+[[ -n $PEER_LMP || -n $PEER_GMX ]] ||
+  echo "peers built for this CPU: none in $PEER_DIR (scripts/bench/peers.sh builds them; about 30 minutes)"
+if grep -q '^[0-9]' "$peers_csv"; then
+  echo "BoP mixed and the peers built for this CPU ($PEER_DIR), one core, the best of each, particle-steps/s and BoP's ratio to each (BoP mixed's to the mixed peers, BoP double's to the rest):"
+  /usr/bin/python3 - "$peers_csv" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+cols = [("bop_mixed", "BoP mixed"), ("lammps_table_omp", "table/omp"), ("lammps_ljcut_opt", "lj/cut/opt"),
+        ("lammps_ljcut_intel_mixed", "lj/cut/intel mixed"), ("lammps_ljcut_intel_double", "lj/cut/intel double"),
+        ("gromacs_mixed", "GROMACS mixed"), ("gromacs_double", "GROMACS double")]
+print(f"{'particles':>10} {'BoP double':>11} " + " ".join(f"{name:>24}" for _, name in cols))
+def cell(bop, peer):
+    return f"{peer / 1e6:.2f} M ({bop / peer:.2f}x)" if peer > 0 else "n/a"
+mixedPeers = ("lammps_ljcut_intel_mixed", "gromacs_mixed")
+for r in rows:
+    bop, mixed = float(r["bop_double"]), float(r["bop_mixed"])
+    def shown(k):
+        if k == "bop_mixed":  # its speed-up over double
+            return f"{mixed / 1e6:.2f} M ({mixed / bop:.2f}x double)" if mixed > 0 else "n/a"
+        return cell(mixed if k in mixedPeers and mixed > 0 else bop, float(r[k]))
+    print(f"{int(r['particles']):>10} {bop / 1e6:>9.2f} M " + " ".join(f"{shown(k):>24}" for k, _ in cols))
+for r in rows:
+    n, bop = int(r["particles"]), float(r["bop_double"])
+    if not 8000 <= n <= 1200000:
+        continue
+    mixed = float(r["bop_mixed"])
+    def target(key, name, want, who="BoP double", rate=bop):
+        peer = float(r[key])
+        if peer <= 0 or rate <= 0:
+            return f"{who} vs {name}: not measured"
+        ratio = rate / peer
+        return f"{who} {ratio:.2f}x {name} (>= {want}: {'met' if ratio >= want else 'MISSED'})"
+    print(f"target, {n} particles: " + "; ".join([target("lammps_table_omp", "table/omp", 1.5),
+          target("lammps_ljcut_opt", "lj/cut/opt per pair", 1.0),
+          target("lammps_ljcut_intel_mixed", "lj/cut/intel mixed per pair", 1.0, "BoP mixed", mixed),
+          target("gromacs_mixed", "GROMACS mixed per pair", 1.2, "BoP mixed", mixed)]))
+PY
+fi
 for scene in torus star bag-in-bag; do
   build/dynamics_server/bop-server "config/scenes/$scene.toml" --no-listen -o "$out/$scene" >"$out/$scene.log" 2>&1
   awk -v s="$scene" '/^this run/ {printf "%-10s %9d %6s %14.0f   (bag scene incl. construction; %s steps/s)\n", s, $5, "-", $7, $6}' "$out/$scene.log"

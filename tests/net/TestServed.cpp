@@ -15,6 +15,7 @@
 #include <catch2/catch.hpp>
 #include <zmq.hpp>
 
+#include <algorithm>
 #include <csignal>
 #include <fstream>
 #include <regex>
@@ -216,10 +217,12 @@ namespace {
 // damping (and with `cut`, cuts through the box's middle along x, across the ranks' faces), goes
 // quiet for 1.5 s (the server switches the probe off), then replays the recording: every frame
 // chunk must come out bit for bit.
-void recordAndReplay(const std::string& scene, bool cut = false) {
+void recordAndReplay(const std::string& scene, bool cut = false, const std::vector<std::string>& extra = {}) {
     test::TempDir dir("served-record");
     const std::string rec = dir.file("session.mcap");
-    ChildProcess srv(server(2, scene, {"--publish-hz", "30", "--record", rec, "-o", dir.file("out")}));
+    std::vector<std::string> args{"--publish-hz", "30", "--record", rec, "-o", dir.file("out")};
+    args.insert(args.end(), extra.begin(), extra.end());
+    ChildProcess srv(server(2, scene, args));
     ClientSession c;
     const SceneInfo info = c.connect(srv.endpoint(), 20s);
     Probe p;
@@ -264,6 +267,10 @@ void recordAndReplay(const std::string& scene, bool cut = false) {
         test::buildDir() + "/protocol/bop-replay check " + rec + " -o " + dir.file("replay") + " 2>&1", 120s);
     INFO(out);
     CHECK(code == 0);
+    if (std::find(extra.begin(), extra.end(), "mixed") != extra.end()) {  // both runs in mixed precision
+        CHECK(srv.output().find("pair arithmetic: mixed") != std::string::npos);
+        CHECK(out.find("pair arithmetic: mixed") != std::string::npos);
+    }
     std::smatch m;
     REQUIRE(std::regex_search(out, m, std::regex("([0-9]+) of ([0-9]+) frame chunks identical bit for bit")));
     CHECK(m[1] == m[2]);
@@ -274,6 +281,10 @@ void recordAndReplay(const std::string& scene, bool cut = false) {
 
 TEST_CASE("a recorded session replayed at the same rank count reproduces every frame bit for bit", "[net][replay]") {
     recordAndReplay("bulk-box");
+}
+
+TEST_CASE("a recorded session in mixed precision replays bit for bit", "[net][replay][mixed]") {
+    recordAndReplay("bulk-box", false, {"--precision", "mixed"});
 }
 
 TEST_CASE("a recorded session of several bags (the organs scene) replays bit for bit", "[net][replay]") {

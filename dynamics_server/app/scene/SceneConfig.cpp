@@ -144,6 +144,7 @@ void readDynamics(const ConfigTable& root, core::Model& m, std::uint64_t& seed) 
         m.oriented.cutoffR0 = tp[1];
     }
     m.curvatureWeighting = t->boolean("curvature_weighting", m.curvatureWeighting);
+    m.integration.mixedPrecision = t->choice("precision", {"double", "mixed"}, "double") == "mixed";
     seed = std::uint64_t(t->integer("seed", 1));
     t->finish();
 }

@@ -41,7 +41,7 @@ int run(int argc, char** argv) {
         "haptic clients (docs/protocol.md) until SIGINT/SIGTERM or --steps K; batch: bop-server SCENE.toml "
         "--steps K --no-listen; under mpirun -np N the box is split into one subdomain per rank "
         "(docs/parallel.md)"};
-    std::string scenePath, outDir, restart, cache;
+    std::string scenePath, outDir, restart, cache, precision;
     long long steps = -1, snapshotEvery = -1, reportEvery = -1;
     int threads = 0;  // per rank; 0: chosen below
     bool noListen = false, waitForClient = false, readOnlyViewers = false, quantised = false;
@@ -96,6 +96,10 @@ int run(int argc, char** argv) {
     app.add_option("--threads", threads,
                    "threads per rank (default: OMP_NUM_THREADS, else this machine's cores shared among its ranks)")
         ->check(CLI::Range(0, 1024));
+    app.add_option("--precision", precision,
+                   "the LJ loop's pair arithmetic: double, or mixed (float lanes, double sums); default: the "
+                   "scene's [dynamics] precision, else double")
+        ->check(CLI::IsMember({"double", "mixed"}));
     app.add_option("--replay-inputs", replayInputs,
                    "apply a recorded session's commands and probes at their steps "
                    "instead of clients' (bop-replay check runs this)");
@@ -121,6 +125,14 @@ int run(int argc, char** argv) {
                  ranks, ranks == 1 ? "" : "s", core::threadCount(), core::threadCount() == 1 ? "" : "s", onNode,
                  onNode == 1 ? "" : "s", std::thread::hardware_concurrency(), core::hotLoopClone());
     app::Scene scene = app::loadScene(scenePath);
+    if (!precision.empty()) {  // over the scene's
+        auto m = std::make_shared<core::Model>(*scene.model);
+        m->integration.mixedPrecision = precision == "mixed";
+        scene.model = std::move(m);
+    }
+    spdlog::info("pair arithmetic: {}", scene.model->integration.mixedPrecision
+                                            ? "mixed (the LJ loop in float lanes, sums in double)"
+                                            : "double");
     if (scene.shape)
         for (const std::string& w : scene.shape->warnings) spdlog::warn("{}", w);
     if (scene.calibration)
@@ -156,9 +168,11 @@ int run(int argc, char** argv) {
     }
     core::ExchangeMaker exchanges = ranks > 1 ? parallel::rankExchanges() : core::oneProcess();
     if (!noListen) {
-        front.recordMeta = {
-            {"scene", fs::absolute(scenePath).string()}, {"ranks", std::to_string(ranks)}, {"restart", restart}};
-        if (scene.shape) front.mapFile = cache;  // haptic clients download it (MapRequest)
+        front.recordMeta = {{"scene", fs::absolute(scenePath).string()},
+                            {"ranks", std::to_string(ranks)},
+                            {"restart", restart},
+                            {"precision", precision}};  // --precision's, if given (a replay gives it again)
+        if (scene.shape) front.mapFile = cache;         // haptic clients download it (MapRequest)
         app::ServeOptions serve{front, stepsGiven ? steps : 0, waitForClient, outDir, std::nullopt, checkpointEvery};
         if (!replayInputs.empty()) serve.replay = protocol::readSession(replayInputs);
         return app::runServed(scene, std::move(start), serve, std::move(exchanges));

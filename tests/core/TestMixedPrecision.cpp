@@ -1,0 +1,134 @@
+// Mixed precision (Integration::mixedPrecision, the LJ loop in float lanes with double sums)
+// against double: the forces agree to 1e-5 of their size on bulk material and on a mix of
+// species with asymmetric weights, the energies (double in both) agree, an undamped box drifts
+// no more than twice as much, and a mixed run is the same to the last bit at 1, 2 and 3 threads.
+#include "core/Integrator.hpp"
+#include "core/Simulation.hpp"
+#include "core/Threads.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <random>
+
+using namespace bop;
+using namespace bop::core;
+
+namespace {
+
+// An fcc box of cells^3 cells at nearest distance r0, every site moved by up to 0.05 r0 per
+// axis, periodic (scripts/bench/step.sh's workload). One volume species, or with `species3`
+// the sites dealt among species 1..3 with asymmetric LJ weights (the loop's table path).
+struct FccBox {
+    std::shared_ptr<Model> model;
+    Particles particles;
+    Params params{1};
+};
+
+FccBox fccBox(int cells, bool species3, bool mixed, std::uint32_t seed) {
+    FccBox b;
+    b.model = std::make_shared<Model>();
+    const int ns = species3 ? 3 : 1;
+    b.model->species.assign(std::size_t(ns) + 1, Species{});
+    for (int s = 1; s <= ns; ++s) b.model->species[std::size_t(s)].kind = ParticleKind::Volume;
+    const double a = std::sqrt(2.0) * kR0;
+    b.model->box.hi = Eigen::Vector3d::Constant(cells * a);
+    b.model->box.periodic = {true, true, true};
+    b.model->integration.dt = 0.005;
+    b.model->integration.mixedPrecision = mixed;
+    b.params = Params(ns);
+    for (auto& d : b.params.drag) d = Drag{0.0, 0.0};
+    if (species3) {
+        b.params.lj(1, 2) = 0.5;
+        b.params.lj(2, 1) = 1.5;
+        b.params.lj(3, 1) = 0.8;
+    }
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-0.05 * kR0, 0.05 * kR0);
+    const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+    std::uint64_t id = 0;
+    for (int i = 0; i < cells; ++i)
+        for (int j = 0; j < cells; ++j)
+            for (int k = 0; k < cells; ++k)
+                for (const auto& o : basis) {
+                    const Eigen::Vector3d x =
+                        (Eigen::Vector3d(i + o[0], j + o[1], k + o[2])) * a + Eigen::Vector3d(u(rng), u(rng), u(rng));
+                    b.particles.add(x, species3 ? 1 + int(id % 3) : 1, id + 1);
+                    ++id;
+                }
+    return b;
+}
+
+Simulation simulationOf(const FccBox& b) {
+    return Simulation(b.model, b.particles, {.params = b.params});
+}
+
+// |F_mixed - F_double| over |F_double|, over every particle's force together.
+double forceDifference(const Particles& mixed, const Particles& dbl) {
+    double d2 = 0, f2 = 0;
+    for (std::size_t i = 0; i < dbl.size(); ++i) {
+        d2 += (mixed.force[i] - dbl.force[i]).squaredNorm();
+        f2 += dbl.force[i].squaredNorm();
+    }
+    return std::sqrt(d2 / f2);
+}
+
+}  // namespace
+
+TEST_CASE("mixed precision: the forces are double's to 1e-5, the energies and virial alike", "[core][mixed]") {
+    for (const bool species3 : {false, true}) {
+        const FccBox d = fccBox(8, species3, false, 5), m = fccBox(8, species3, true, 5);
+        Simulation sd = simulationOf(d), sm = simulationOf(m);
+        sd.refreshForces();
+        sm.refreshForces();
+        const ForceStats& fd = sd.stats().forces;
+        const ForceStats& fm = sm.stats().forces;
+        const double diff = forceDifference(sm.particles(), sd.particles());
+        INFO((species3 ? "three species" : "one species")
+             << ": force difference " << diff << ", pair energies " << fd.pairEnergy << " / " << fm.pairEnergy
+             << ", virial " << fd.virial << " / " << fm.virial);
+        CHECK(fm.pairsInRange == fd.pairsInRange);
+        CHECK(diff < 1e-5);
+        CHECK(diff > 0);  // float arithmetic, not double's by another name
+        CHECK(std::abs(fm.pairEnergy - fd.pairEnergy) <= 1e-9 * std::abs(fd.pairEnergy));
+        CHECK(std::abs(fm.virial - fd.virial) <= 1e-5 * std::abs(fd.virial));
+    }
+}
+
+TEST_CASE("mixed precision: an undamped box drifts no more than twice as much as in double", "[core][mixed]") {
+    double drift[2] = {0, 0};
+    for (const bool mixed : {false, true}) {
+        const FccBox b = fccBox(6, false, mixed, 9);
+        Simulation sim = simulationOf(b);
+        sim.refreshForces();
+        const double e0 = sim.stats().forces.pairEnergy + kineticEnergy(*b.model, sim.particles());
+        for (int s = 0; s < 20; ++s) {
+            sim.run(100);
+            sim.refreshForces();
+            drift[mixed] = std::max(drift[mixed], std::abs(sim.stats().total() - e0) / std::abs(e0));
+        }
+    }
+    INFO("largest |E - E0| / |E0| over 2,000 steps: double " << drift[0] << ", mixed " << drift[1]);
+    CHECK(drift[0] < 1e-4);
+    CHECK(drift[1] <= 2 * drift[0] + 1e-7);
+}
+
+TEST_CASE("mixed precision: a run is the same to the last bit at 1, 2 and 3 threads", "[core][mixed][threads]") {
+    const FccBox b = fccBox(8, true, true, 3);
+    const int before = threadCount();
+    std::vector<Particles> ends;
+    for (int threads : {1, 2, 3}) {
+        setThreadCount(threads);
+        Simulation sim = simulationOf(b);
+        sim.run(200);
+        ends.push_back(sim.particles());
+    }
+    setThreadCount(before);
+    for (std::size_t k = 1; k < ends.size(); ++k) {
+        CHECK(ends[k].pos == ends[0].pos);
+        CHECK(ends[k].vel == ends[0].vel);
+    }
+    double moved = 0;
+    for (std::size_t i = 0; i < b.particles.size(); ++i)
+        moved = std::max(moved, (ends[0].pos[i] - b.particles.pos[i]).norm());
+    CHECK(moved > 0.01);
+}
