@@ -40,7 +40,7 @@ source scripts/bench/bulk-workload.sh
 eval "$(scripts/bench/peers.sh --print)"
 peers_csv=out/bench/step-peers.csv
 echo "particles,bop_double,bop_mixed,lammps_table_omp,lammps_ljcut_opt,lammps_ljcut_intel_mixed,lammps_ljcut_intel_double,gromacs_mixed,gromacs_double" >"$peers_csv"
-peer_rows=()
+declare -A peer_why=()  # why a peer built for this CPU gave no rate
 
 gmx_why=()
 cpu=$(sed -n 's/^model name[[:space:]]*: *//p' /proc/cpuinfo | head -1)
@@ -82,8 +82,10 @@ for mode in ${BOP_BENCH_MODES:-switched paper}; do
         run_native() {  # KEY INPUT LOG STYLE-FLAGS...
           local k=$1 in=$2 log=$3
           shift 3
-          "$PEER_LMP" "$@" -in "$in" -log none -screen "$log" >/dev/null 2>&1 || true
+          local rc=0
+          "$PEER_LMP" "$@" -in "$in" -log none -screen "$log" >/dev/null 2>&1 || rc=$?
           native[$k]=$(best "${native[$k]}" "$(rate_of_lammps "$log")")
+          [[ $rc == 0 ]] || peer_why["$k"]="LAMMPS $* exited with $rc at $particles particles ($log)"
         }
         run_native table_omp "$out/in-$mode-$particles.lmp" "$out/native-table-omp-$particles.log" -sf omp -pk omp 1
         run_native ljcut_opt "$out/in-ljcut-$particles.lmp" "$out/native-ljcut-opt-$particles.log" -sf opt
@@ -101,6 +103,12 @@ for mode in ${BOP_BENCH_MODES:-switched paper}; do
         native[gmx_double]=$(best "${native[gmx_double]}" "$(rate_of_gromacs "$out/gromacs-d-$particles/md.log")")
       fi
     done
+    if [[ $mode == switched && -n $PEER_GMX && ${native[gmx_mixed]} == 0 ]]; then
+      peer_why[gmx_mixed]="GROMACS mixed at $particles particles: $(why_gromacs_failed "$out/gromacs-$particles")"
+    fi
+    if [[ $mode == switched && -n $PEER_GMX_D && ${native[gmx_double]} == 0 ]]; then
+      peer_why[gmx_double]="GROMACS double at $particles particles: $(why_gromacs_failed "$out/gromacs-d-$particles")"
+    fi
     if [[ $mode == switched ]]; then
       echo "$particles,$bop,${native[bop_mixed]},${native[table_omp]},${native[ljcut_opt]},${native[intel_mixed]},${native[intel_double]},${native[gmx_mixed]},${native[gmx_double]}" >>"$peers_csv"
     fi
@@ -163,6 +171,7 @@ for r in rows:
           target("gromacs_mixed", "GROMACS mixed per pair", 1.2, "BoP mixed", mixed)]))
 PY
 fi
+for k in "${!peer_why[@]}"; do echo "no rate: ${peer_why[$k]}"; done
 for scene in torus star bag-in-bag; do
   build/dynamics_server/bop-server "config/scenes/$scene.toml" --no-listen -o "$out/$scene" >"$out/$scene.log" 2>&1
   awk -v s="$scene" '/^this run/ {printf "%-10s %9d %6s %14.0f   (bag scene incl. construction; %s steps/s)\n", s, $5, "-", $7, $6}' "$out/$scene.log"
