@@ -82,6 +82,11 @@ def share(x, side, m, n, cutoff, rlist):
 
 
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] in ("-h", "--help"):
+        print(__doc__)
+        return
+    if len(sys.argv) > 1 and not sys.argv[1].isdigit():
+        sys.exit(f"cluster-share: CELLS must be a whole number of fcc cells per edge (got '{sys.argv[1]}')")
     cells = int(sys.argv[1]) if len(sys.argv) > 1 else 14
     x, side = fcc_box(cells)
     rows = []
