@@ -60,7 +60,10 @@ for mode in ${BOP_BENCH_MODES:-switched paper}; do
     declare -A native=([bop_mixed]=0 [table_omp]=0 [ljcut_opt]=0 [intel_mixed]=0 [intel_double]=0 [gmx_mixed]=0 [gmx_double]=0)
     if [[ $mode == switched ]]; then
       write_ljcut_input "$out/in-$mode-$particles.lmp" "$out/in-ljcut-$particles.lmp"
-      [[ -z $PEER_GMX_D ]] || { rm -rf "$out/gromacs-d-$particles"; cp -r "$out/gromacs-$particles" "$out/gromacs-d-$particles"; }
+      for copy in native d; do  # each GROMACS in its own folder: its logs say why when it gives no rate
+        rm -rf "$out/gromacs-$copy-$particles"
+        cp -r "$out/gromacs-$particles" "$out/gromacs-$copy-$particles"
+      done
     fi
     for ((rep = 1; rep <= ${BOP_BENCH_REPEATS:-3}; rep++)); do
       /usr/bin/time -f "%M" -o "$out/bop-$mode-$particles.mem" \
@@ -83,9 +86,9 @@ for mode in ${BOP_BENCH_MODES:-switched paper}; do
           local k=$1 in=$2 log=$3
           shift 3
           local rc=0
-          "$PEER_LMP" "$@" -in "$in" -log none -screen "$log" >/dev/null 2>&1 || rc=$?
+          ("$PEER_LMP" "$@" -in "$in" -log none -screen "$log" >/dev/null 2>&1) 2>/dev/null || rc=$?
           native[$k]=$(best "${native[$k]}" "$(rate_of_lammps "$log")")
-          [[ $rc == 0 ]] || peer_why["$k"]="LAMMPS $* exited with $rc at $particles particles ($log)"
+          [[ $rc == 0 ]] || peer_why["$k $particles"]="LAMMPS $* exited with $rc at $particles particles ($log)"
         }
         run_native table_omp "$out/in-$mode-$particles.lmp" "$out/native-table-omp-$particles.log" -sf omp -pk omp 1
         run_native ljcut_opt "$out/in-ljcut-$particles.lmp" "$out/native-ljcut-opt-$particles.log" -sf opt
@@ -95,8 +98,8 @@ for mode in ${BOP_BENCH_MODES:-switched paper}; do
           -sf intel -pk intel 0 omp 1 mode double lrt no
       fi
       if [[ $mode == switched && -n $PEER_GMX ]]; then
-        run_gromacs "$out/gromacs-$particles" "$PEER_GMX"
-        native[gmx_mixed]=$(best "${native[gmx_mixed]}" "$(rate_of_gromacs "$out/gromacs-$particles/md.log")")
+        run_gromacs "$out/gromacs-native-$particles" "$PEER_GMX"
+        native[gmx_mixed]=$(best "${native[gmx_mixed]}" "$(rate_of_gromacs "$out/gromacs-native-$particles/md.log")")
       fi
       if [[ $mode == switched && -n $PEER_GMX_D ]]; then
         run_gromacs "$out/gromacs-d-$particles" "$PEER_GMX_D"
@@ -104,10 +107,10 @@ for mode in ${BOP_BENCH_MODES:-switched paper}; do
       fi
     done
     if [[ $mode == switched && -n $PEER_GMX && ${native[gmx_mixed]} == 0 ]]; then
-      peer_why[gmx_mixed]="GROMACS mixed at $particles particles: $(why_gromacs_failed "$out/gromacs-$particles")"
+      peer_why["gmx_mixed $particles"]="GROMACS mixed at $particles particles: $(why_gromacs_failed "$out/gromacs-native-$particles")"
     fi
     if [[ $mode == switched && -n $PEER_GMX_D && ${native[gmx_double]} == 0 ]]; then
-      peer_why[gmx_double]="GROMACS double at $particles particles: $(why_gromacs_failed "$out/gromacs-d-$particles")"
+      peer_why["gmx_double $particles"]="GROMACS double at $particles particles: $(why_gromacs_failed "$out/gromacs-d-$particles")"
     fi
     if [[ $mode == switched ]]; then
       echo "$particles,$bop,${native[bop_mixed]},${native[table_omp]},${native[ljcut_opt]},${native[intel_mixed]},${native[intel_double]},${native[gmx_mixed]},${native[gmx_double]}" >>"$peers_csv"
