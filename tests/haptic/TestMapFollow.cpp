@@ -12,6 +12,7 @@
 #include "protocol/ProtocolSamples.hpp"
 #include "server/ServerFront.hpp"
 #include "shape/ShapeBuilder.hpp"
+#include "shape/ShapeTestUtil.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -101,20 +102,7 @@ TEST_CASE("haptic map copy: the server's edits reach it through the front, and i
     CHECK(cutter.applied() == 4);
     CHECK(cutter.refused() == 0);
 
-    const GradientMap& copy = *field.map();
-    REQUIRE(copy.occ == truth.occ);
-    std::size_t distances = 0;
-    for (std::size_t v = 0; v < kDims.count(); ++v)
-        distances += copy.delta(v).squaredNorm() == truth.delta(v).squaredNorm();
-    CHECK(distances == kDims.count());
-    REQUIRE(copy.surface.size() == truth.surface.size());
-    std::size_t same = 0;
-    for (std::size_t k = 0; k < truth.surface.size(); ++k) {
-        const SurfaceVoxel &a = copy.surface[k], &b = truth.surface[k];
-        same += a.voxel == b.voxel && a.species == b.species && a.normal == b.normal && a.kappa == b.kappa &&
-                a.cpWeight == b.cpWeight;
-    }
-    CHECK(same == truth.surface.size());
+    test::requireSameMap(*field.map(), truth);
     // The field the hand feels: inside where the cap was is now outside.
     CHECK(haptic::FieldForce(original, 1.0).signedDistance(Eigen::Vector3d(33, 13, 20.5) * h) < 0);
     CHECK(field.signedDistance(Eigen::Vector3d(33, 13, 20.5) * h) > 0);

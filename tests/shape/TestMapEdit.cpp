@@ -56,24 +56,6 @@ void sweepOut(shape::BagLayout& l, const BladeSweep& blade) {
         if (blade.holds(kDims.coords(v).cast<double>() + Eigen::Vector3d::Constant(0.5))) l.bag.data[v] = 0;
 }
 
-// Field by field: occupancy, squared distance to the nearest surface voxel, and every record.
-void requireSame(const GradientMap& edited, const GradientMap& truth) {
-    REQUIRE(edited.occ == truth.occ);
-    std::size_t distances = 0;
-    for (std::size_t v = 0; v < kDims.count(); ++v)
-        distances += edited.delta(v).squaredNorm() == truth.delta(v).squaredNorm();
-    REQUIRE(distances == kDims.count());
-    REQUIRE(edited.surface.size() == truth.surface.size());
-    std::size_t same = 0;
-    for (std::size_t s = 0; s < truth.surface.size(); ++s) {
-        const SurfaceVoxel &a = edited.surface[s], &b = truth.surface[s];
-        same += a.voxel == b.voxel && a.species == b.species && a.normal == b.normal &&
-                a.meanCurvature == b.meanCurvature && a.gaussCurvature == b.gaussCurvature && a.kappa == b.kappa &&
-                a.cpWeight == b.cpWeight;
-    }
-    REQUIRE(same == truth.surface.size());
-}
-
 }  // namespace
 
 TEST_CASE("map edit: a blade's windowed patch equals a whole-grid rebuild of the edited image", "[mapedit]") {
@@ -104,7 +86,7 @@ TEST_CASE("map edit: a blade's windowed patch equals a whole-grid rebuild of the
         const VoxelWindow w{{10, 5, 3}, {40, 40, 25}};
         const GradientMap windowAfter = applyPatch(cropGradientMap(edited, w), patch);
         edited = applyPatch(edited, patch);
-        requireSame(edited, truth);
+        test::requireSameMap(edited, truth);
         const GradientMap cropAfter = cropGradientMap(edited, w);
         REQUIRE(windowAfter.occ == cropAfter.occ);
         REQUIRE(windowAfter.nearest == cropAfter.nearest);
@@ -133,7 +115,7 @@ TEST_CASE("map edit: the torus cut across its tube; the cut faces are new surfac
     REQUIRE(patch.window.dims().count() < kDims.count() / 2);  // a window, not the grid
     const GradientMap edited = applyPatch(original, patch);
     sweepOut(layout, blade);
-    requireSame(edited, rebuild(layout));
+    test::requireSameMap(edited, rebuild(layout));
     // The voxels that became surface face the blade: their normals point at its axis (along the
     // rims, where the cut face meets the old surface, the smoothing blends the two), never away.
     int facing = 0, faces = 0, away = 0;
