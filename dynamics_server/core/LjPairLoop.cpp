@@ -1,9 +1,11 @@
 #include "LjPairLoop.hpp"
 
+#include "PairBlocks.hpp"
 #include "TargetClones.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace bop::core {
 namespace {
@@ -64,17 +66,18 @@ template <bool OneSpecies, bool Energy>
 // ---- mixed precision ----
 
 constexpr std::uint32_t kLanes = 16;  // one AVX-512 register of floats; two AVX2, four SSE2
+static_assert(kPairBlock % kLanes == 0);
 
 // LjForm::forceOverR's constants rounded to float.
 struct Lj32 {
-    float cut2, fShift, rOn, invWidth;
+    float fShift, rOn, invWidth;
     explicit Lj32(const LjForm& lj)
-        : cut2(float(lj.cutoff2())),
-          fShift(float(lj.forceShift())),
-          rOn(float(lj.switchOn())),
-          invWidth(float(lj.invSwitchWidth())) {}
+        : fShift(float(lj.forceShift())), rOn(float(lj.switchOn())), invWidth(float(lj.invSwitchWidth())) {}
 };
 
+// The entries of a block (PairBlocks.hpp: across rows, so that short rows leave no lanes idle),
+// sixteen at a time: each difference of the double positions rounded to float, f(r)/r in float
+// lanes, then each entry's force and virial into the double sums in list order.
 template <bool OneSpecies, bool Energy>
 [[gnu::always_inline]] inline void loopMixed(const PairKernel& kernel, const NeighbourList::Pairs& pairs,
                                              const PairInputs& in, std::size_t x0, std::size_t x1,
@@ -86,56 +89,68 @@ template <bool OneSpecies, bool Energy>
     const float* wE = kernel.ljEnergyWeights32();
     const float wF11 = wF[side + 1], wE11 = wE[side + 1];
     const double wE11d = kernel.ljEnergyWeights()[side + 1];
-    const std::uint32_t* nbr = pairs.nbr.data();
-    const std::uint32_t* start = pairs.start.data();
     PairKernel::Sums s;
-    alignas(64) float dx[kLanes], dy[kLanes], dz[kLanes], fr[kLanes], r2s[kLanes];
-    for (std::size_t x = x0; x < x1; ++x) {
-        const Eigen::Vector3d pi = in.e[x];  // a copy: the force stores may alias e
-        const std::size_t a = in.species[x];
-        Eigen::Vector3d fi = Eigen::Vector3d::Zero();
-        const std::uint32_t k1 = start[x + 1];
-        for (std::uint32_t k = start[x]; k < k1; k += kLanes) {
-            const std::uint32_t n = std::min(kLanes, k1 - k);
-            const std::uint32_t* y = nbr + k;
-            for (std::uint32_t l = 0; l < kLanes; ++l) {  // lanes past n repeat the row's last entry
-                const Eigen::Vector3d& q = in.e[y[l < n ? l : n - 1]];
-                dx[l] = float(q.x() - pi.x());
-                dy[l] = float(q.y() - pi.y());
-                dz[l] = float(q.z() - pi.z());
+    const double cut2 = lj.cutoff2();
+    alignas(64) float dx[kPairBlock], dy[kPairBlock], dz[kPairBlock], fr[kPairBlock], r2s[kPairBlock], gap[kPairBlock];
+    const double* e = in.e[0].data();
+    PairBlocks blocks(pairs, x0, x1);
+    std::size_t row = ~std::size_t(0);
+    Eigen::Vector3d fi = Eigen::Vector3d::Zero();
+    std::uint32_t k0 = 0;
+    for (std::uint32_t n; (n = blocks.next(k0)) > 0;) {
+        const std::uint32_t* nb = pairs.nbr.data() + k0;
+        const std::uint32_t padded = (n + kLanes - 1) / kLanes * kLanes;
+        for (std::uint32_t q = 0; q < padded; q += 4) {  // four entries at a time in double
+            std::uint32_t iq[4], jq[4];
+            for (std::uint32_t l = 0; l < 4; ++l) {  // entries past n pair the last row with itself
+                iq[l] = blocks.i[q + l < n ? q + l : n - 1];
+                jq[l] = q + l < n ? nb[q + l] : iq[l];
             }
-            for (std::uint32_t l = 0; l < kLanes; ++l) {  // LjForm::forceOverR in float, 0 beyond the cutoff
-                const float r2 = dx[l] * dx[l] + dy[l] * dy[l] + dz[l] * dz[l];
-                const bool inside = r2 < c.cut2 && l < n;
-                const float q2 = inside ? r2 : 1.0f;
-                const float inv2 = 1.0f / q2;
-                const float r = std::sqrt(q2);
-                const float f = (4.5f * inv2 - 1.5f) * inv2 - c.fShift;
-                const float u = (r - c.rOn) * c.invWidth;
-                const float t = 0.5f * (u + std::abs(u));
-                fr[l] = inside ? f * (1.0f + t * t * (2.0f * t - 3.0f)) * (r * inv2) : 0.0f;
-                r2s[l] = inside ? r2 : 0.0f;
+            const V4 x = gather3(e, jq, 0) - gather3(e, iq, 0), y = gather3(e, jq, 1) - gather3(e, iq, 1),
+                     z = gather3(e, jq, 2) - gather3(e, iq, 2);
+            const V4 d2 = x * x + y * y + z * z;
+            toFloats(dx + q, x), toFloats(dy + q, y), toFloats(dz + q, z);
+            // r^2 and 3 - r^2 (f(r) = 1.5 (3 - r^2) / r^4, 0 at r0^2 = 3) rounded from double:
+            // near rest, where bags sit, the subtraction in float would lose most of the digits.
+            const V4Mask inside = (d2 < splat(cut2)) & (d2 > splat(0.0)) & lanes(q, n);
+            toFloats(r2s + q, select(inside, d2, splat(0.0)));
+            toFloats(gap + q, 3.0 - d2);
+        }
+        for (std::uint32_t q = 0; q < padded; q += kLanes) {  // LjForm::forceOverR in float, 0 beyond the cutoff
+            const V16F r2 = load16(r2s + q);
+            const V16FMask inside = r2 > splat16(0.0f);  // compared with a vector: a scalar makes GCC go lane by lane
+            const V16F q2 = select(inside, r2, splat16(1.0f));
+            const V16F inv2 = 1.0f / q2;
+            const V16F r = vsqrt(q2);
+            const V16F f = 1.5f * load16(gap + q) * inv2 * inv2 - c.fShift;
+            const V16F t = atLeast((r - c.rOn) * c.invWidth, 0.0f);
+            store16(fr + q, select(inside, f * (1.0f + t * t * (2.0f * t - 3.0f)) * (r * inv2), splat16(0.0f)));
+        }
+        for (std::uint32_t q = 0; q < n; ++q) {  // in list order, into the double sums
+            const std::size_t x = blocks.i[q];
+            if (x != row) {
+                if (row != ~std::size_t(0)) in.f[row - in.base] += fi;
+                row = x;
+                fi.setZero();
             }
-            for (std::uint32_t l = 0; l < n; ++l) {  // in list order, into the double sums
-                const std::uint32_t j = y[l];
-                const std::size_t b = in.species[j];
-                const float toJ = (OneSpecies ? wF11 : wF[b * side + a]) * fr[l];
-                const float toI = (OneSpecies ? wF11 : wF[a * side + b]) * fr[l];
-                in.f[j - in.base] += Eigen::Vector3d(double(toJ * dx[l]), double(toJ * dy[l]), double(toJ * dz[l]));
-                fi -= Eigen::Vector3d(double(toI * dx[l]), double(toI * dy[l]), double(toI * dz[l]));
-                const double v = double((OneSpecies ? wE11 : wE[a * side + b]) * fr[l] * r2s[l]);
-                s.virial += v;
-                s.virialVolume += double(in.isVolume[a] & in.isVolume[b]) * v;
-                s.inRange += r2s[l] > 0;
-                if constexpr (Energy) {
-                    const double d2 = (in.e[j] - pi).squaredNorm();
-                    if (r2s[l] > 0 && d2 < lj.cutoff2())
-                        s.energy += (OneSpecies ? wE11d : kernel.ljEnergyWeights()[a * side + b]) * lj.energyOfR2(d2);
-                }
+            const std::uint32_t j = nb[q];
+            const std::size_t a = in.species[x], b = in.species[j];
+            const float toJ = (OneSpecies ? wF11 : wF[b * side + a]) * fr[q];
+            const float toI = (OneSpecies ? wF11 : wF[a * side + b]) * fr[q];
+            in.f[j - in.base] += Eigen::Vector3d(double(toJ * dx[q]), double(toJ * dy[q]), double(toJ * dz[q]));
+            fi -= Eigen::Vector3d(double(toI * dx[q]), double(toI * dy[q]), double(toI * dz[q]));
+            const double v = double((OneSpecies ? wE11 : wE[a * side + b]) * fr[q] * r2s[q]);
+            s.virial += v;
+            s.virialVolume += double(in.isVolume[a] & in.isVolume[b]) * v;
+            s.inRange += r2s[q] > 0;
+            if constexpr (Energy) {
+                const double d2 = (in.e[j] - in.e[x]).squaredNorm();
+                if (r2s[q] > 0)
+                    s.energy += (OneSpecies ? wE11d : kernel.ljEnergyWeights()[a * side + b]) * lj.energyOfR2(d2);
             }
         }
-        in.f[x - in.base] += fi;
     }
+    if (row != ~std::size_t(0)) in.f[row - in.base] += fi;
     sums.energy += s.energy;
     sums.virial += s.virial;
     sums.virialVolume += s.virialVolume;

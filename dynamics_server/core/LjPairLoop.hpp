@@ -14,7 +14,7 @@ namespace bop::core {
 
 // What a pair loop reads, per neighbour-list entry (e, species) and per species number
 // (isVolume), and where it adds forces: f[k - base] for entry k (a chunk's buffer starts at its
-// first row; torques t of the oriented loop alike). `mixed`: the LJ loop's pair arithmetic in
+// first row; torques t of the oriented loop alike). `mixed`: both loops' pair arithmetic in
 // single precision (docs/dynamics.md, "Mixed precision").
 struct PairInputs {
     const Eigen::Vector3d* e;
@@ -26,10 +26,11 @@ struct PairInputs {
 };
 
 // Adds the LJ forces of rows [x0, x1) of `pairs` to in.f and their virial, count and (with
-// `energies`) energy to sums. With in.mixed, sixteen entries of a row at a time: differences of
-// the double positions rounded to float, f(r)/r, the forces and the virial in float lanes, each
-// added to the double sums (forces, virial) in list order; energies in double from the double
-// differences (only on the steps that ask: the forces are the same on every step).
+// `energies`) energy to sums. With in.mixed, the list's entries in blocks across rows
+// (PairBlocks.hpp), sixteen at a time: the differences of the double positions, r^2 and r0^2 - r^2
+// worked out in double and rounded to float, f(r)/r, the forces and the virial in float lanes,
+// each added to the double sums (forces, virial) in list order; energies in double from the
+// double differences (only on the steps that ask: the forces are the same on every step).
 void ljForcePairs(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const PairInputs& in, bool energies,
                   std::size_t x0, std::size_t x1, PairKernel::Sums& sums);
 

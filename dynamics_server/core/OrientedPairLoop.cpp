@@ -117,7 +117,8 @@ template <bool Energy, bool One>
             if (curvature)
                 for (int l = 0; l < 4; ++l) c[l] = 0.5 * (double(cw[iq[l]]) + double(cw[jq[l]]));
             BlockSink sink{b, q, near, virial, energy};
-            orientedPair<Energy>(r, r2, inverseOrZero(rlen), ni, nj, orientedPsi(r2, rlen, psiK), c, k, sink);
+            orientedPair<Energy>(r, r2, inverseOrZero(rlen), normalPair(r, ni, nj), orientedPsi(r2, rlen, psiK), c, k,
+                                 sink);
             count -= near;  // a true lane is -1
         }
         // Into the particles, in list order; a row's own force and torque summed first.
@@ -147,6 +148,7 @@ BOP_HOT_LOOP void orientedPairs(const PairKernel& kernel, const NeighbourList::P
                                 const OrientedInputs& o, bool energies, std::size_t x0, std::size_t x1,
                                 PairKernel::Sums& sums) {
     if (pairs.start.size() < 2 || x0 >= x1) return;
+    if (in.mixed) return orientedPairsMixed(kernel, pairs, in, o, energies, x0, x1, sums);
     const bool one = kernel.uniformOrientedPair() >= 0;
     if (energies && one) loop<true, true>(kernel, pairs, in, o, x0, x1, sums);
     if (energies && !one) loop<true, false>(kernel, pairs, in, o, x0, x1, sums);

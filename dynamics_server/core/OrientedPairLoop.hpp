@@ -22,5 +22,9 @@ struct OrientedInputs {
 // virial, count and (with `energies`) energy to sums.
 void orientedPairs(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const PairInputs& in,
                    const OrientedInputs& o, bool energies, std::size_t x0, std::size_t x1, PairKernel::Sums& sums);
+// The same in float lanes (in.mixed; OrientedPairLoopMixed.cpp), sums in double. orientedPairs
+// calls it when in.mixed is set.
+void orientedPairsMixed(const PairKernel& kernel, const NeighbourList::Pairs& pairs, const PairInputs& in,
+                        const OrientedInputs& o, bool energies, std::size_t x0, std::size_t x1, PairKernel::Sums& sums);
 
 }  // namespace bop::core

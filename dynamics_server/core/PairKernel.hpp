@@ -55,6 +55,7 @@ public:
         uniformOriented_ = findUniformOrientedPair();
         ljF32_.assign(ljF_.begin(), ljF_.end());
         ljE32_.assign(ljE_.begin(), ljE_.end());
+        for (const auto* t : {&cnF_, &cnT_, &cpF_, &cpT_, &cnE_, &cpE_}) oriented32_.emplace_back(t->begin(), t->end());
     }
 
     const LjForm& lj() const { return lj_; }
@@ -121,6 +122,15 @@ public:
     OrientedTables orientedTables() const {
         return {cnF_.data(), cnT_.data(), cpF_.data(), cpT_.data(), cnE_.data(), cpE_.data(), oriented_.data()};
     }
+    // The same rounded to float, for the mixed-precision oriented loop.
+    struct OrientedTables32 {
+        const float *cnF, *cnT, *cpF, *cpT, *cnE, *cpE;
+        const char* on;
+    };
+    OrientedTables32 orientedTables32() const {
+        const auto& t = oriented32_;
+        return {t[0].data(), t[1].data(), t[2].data(), t[3].data(), t[4].data(), t[5].data(), oriented_.data()};
+    }
 
     struct Sums {
         double energy = 0, virial = 0, virialVolume = 0;
@@ -181,6 +191,7 @@ private:
     double cutoff2_ = 0;
     std::vector<double> ljF_, ljE_, cnF_, cnT_, cpF_, cpT_, cnE_, cpE_;
     std::vector<float> ljF32_, ljE32_;
+    std::vector<std::vector<float>> oriented32_;  // cnF_, cnT_, cpF_, cpT_, cnE_, cpE_ in float
     std::vector<char> oriented_;
 };
 

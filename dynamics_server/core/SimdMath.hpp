@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace bop::core {
 
@@ -79,6 +80,70 @@ template <typename T>
     // t's low mantissa bits hold 2^51 + n; adding the bias and shifting leaves n + 1023 in the
     // exponent field (1 <= n + 1023 <= 2033 after the clamp), sign and mantissa zero: 2^n.
     return p * fromBits((bitsOf(t) + 1023u) << 52);
+}
+
+// ---- sixteen floats, for the mixed-precision oriented loop (OrientedPairLoopMixed.cpp) ----
+// One AVX-512 register, two AVX2, four SSE2. Scalars in the expressions must be floats (or
+// constants a float holds exactly): the extensions refuse a double that would be rounded.
+using V16F = float __attribute__((vector_size(64)));
+using V16FMask = std::int32_t __attribute__((vector_size(64)));
+using V16FBits = std::uint32_t __attribute__((vector_size(64)));
+
+[[gnu::always_inline]] inline V16F splat16(float x) {
+    return V16F{} + x;
+}
+[[gnu::always_inline]] inline V16F load16(const float* p) {  // any alignment
+    V16F v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+[[gnu::always_inline]] inline void store16(float* to, V16F v) {
+    std::memcpy(to, &v, sizeof v);
+}
+// Four doubles rounded to floats at `to` (the mixed loops' gathers work in V4, compute in V16F).
+[[gnu::always_inline]] inline void toFloats(float* to, V4 v) {
+    using V4F = float __attribute__((vector_size(16)));
+    const V4F f = __builtin_convertvector(v, V4F);
+    std::memcpy(to, &f, sizeof f);
+}
+[[gnu::always_inline]] inline V16F select(V16FMask m, V16F a, V16F b) {
+    return m ? a : b;
+}
+[[gnu::always_inline]] inline V16F vsqrt(V16F x) {
+    V16F r;
+    for (int l = 0; l < 16; ++l) r[l] = std::sqrt(x[l]);
+    return r;
+}
+// Compared with a vector, not the scalar: with a scalar GCC compares lane by lane.
+[[gnu::always_inline]] inline V16F atLeast(V16F x, float lo) {
+    return x > splat16(lo) ? x : splat16(lo);
+}
+[[gnu::always_inline]] inline V16F atMost(V16F x, float hi) {
+    return x < splat16(hi) ? x : splat16(hi);
+}
+
+// e^x in float lanes, x clamped to [-87, 87]: within about 2 float ulp of std::exp
+// (tests/core/TestSimdMath.cpp). simdExp's scheme in float: x = n ln2 + r, |r| <= ln2 / 2, a
+// degree-7 Taylor polynomial (remainder below 6e-9), 2^n written into the exponent bits.
+[[gnu::always_inline]] inline V16F simdExp(V16F x) {
+    constexpr float kLog2e = 1.44269504f;
+    constexpr float kShift = 0x1.8p23f;        // adding it rounds to an integer kept in the low bits
+    constexpr float kLn2Hi = 0.693145752f;     // ln 2's leading bits (0x1.62e4p-1): n kLn2Hi is exact for |n| < 2^9
+    constexpr float kLn2Lo = 1.42860682e-06f;  // ln 2 - kLn2Hi
+    x = atMost(atLeast(x, -87.0f), 87.0f);
+    const V16F t = x * kLog2e + kShift;
+    const V16F n = t - kShift;
+    const V16F r = (x - n * kLn2Hi) - n * kLn2Lo;
+    V16F p = r * (1.0f / 5040.0f) + (1.0f / 720.0f);
+    p = p * r + (1.0f / 120.0f);
+    p = p * r + (1.0f / 24.0f);
+    p = p * r + (1.0f / 6.0f);
+    p = p * r + 0.5f;
+    p = p * r + 1.0f;
+    p = p * r + 1.0f;
+    // t's low mantissa bits hold 2^22 + n: adding the bias and shifting leaves n + 127 in the
+    // exponent field (1 <= n + 127 <= 253 after the clamp), sign and mantissa zero: 2^n.
+    return p * std::bit_cast<V16F>((std::bit_cast<V16FBits>(t) + 127u) << 23);
 }
 
 }  // namespace bop::core

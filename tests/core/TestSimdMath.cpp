@@ -46,3 +46,27 @@ TEST_CASE("simdExp clamps its argument to [-700, 700] instead of overflowing the
     CHECK(simdExp(-700.0) > 0.0);
     CHECK(relativeError(simdExp(-700.0), std::exp(-700.0)) < 5 * 0x1p-52);
 }
+
+TEST_CASE("simdExp in sixteen float lanes is within a few float ulp of std::exp, and clamps to [-87, 87]",
+          "[core][simd][mixed]") {
+    std::mt19937_64 rng(20261207);
+    std::uniform_real_distribution<float> wide(-87.0f, 87.0f), gaussian(-12.0f, 0.0f);
+    double worst = 0;
+    for (int k = 0; k < 20000; ++k) {
+        V16F x;
+        for (int l = 0; l < 16; ++l) x[l] = l % 2 ? wide(rng) : gaussian(rng);
+        if (k == 0) x = V16F{0.0f, -1.0f, 1.0f, -0.34657359f, 0.69314718f, -87.0f, 87.0f, -1e-30f};
+        const V16F y = simdExp(x);
+        for (int l = 0; l < 16; ++l) worst = std::max(worst, relativeError(y[l], std::exp(double(x[l]))));
+    }
+    INFO("worst relative error against std::exp of the float argument " << worst);
+    CHECK(worst < 4 * 0x1p-23);
+    CHECK(simdExp(splat16(0.0f))[3] == 1.0f);
+    const V16F clamped = simdExp(V16F{-100.0f, 100.0f, -1e30f, 1e30f});
+    CHECK(clamped[0] == simdExp(splat16(-87.0f))[0]);
+    CHECK(clamped[2] == clamped[0]);
+    CHECK(clamped[1] == simdExp(splat16(87.0f))[0]);
+    CHECK(clamped[3] == clamped[1]);
+    CHECK(std::isfinite(clamped[1]));
+    CHECK(clamped[0] > 0.0f);
+}

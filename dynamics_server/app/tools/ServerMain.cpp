@@ -131,7 +131,7 @@ int run(int argc, char** argv) {
         scene.model = std::move(m);
     }
     spdlog::info("pair arithmetic: {}", scene.model->integration.mixedPrecision
-                                            ? "mixed (the LJ loop in float lanes, sums in double)"
+                                            ? "mixed (the pair loops in float lanes, sums in double)"
                                             : "double");
     if (scene.shape)
         for (const std::string& w : scene.shape->warnings) spdlog::warn("{}", w);
