@@ -1,8 +1,9 @@
 // Mixed precision (docs/dynamics.md "Mixed precision") on the shipped scenes: every scene of
-// config/scenes built in double for part of its run, written as a checkpoint and restarted from
-// it once in each mode, has its forces and torques in mixed within 1e-5 of double's (four small
-// bags near rest miss it: kOverGate); and bags
-// built in mixed from the start take their shapes as faithfully as in double.
+// config/scenes, built in double for part of its run (2,000 steps at most), written as a
+// checkpoint and restarted from it once in each mode, has its forces and torques in mixed within
+// 1e-5 of double's (three small bags near rest miss it: kOverGate); bags built in mixed from the
+// start take their shapes as faithfully as in double; and an undamped run drifts no more than
+// twice as much as in double.
 #include "OneProcessRun.hpp"
 #include "TestUtil.hpp"
 #include "app/files/Checkpoint.hpp"
@@ -39,10 +40,10 @@ double difference(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen
 // The scenes that miss the gate of 1e-5 (issue 53), and by how much at most they may: near rest
 // a particle's force and torque are small sums of larger pair terms, and float's rounding of each
 // term (a few 1e-7 of it) is then a larger share of the sum. Measured on the x86-64-v4 clone:
-// star 7.1e-6 force, 1.24e-5 torque; star-r0-1.4 1.05e-5 and 1.63e-5; torus-analytic 8.1e-6 and
-// 3.5e-6; torus-cut 1.8e-6 and 1.85e-5. Every other scene is held to 1e-5.
+// star 7.1e-6 force, 1.24e-5 torque; star-r0-1.4 1.05e-5 and 1.63e-5; torus-cut 1.8e-6 and
+// 1.85e-5. Every other scene is held to 1e-5.
 const std::map<std::string, double> kOverGate = {
-    {"star.toml", 3e-5}, {"star-r0-1.4.toml", 3e-5}, {"torus-analytic.toml", 3e-5}, {"torus-cut.toml", 3e-5}};
+    {"star.toml", 3e-5}, {"star-r0-1.4.toml", 3e-5}, {"torus-cut.toml", 3e-5}};
 
 TEST_CASE("mixed precision: every shipped scene's forces and torques are double's to 1e-5", "[physics][mixed]") {
     std::vector<std::string> scenes;
@@ -57,7 +58,11 @@ TEST_CASE("mixed precision: every shipped scene's forces and torques are double'
         {
             test::OneProcessRun built(inPrecision(scene, false));
             core::Simulation& sim = *built;
-            sim.run(std::min(scene.run.steps, 1000LL));  // construction under way or done
+            // Past the start of the volume's births (step 1,500 in the timelines), at most 2e7
+            // particle-steps (a scan's hundreds of thousands of particles take a hundred steps).
+            for (long long s = 0;
+                 s < std::min(scene.run.steps, 2000LL) && double(s) * double(sim.particles().size()) < 2e7; s += 100)
+                sim.run(100);
             app::writeCheckpoint(file, sim.gather(), sim.model(), sim.construction(), sim.stepCount(), "", sim.cuts());
         }
         test::OneProcessRun dbl(inPrecision(scene, false), file), mixed(inPrecision(scene, true), file);
@@ -97,9 +102,9 @@ TEST_CASE("mixed precision: bags built in mixed take their shapes as in double",
                   << f[1].surface + f[1].volume);
         CHECK(f[1].surface == f[0].surface);
         CHECK(f[1].volume == f[0].volume);
-        CHECK(f[1].surfaceInOwnVoxels >= f[0].surfaceInOwnVoxels - 0.01);
-        CHECK(f[1].volumeInOwnVoxels >= f[0].volumeInOwnVoxels - 0.01);
-        CHECK(f[1].medianNormalAngleDeg <= f[0].medianNormalAngleDeg + 1.0);
+        CHECK(f[1].surfaceInOwnVoxels >= f[0].surfaceInOwnVoxels - 0.005);
+        CHECK(f[1].volumeInOwnVoxels >= f[0].volumeInOwnVoxels - 0.005);
+        CHECK(f[1].medianNormalAngleDeg <= f[0].medianNormalAngleDeg + 0.1);
     }
 }
 
