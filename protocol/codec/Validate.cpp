@@ -164,7 +164,8 @@ Validation validate(const SceneInfo& m) {
         c.finite(m.probeReach, "probe_reach") && validTunables(c, m.tunables, m.species.size()) &&
         c.require(m.probeReach >= 0, DecodeError::OutOfRange, "probe_reach", "negative") &&
         c.within(m.sessionTimeoutS, 0, 1e6, "session_timeout_s") &&
-        c.within(m.unitSystem.lengthMm, 0, 1e9, "length_mm") &&
+        c.within(m.unitSystem.lengthMm, 0, 1e9, "length_mm") && c.within(m.unitSystem.massKg, 0, 1e9, "mass_kg") &&
+        c.within(m.unitSystem.timeS, 0, 1e9, "time_s") &&
         c.require(
             !m.unitSystem.physical || (m.unitSystem.lengthMm > 0 && m.unitSystem.massKg > 0 &&
                                        m.unitSystem.massKg < 1e9 && m.unitSystem.timeS > 0 && m.unitSystem.timeS < 1e9),

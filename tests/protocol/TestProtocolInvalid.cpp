@@ -281,6 +281,18 @@ TEST_CASE("scene info beyond its limits is refused", "[protocol]") {
     bop::protocol::SceneInfo s = sampleScene();
     s.boxHi.y() = s.boxLo.y();
     CHECK_THROWS_AS(encodeSceneInfo(s), EncodeError);
+
+    // The unit system's mass and time are checked whether or not the units are physical: a NaN
+    // there (found by fuzzing) decoded to a value that is not equal to itself.
+    for (const bool physical : {false, true})
+        for (double bop::UnitSystem::*field : {&bop::UnitSystem::massKg, &bop::UnitSystem::timeS}) {
+            bop::protocol::SceneInfo u = sampleScene();
+            u.unitSystem.physical = physical;
+            u.unitSystem.*field = std::numeric_limits<double>::quiet_NaN();
+            const Validation v = validate(u);
+            CHECK(!v.ok());
+            CHECK(v.message.find(field == &bop::UnitSystem::massKg ? "mass_kg" : "time_s") != std::string::npos);
+        }
 }
 
 TEST_CASE("scene tunables of the wrong size, negative damping or k0 <= 0 are refused, naming the field", "[protocol]") {
