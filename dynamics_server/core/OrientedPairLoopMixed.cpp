@@ -51,7 +51,7 @@ struct Sink16 {
 // worked out in double and rounded to float (near rest these are small differences of large
 // numbers), r^2 likewise, the curvature weight, the entry's
 // oriented weights (per lane when the pairs' species differ, OrientedWeights' fields in order)
-// and whether it counts.
+// and whether it counts (valid, with weights, within the cutoff in double: all ones, else 0).
 struct Lanes16 {
     alignas(64) float r[3][kLanes16], ni[3][kLanes16], nj[3][kLanes16], d[3][kLanes16], nn[3][kLanes16];
     alignas(64) float r2[kLanes16], cosine[kLanes16], A[kLanes16], B[kLanes16], c[kLanes16];
@@ -67,7 +67,7 @@ template <bool Energy, bool One>
     const PairKernel::OrientedTables32 tab = kernel.orientedTables32();
     const std::size_t side = std::size_t(kernel.tableSide());
     const std::size_t single = std::size_t(std::max(kernel.uniformOrientedPair(), 0));
-    const float cut2 = float(w.cutoff2());
+    const double cut2 = w.cutoff2();
     const PsiConstantsOf<float> psiK = toFloat(w.constants());
     const bool curvature = kernel.curvature();
     const double* e = in.e[0].data();
@@ -119,7 +119,10 @@ template <bool Energy, bool One>
                     toFloats(to[0] + l0, v.x), toFloats(to[1] + l0, v.y), toFloats(to[2] + l0, v.z);
                 };
                 put(g.r, r), put(g.ni, ni), put(g.nj, nj), put(g.d, np.d), put(g.nn, np.nn);
-                toFloats(g.r2 + l0, dot(r, r));
+                const V4 r2 = dot(r, r);
+                toFloats(g.r2 + l0, r2);
+                const V4Mask inside = r2 < splat(cut2);  // in double: the count is double's
+                for (std::uint32_t l = 0; l < 4; ++l) g.on[l0 + l] &= std::int32_t(inside[l]);
                 toFloats(g.cosine + l0, np.cosine), toFloats(g.A + l0, np.A), toFloats(g.B + l0, np.B);
             }
             const auto xyz = [](const float(&v)[3][kLanes16]) {
@@ -127,9 +130,8 @@ template <bool Energy, bool One>
             };
             const Xyz<V16F> r = xyz(g.r);
             const V16F r2 = load16(g.r2);
-            V16FMask on;
-            std::memcpy(&on, g.on, sizeof on);
-            const V16FMask near = on & (r2 < splat16(cut2));
+            V16FMask near;  // a valid entry with oriented weights within the cutoff
+            std::memcpy(&near, g.on, sizeof near);
             OrientedWeights<V16F> k = k1;
             if constexpr (!One) {
                 const auto at = [&](int t) { return load16(g.w[t]); };
