@@ -74,15 +74,7 @@ template <bool Energy, bool One>
     V4Mask count = V4Mask{0, 0, 0, 0};
     Block b;
     PairBlocks blocks(pairs, x0, x1);
-    // The row being summed and its force and torque so far: a row that spans two blocks is
-    // summed as one, so the sums do not depend on where the blocks start.
-    std::size_t row = ~std::size_t(0);
-    double fx = 0, fy = 0, fz = 0, tx = 0, ty = 0, tz = 0;
-    const auto endRow = [&] {
-        if (row == ~std::size_t(0)) return;
-        f[3 * row] += fx, f[3 * row + 1] += fy, f[3 * row + 2] += fz;
-        tq[3 * row] += tx, tq[3 * row + 1] += ty, tq[3 * row + 2] += tz;
-    };
+    RowSums into{f, tq};
     std::uint32_t k0 = 0;
     for (std::uint32_t n; (n = blocks.next(k0)) > 0;) {
         for (std::uint32_t q = 0; q < n; q += 4) {
@@ -121,22 +113,9 @@ template <bool Energy, bool One>
                                  sink);
             count -= near;  // a true lane is -1
         }
-        // Into the particles, in list order; a row's own force and torque summed first.
-        const std::uint32_t* nb = pairs.nbr.data() + k0;
-        for (std::uint32_t q = 0; q < n; ++q) {
-            if (blocks.i[q] != row) {
-                endRow();
-                row = blocks.i[q];
-                fx = fy = fz = tx = ty = tz = 0;
-            }
-            const std::size_t j = 3 * std::size_t(nb[q]);
-            f[j] += b.fj[0][q], f[j + 1] += b.fj[1][q], f[j + 2] += b.fj[2][q];
-            tq[j] += b.tj[0][q], tq[j + 1] += b.tj[1][q], tq[j + 2] += b.tj[2][q];
-            fx += b.fi[0][q], fy += b.fi[1][q], fz += b.fi[2][q];
-            tx += b.ti[0][q], ty += b.ti[1][q], tz += b.ti[2][q];
-        }
+        into.add(b, blocks.i, pairs.nbr.data() + k0, n);  // into the particles, in list order
     }
-    endRow();
+    into.finish();
     sums.energy += laneSum(energy);
     sums.virial += laneSum(virial);
     sums.orientedInRange += std::size_t(count[0] + count[1] + count[2] + count[3]);

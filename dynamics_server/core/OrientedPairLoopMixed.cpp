@@ -86,13 +86,7 @@ template <bool Energy, bool One>
     Block32 b;
     Lanes16 g;
     PairBlocks blocks(pairs, x0, x1);
-    std::size_t row = ~std::size_t(0);
-    double fx = 0, fy = 0, fz = 0, tx = 0, ty = 0, tz = 0;
-    const auto endRow = [&] {
-        if (row == ~std::size_t(0)) return;
-        f[3 * row] += fx, f[3 * row + 1] += fy, f[3 * row + 2] += fz;
-        tq[3 * row] += tx, tq[3 * row + 1] += ty, tq[3 * row + 2] += tz;
-    };
+    RowSums into{f, tq};
     std::uint32_t k0 = 0;
     for (std::uint32_t n; (n = blocks.next(k0)) > 0;) {
         const std::uint32_t* nb = pairs.nbr.data() + k0;
@@ -144,23 +138,13 @@ template <bool Energy, bool One>
             orientedPair<Energy>(r, r2, inverseOrZero(rlen), np, orientedPsi(r2, rlen, psiK), load16(g.c), k, sink);
             for (std::uint32_t l = 0; l < kLanes16; ++l) count += near[l] != 0;
         }
-        // Into the particles in double, in list order; a row's own force and torque summed first.
+        into.add(b, blocks.i, nb, n);  // into the particles in double, in list order
         for (std::uint32_t q = 0; q < n; ++q) {
-            if (blocks.i[q] != row) {
-                endRow();
-                row = blocks.i[q];
-                fx = fy = fz = tx = ty = tz = 0;
-            }
-            const std::size_t j = 3 * std::size_t(nb[q]);
-            f[j] += double(b.fj[0][q]), f[j + 1] += double(b.fj[1][q]), f[j + 2] += double(b.fj[2][q]);
-            tq[j] += double(b.tj[0][q]), tq[j + 1] += double(b.tj[1][q]), tq[j + 2] += double(b.tj[2][q]);
-            fx += double(b.fi[0][q]), fy += double(b.fi[1][q]), fz += double(b.fi[2][q]);
-            tx += double(b.ti[0][q]), ty += double(b.ti[1][q]), tz += double(b.ti[2][q]);
             virial += double(b.virial[q]);
             if constexpr (Energy) energy += double(b.energy[q]);
         }
     }
-    endRow();
+    into.finish();
     sums.energy += energy;
     sums.virial += virial;
     sums.orientedInRange += count;

@@ -55,6 +55,43 @@ private:
     std::uint32_t tail_[4] = {}, tailAt_ = 0;
 };
 
+// Adds a block's results into the particles, entry by entry in list order: each entry's force
+// and torque on j at once, those on i summed over its row and added when the row ends. A row that
+// spans two blocks is summed as one, so the sums do not depend on where the blocks start. B: a
+// block with fj, fi, ti, tj[3][kPairBlock] of doubles or floats; f, t: 3 doubles a particle,
+// from the chunk's first row.
+struct RowSums {
+    double* f;
+    double* t;
+    std::size_t row = ~std::size_t(0);
+    double fi[3] = {0, 0, 0}, ti[3] = {0, 0, 0};
+
+    template <class B>
+    [[gnu::always_inline]] void add(const B& b, const std::uint32_t* i, const std::uint32_t* nb, std::uint32_t n) {
+        for (std::uint32_t q = 0; q < n; ++q) {
+            if (i[q] != row) {
+                finish();
+                row = i[q];
+            }
+            const std::size_t j = 3 * std::size_t(nb[q]);
+            for (int c = 0; c < 3; ++c) {
+                f[j + c] += double(b.fj[c][q]);
+                t[j + c] += double(b.tj[c][q]);
+                fi[c] += double(b.fi[c][q]);
+                ti[c] += double(b.ti[c][q]);
+            }
+        }
+    }
+    // Adds the open row's sums (at a row's end, and once after the last block).
+    [[gnu::always_inline]] void finish() {
+        if (row != ~std::size_t(0))
+            for (int c = 0; c < 3; ++c) {
+                f[3 * row + c] += fi[c], t[3 * row + c] += ti[c];
+                fi[c] = ti[c] = 0;
+            }
+    }
+};
+
 // Lanes q..q+3 that hold entries of a block of n.
 [[gnu::always_inline]] inline V4Mask lanes(std::uint32_t q, std::uint32_t n) {
     return (V4Mask{0, 1, 2, 3} + std::int64_t(q)) < std::int64_t(n);
