@@ -8,7 +8,11 @@
 // precision over --steps steps, and the prototype's gain over each. With --scene and --restart,
 // a built bag besides (the torus of scripts/bench/bag.sh): every particle for the LJ loop, the
 // surface particles for the oriented loop. The cluster list reaches the cutoff + 0.05 r0, as the
-// loops' pruned lists do.
+// loops' pruned lists do. Then, per workload, the layout's LJ loop as built in the form the core
+// would run it (ClusterForm.hpp: double differences and sums, the list's own pairs) against the
+// core's LJ loop over the same pruned list in double and mixed, its forces checked against the
+// latter's (exit 1 if they differ by more than 1e-5 of their size).
+#include "ClusterForm.hpp"
 #include "ClusterPairProto.hpp"
 #include "app/scene/RunStart.hpp"
 #include "app/scene/SceneConfig.hpp"
@@ -113,7 +117,9 @@ int main(int argc, char** argv) {
     using namespace bop;
     CLI::App app{
         "bop-cluster-proto: a cluster-pair layout's prototype kernels against BoP's pair loops on the bulk "
-        "box, both loops (LJ at 1.6 r0, oriented at 3 r0), one core"};
+        "box, both loops (LJ at 1.6 r0, oriented at 3 r0), one core; then the layout's LJ loop as built in the "
+        "core's form (double differences and sums) against the core's LJ loop on the same list, its forces "
+        "checked (exit 1 past 1e-5 of their size)"};
     std::vector<int> cells{14};
     int repeats = 5, steps = 200;
     std::string csvPath, scene, restart, cache;
@@ -141,8 +147,8 @@ int main(int argc, char** argv) {
     }
     if (csv)
         std::fprintf(csv,
-                     "particles,loop,cutoff_r0,computed,in_range,useful_share,ns_per_computed,ns_per_in_range,"
-                     "bop_double_ns,bop_mixed_ns,gain_over_mixed,clone\n");
+                     "workload,particles,loop,cutoff_r0,computed,in_range,useful_share,ns_per_computed,"
+                     "ns_per_in_range,bop_double_ns,bop_mixed_ns,gain_over_double,gain_over_mixed,clone\n");
     std::printf("pair loops and prototype: the %s clone; one core\n", core::hotLoopClone());
     std::printf("%-9s %9s %-9s %9s %10s %7s %8s %8s %9s %9s %7s %7s\n", "workload", "particles", "loop", "computed",
                 "in range", "share", "ns/comp", "ns/in", "BoP dbl", "BoP mix", "gain/d", "gain/m");
@@ -173,6 +179,33 @@ int main(int argc, char** argv) {
                              perInRange, bopD, bopM, bopD / perInRange, bopM / perInRange, core::hotLoopClone());
         }
     }
+    // The layout as built, its LJ loop against the core's on the same list ("LJ built" rows).
+    int failed = 0;
+    for (const tools::Workload& w : loads) {
+        const tools::ClusterFormResult r =
+            tools::measureClusterForm(*w.model, w.options.params.value_or(core::Params(w.model->speciesCount())),
+                                      w.particles, w.model->box, repeats);
+        const std::size_t computed = 16 * r.clusterPairs;
+        const double share = double(r.inRange) / double(std::max<std::size_t>(computed, 1));
+        const double perComputed = r.clusterNs * double(r.inRange) / double(std::max<std::size_t>(computed, 1));
+        std::printf("%-9s %9zu %-9s %9zu %10zu %7.3f %8.3f %8.2f %9.2f %9.2f %6.2fx %6.2fx\n", w.name.c_str(),
+                    w.pos.size(), "LJ built", computed, r.inRange, share, perComputed, r.clusterNs, r.rowsDoubleNs,
+                    r.rowsMixedNs, r.rowsDoubleNs / r.clusterNs, r.rowsMixedNs / r.clusterNs);
+        std::printf(
+            "  built against the rows in double: forces %.2e of their size, virial %.2e, energy %.2e, "
+            "pairs in range %s\n",
+            r.forceDifference, r.virialDifference, r.energyDifference, r.sameCount ? "the same" : "DIFFER");
+        if (!(r.forceDifference <= 1e-5 && r.virialDifference <= 1e-5 && r.energyDifference <= 1e-9 && r.sameCount)) {
+            std::fprintf(stderr, "bop-cluster-proto: the built cluster loop disagrees with the rows on %s\n",
+                         w.name.c_str());
+            failed = 1;
+        }
+        if (csv)
+            std::fprintf(csv, "%s,%zu,LJ built,%.3f,%zu,%zu,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,%s\n", w.name.c_str(),
+                         w.pos.size(), lj.cutoff() / kR0, computed, r.inRange, share, perComputed, r.clusterNs,
+                         r.rowsDoubleNs, r.rowsMixedNs, r.rowsDoubleNs / r.clusterNs, r.rowsMixedNs / r.clusterNs,
+                         core::hotLoopClone());
+    }
     if (csv) std::fclose(csv);
-    return 0;
+    return failed;
 }
