@@ -6,7 +6,8 @@
 # non-zero if any target crashed (sanitizer report, broken contract, timeout, out of memory or
 # leak); the reproducer is build-fuzz/fuzz/artifacts/<target>-crash-<sha1> (also leak-, timeout-, oom-).
 #   scripts/fuzz.sh                      every decoder (hello scene frame probe feedback command reply
-#                                        maprequest mapchunk mapedits refusal mcap); what scripts/test.sh runs
+#                                        maprequest mapchunk mapedits refusal mcap igtl; igtl: bop-igtl's
+#                                        OpenIGTLink reader); what scripts/test.sh runs
 #   scripts/fuzz.sh front mcap           only these; front: message sequences through the server's front
 #                                        and served loop (FuzzFront.cpp; builds the server's libraries)
 #   scripts/fuzz.sh --campaign [T...]    every target (decoders and front), each for BOP_FUZZ_RUNS
@@ -46,7 +47,7 @@ workers=${BOP_FUZZ_WORKERS:-1}
 stopped=0
 [[ $workers =~ ^[1-9][0-9]*$ ]] || { echo "fuzz: BOP_FUZZ_WORKERS must be a whole number from 1 (got '$workers')" >&2; exit 2; }
 [[ $campaign -eq 1 ]] || workers=1
-decoders=(hello scene frame probe feedback command reply maprequest mapchunk mapedits refusal mcap)
+decoders=(hello scene frame probe feedback command reply maprequest mapchunk mapedits refusal mcap igtl)
 all_targets=("${decoders[@]}" front)
 targets=("$@")
 if [[ ${#targets[@]} -eq 0 ]]; then

@@ -18,6 +18,9 @@ packages=(
   flatbuffers-compiler flatbuffers-compiler-dev libflatbuffers-dev libzmq3-dev cppzmq-dev
   # recordings: zstd-compressed MCAP chunks (protocol/recording/)
   libzstd-dev
+  # bop-igtl (protocol/igtl/): OpenIGTLink's reference library packs its messages; the tests build
+  # the library's own example clients from openigtlink-examples
+  libopenigtlink-dev openigtlink-examples
   # the viewer's renderer (viz_client/): OpenGL and EGL headers and libraries (libglvnd), Mesa's
   # EGL and its llvmpipe software driver for headless rendering without a GPU
   libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri

@@ -9,6 +9,17 @@ trap 'rm -rf "$work"' EXIT
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fail=0
 check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+# `first_match LOG SED_SCRIPT`: what sed -n SED_SCRIPT prints first from LOG, waiting up to 30 s
+# for a process to write it (a server's endpoint, a port); empty if it never does.
+first_match() {
+  local found=""
+  for _ in $(seq 1 300); do
+    found=$(sed -n "$2" "$1" | head -1)
+    [[ -n $found ]] && break
+    sleep 0.1
+  done
+  echo "$found"
+}
 bounded() {
   local seconds=$1 log=$2
   shift 2

@@ -16,6 +16,7 @@
 #include "bop/common/Error.hpp"
 #include "codec/Codec.hpp"
 #include "codec/Validate.hpp"
+#include "igtl/IgtlWire.hpp"
 #include "recording/McapReader.hpp"
 
 #include <cstdio>
@@ -29,7 +30,7 @@
 
 #ifndef BOP_FUZZ_TARGET
 #error \
-    "define BOP_FUZZ_TARGET: hello, scene, frame, probe, feedback, command, reply, maprequest, mapchunk, refusal or mcap"
+    "define BOP_FUZZ_TARGET: hello, scene, frame, probe, feedback, command, reply, maprequest, mapchunk, refusal, mcap or igtl"
 #endif
 #define BOP_FUZZ_STR2(x) #x
 #define BOP_FUZZ_STR(x) BOP_FUZZ_STR2(x)
@@ -39,8 +40,9 @@ namespace {
 using namespace bop::protocol;
 
 constexpr std::string_view kTarget = BOP_FUZZ_STR(BOP_FUZZ_TARGET);
-constexpr std::string_view kTargets[] = {"hello", "scene",      "frame",    "probe",    "feedback", "command",
-                                         "reply", "maprequest", "mapchunk", "mapedits", "refusal",  "mcap"};
+constexpr std::string_view kTargets[] = {"hello",   "scene", "frame",      "probe",    "feedback",
+                                         "command", "reply", "maprequest", "mapchunk", "mapedits",
+                                         "refusal", "mcap",  "igtl"};
 constexpr bool knownTarget() {
     for (std::string_view t : kTargets)
         if (t == kTarget) return true;
@@ -48,7 +50,7 @@ constexpr bool knownTarget() {
 }
 static_assert(knownTarget(),
               "BOP_FUZZ_TARGET must be hello, scene, frame, probe, feedback, command, reply, maprequest, mapchunk, "
-              "mapedits, refusal or mcap");
+              "mapedits, refusal, mcap or igtl");
 
 [[noreturn]] void fail(const std::string& what) {
     std::fprintf(stderr, "\nFUZZ CONTRACT BROKEN (%.*s): %s\n", int(kTarget.size()), kTarget.data(), what.c_str());
@@ -162,6 +164,51 @@ auto validator() {
     }
 }
 
+// bop-igtl's reader (protocol/igtl/IgtlWire.hpp) on the input as a stream of OpenIGTLink messages,
+// as its server reads a connection: a header, then its body, and so on until the input ends or a
+// header is refused. A refusal names its reason; a TRANSFORM read is 12 finite numbers that
+// encode and read back to themselves.
+void checkIgtl(const std::uint8_t* data, std::size_t size) {
+    using namespace bop::igtl;
+    const Misaligned odd(data, size);
+    std::span<const std::uint8_t> in(odd.data, size);
+    while (in.size() >= kHeaderSize) {
+        Header h;
+        std::string error;
+        if (!readHeader(in.first<kHeaderSize>(), h, error)) {
+            if (error.empty()) fail("readHeader refused a header without a reason");
+            return;
+        }
+        in = in.subspan(kHeaderSize);
+        if (h.bodySize > kMaxBodyBytes) fail("readHeader accepted a body over the limit");
+        if (in.size() < h.bodySize) return;  // the rest of the body has not come
+        const std::span<const std::uint8_t> body = in.first(std::size_t(h.bodySize));
+        in = in.subspan(std::size_t(h.bodySize));
+        std::span<const std::uint8_t> content;
+        if (!readContent(h, body, content, error)) {
+            if (error.empty()) fail("readContent refused a body without a reason");
+            continue;
+        }
+        if (content.data() < body.data() || content.data() + content.size() > body.data() + body.size())
+            fail("readContent's content lies outside the body");
+        if (h.type != "TRANSFORM") continue;
+        Eigen::Matrix4d t;
+        if (!readTransform(content, t, error)) {
+            if (error.empty()) fail("readTransform refused without a reason");
+            continue;
+        }
+        if (!t.allFinite()) fail("readTransform accepted a value that is not finite");
+        const std::vector<std::uint8_t> again = encodeMessage("TRANSFORM", h.device, transformBody(t));
+        Header h2;
+        std::span<const std::uint8_t> c2;
+        Eigen::Matrix4d t2;
+        if (!readHeader(std::span<const std::uint8_t, kHeaderSize>(again.data(), kHeaderSize), h2, error) ||
+            !readContent(h2, std::span(again).subspan(kHeaderSize), c2, error) || !readTransform(c2, t2, error))
+            fail("a TRANSFORM read does not read back once encoded: " + error);
+        if (t2 != t) fail("a TRANSFORM read back to different numbers");
+    }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -189,6 +236,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         checkFrame(data, size);
     } else if constexpr (kTarget == "mcap") {
         checkMcap(data, size);
+    } else if constexpr (kTarget == "igtl") {
+        checkIgtl(data, size);
     }
     return 0;
 }

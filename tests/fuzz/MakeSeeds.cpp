@@ -6,6 +6,7 @@
 // Exits non-zero if a sample cannot be encoded or written.
 #include "ProtocolSamples.hpp"
 #include "codec/Codec.hpp"
+#include "igtl/IgtlWire.hpp"
 #include "recording/McapWriter.hpp"
 
 #include <cstdio>
@@ -73,6 +74,20 @@ void haptics() {
     put("mapedits", "sample", encodeMapEdits(sampleMapEdits()));
     put("mapedits", "none", encodeMapEdits(MapEdits{}));
     put("refusal", "sample", encodeRefusal(sampleRefusal()));
+    {  // OpenIGTLink: a tool's transform then a status message; a transform with protocol 3's extended header
+        Eigen::Matrix4d t = Eigen::Matrix4d::Identity();
+        t(0, 3) = 10, t(1, 3) = -20, t(2, 3) = 30;
+        const std::vector<std::uint8_t> body = bop::igtl::transformBody(t);
+        std::vector<std::uint8_t> stream = bop::igtl::encodeMessage("TRANSFORM", "StylusTipToReference", body);
+        const std::vector<std::uint8_t> status =
+            bop::igtl::encodeMessage("STATUS", "Tool", std::vector<std::uint8_t>(30, 0));
+        stream.insert(stream.end(), status.begin(), status.end());
+        put("igtl", "transform-status", stream);
+        std::vector<std::uint8_t> v3 = {0, 12, 0, 2, 0, 0, 0, 3, 0, 0, 0, 7};
+        v3.insert(v3.end(), body.begin(), body.end());
+        for (const char b : {'\0', '\1', 'a', 'b', 'c'}) v3.push_back(std::uint8_t(b));
+        put("igtl", "transform-v3", bop::igtl::encodeMessage("TRANSFORM", "Tool", v3, 2));
+    }
     put("refusal", "empty", encodeRefusal(Refusal{}));
 }
 
