@@ -6,10 +6,9 @@
 // (scripts/bench/cluster-proto.sh): these checks keep them about the right computation.
 #include "app/tools/ClusterForm.hpp"
 #include "app/tools/ClusterPairs.hpp"
+#include "core/FccLattice.hpp"
 
 #include <catch2/catch.hpp>
-
-#include <random>
 
 using namespace bop;
 
@@ -35,20 +34,12 @@ Cloud fcc(int cells, bool periodic) {
     c.params.lj(1, 2) = 0.5;
     c.params.lj(2, 1) = 1.5;
     c.params.lj(3, 1) = 0.8;
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<double> u(-0.05 * kR0, 0.05 * kR0);
-    const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
     std::uint64_t id = 0;
-    for (int i = 0; i < cells; ++i)
-        for (int j = 0; j < cells; ++j)
-            for (int k = 0; k < cells; ++k)
-                for (const auto& o : basis) {
-                    const Eigen::Vector3d x = Eigen::Vector3d(i + o[0], j + o[1], k + o[2]) * a +
-                                              Eigen::Vector3d(u(rng), u(rng), u(rng)) +
-                                              (periodic ? Eigen::Vector3d::Zero() : Eigen::Vector3d::Constant(0.1));
-                    c.particles.add(x, 1 + int(id % 3), id + 1);
-                    ++id;
-                }
+    for (const Eigen::Vector3d& x : test::jitteredFcc(cells, 11)) {
+        c.particles.add(x + (periodic ? Eigen::Vector3d::Zero() : Eigen::Vector3d::Constant(0.1)), 1 + int(id % 3),
+                        id + 1);
+        ++id;
+    }
     return c;
 }
 

@@ -4,6 +4,7 @@
 // forces and torques agree on surface particles (one set of weights and several), an undamped box
 // drifts no more than twice as much, and a mixed run is the same to the last bit at 1, 2 and 3
 // threads. Whole bags of the shipped scenes: tests/physics/TestMixedScenes.cpp.
+#include "core/FccLattice.hpp"
 #include "core/Integrator.hpp"
 #include "core/Simulation.hpp"
 #include "core/Threads.hpp"
@@ -44,19 +45,11 @@ FccBox fccBox(int cells, bool species3, bool mixed, std::uint32_t seed) {
         b.params.lj(2, 1) = 1.5;
         b.params.lj(3, 1) = 0.8;
     }
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(-0.05 * kR0, 0.05 * kR0);
-    const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
     std::uint64_t id = 0;
-    for (int i = 0; i < cells; ++i)
-        for (int j = 0; j < cells; ++j)
-            for (int k = 0; k < cells; ++k)
-                for (const auto& o : basis) {
-                    const Eigen::Vector3d x =
-                        (Eigen::Vector3d(i + o[0], j + o[1], k + o[2])) * a + Eigen::Vector3d(u(rng), u(rng), u(rng));
-                    b.particles.add(x, species3 ? 1 + int(id % 3) : 1, id + 1);
-                    ++id;
-                }
+    for (const Eigen::Vector3d& x : test::jitteredFcc(cells, seed)) {
+        b.particles.add(x, species3 ? 1 + int(id % 3) : 1, id + 1);
+        ++id;
+    }
     return b;
 }
 

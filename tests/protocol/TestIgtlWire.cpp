@@ -25,6 +25,19 @@ Header headerOf(const Bytes& msg, std::string& error, bool& ok) {
     return h;
 }
 
+// Why readTransform refuses the content of a whole message whose header and CRC are sound ("" if
+// it reads it).
+std::string transformRefusal(const Bytes& msg) {
+    std::string error;
+    bool ok = false;
+    const Header h = headerOf(msg, error, ok);
+    REQUIRE(ok);
+    std::span<const std::uint8_t> content;
+    REQUIRE(readContent(h, std::span(msg).subspan(kHeaderSize), content, error));
+    Eigen::Matrix4d t;
+    return readTransform(content, t, error) ? "" : error;
+}
+
 }  // namespace
 
 TEST_CASE("igtl wire: CRC-64 is the reference library's", "[protocol][igtl]") {
@@ -122,24 +135,14 @@ TEST_CASE("igtl wire: headers and bodies that break a rule are refused with the 
     }
     {
         const std::vector<std::uint8_t> short_(body.begin(), body.begin() + 40);
-        const Bytes msg = encodeMessage("TRANSFORM", "Tool", short_);
-        const Header h = headerOf(msg, error, ok);
-        std::span<const std::uint8_t> content;
-        REQUIRE(readContent(h, std::span(msg).subspan(kHeaderSize), content, error));
-        Eigen::Matrix4d t;
-        CHECK(!readTransform(content, t, error));
-        CHECK(error == "TRANSFORM content of 40 bytes, expected 48 (12 float32)");
+        CHECK(transformRefusal(encodeMessage("TRANSFORM", "Tool", short_)) ==
+              "TRANSFORM content of 40 bytes, expected 48 (12 float32)");
     }
     {
         Eigen::Matrix4d nan = Eigen::Matrix4d::Identity();
         nan(1, 3) = std::numeric_limits<double>::quiet_NaN();
-        const Bytes msg = encodeMessage("TRANSFORM", "Tool", transformBody(nan));
-        const Header h = headerOf(msg, error, ok);
-        std::span<const std::uint8_t> content;
-        REQUIRE(readContent(h, std::span(msg).subspan(kHeaderSize), content, error));
-        Eigen::Matrix4d t;
-        CHECK(!readTransform(content, t, error));
-        CHECK(error == "TRANSFORM value 11 of 12 is not a finite number");
+        CHECK(transformRefusal(encodeMessage("TRANSFORM", "Tool", transformBody(nan))) ==
+              "TRANSFORM value 11 of 12 is not a finite number");
     }
 }
 
